@@ -1,0 +1,102 @@
+"""Linear transverse vibration of the pre-stretched membrane (paper, section 4.1).
+
+Three estimates of ``omega_mn`` (rad/s):
+
+* :func:`galerkin_frequencies`: the variable-coefficient problem Eq. (25) by Galerkin on
+  the Bessel basis of Eq. (26) (the paper's App.1 with the ``fit`` pre-stretch, App.2
+  with ``analytic``; ``numeric`` is the converged reference);
+* :func:`approximate_frequency`: Eq. (28);
+* :func:`frequency_bound`: Eq. (29), the limit ``delta -> inf``.
+
+Linearising the exact transverse energy (MODEL.md) gives
+``1 + L1 = 1 - rho^2 / (r_o'^4 r_o^2)`` and ``1/rho^2 + L3 = 1/rho^2 - rho^2/(r_o'^2 r_o^4)``,
+so that ``omega^2 = (2 C1 / Gamma) lambda`` with ``lambda`` the generalised eigenvalues of
+``K_kl = int rho [(1+L1) phi_k' phi_l' + n^2 (1/rho^2+L3) phi_k phi_l] drho`` and
+``M_kl = int rho phi_k phi_l drho``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg import eigh
+
+from .modes import bessel_roots, mode_shape
+from .params import Membrane
+from .prestretch import Prestretch
+
+#: Basis functions per wave number: frequencies converged to better than 1e-6 relative.
+DEFAULT_BASIS = 32
+
+
+def gauss_radial(membrane: Membrane, points: int):
+    """Gauss-Legendre nodes (m) and weights (m) on ``[Ro, Re]``."""
+    x, w = np.polynomial.legendre.leggauss(points)
+    a, b = membrane.Ro, membrane.Re
+    return 0.5 * (a + b) + 0.5 * (b - a) * x, 0.5 * (b - a) * w
+
+
+def stiffness_coefficients(prestretch: Prestretch, rho):
+    """``(1 + L1, 1/rho^2 + L3)`` of Eq. (25) at undeformed radii ``rho`` (m).
+
+    Returns the dimensionless radial coefficient and the circumferential one (m-2).
+    """
+    r, dr = prestretch.radius(rho), prestretch.slope(rho)
+    return 1.0 - rho**2 / (dr**4 * r**2), 1.0 / rho**2 - rho**2 / (dr**2 * r**4)
+
+
+def galerkin_frequencies(prestretch: Prestretch, n: int, count: int,
+                         basis: int = DEFAULT_BASIS, quad_points: int | None = None):
+    """Lowest ``count`` frequencies of Eq. (25) for wave number ``n`` by Galerkin.
+
+    Parameters
+    ----------
+    prestretch : Prestretch
+        The static solution entering ``L1``, ``L3``.
+    n : int
+        Circumferential wave number, ``n >= 0``.
+    count : int
+        Number of frequencies (``m = 1..count``), ``count <= basis``.
+    basis : int
+        Number of Bessel functions ``phi_1n .. phi_{basis,n}`` in the trial space.
+    quad_points : int, optional
+        Gauss-Legendre points on ``[Ro, Re]``; default ``4*basis + 40``, enough to
+        integrate the products of the most oscillatory basis functions.
+
+    Returns
+    -------
+    omega : numpy.ndarray
+        ``omega_mn`` (rad/s), ascending.
+    vectors : numpy.ndarray
+        ``(basis, count)`` coefficients of the eigenfunctions on the Bessel basis in the
+        paper's normalisation, ``M``-orthonormal.
+    """
+    if count > basis:
+        raise ValueError(f"count = {count} is invalid: must be <= basis = {basis}")
+    m = prestretch.membrane
+    rho, wq = gauss_radial(m, quad_points or 4 * basis + 40)
+    alpha = bessel_roots(n, m.delta_o, basis)
+    phi, dphi = np.empty((basis, rho.size)), np.empty((basis, rho.size))
+    for k, a in enumerate(alpha):
+        phi[k], dphi[k] = mode_shape(rho, a, n, m.Re)
+    # Scale the basis to unit norm for conditioning; undone on the eigenvectors.
+    scale = 1.0 / np.sqrt((phi**2 * rho * wq).sum(axis=1))
+    phi *= scale[:, None]
+    dphi *= scale[:, None]
+    a1, a3 = stiffness_coefficients(prestretch, rho)
+    wr = rho * wq
+    K = (dphi * (a1 * wr)) @ dphi.T + n**2 * (phi * (a3 * wr)) @ phi.T
+    M = (phi * wr) @ phi.T
+    lam, vec = eigh(K, M, subset_by_index=(0, count - 1))
+    return np.sqrt(m.wave_speed2 * lam), vec * scale[:, None]
+
+
+def approximate_frequency(prestretch: Prestretch, alpha: float):
+    """Eq. (28) as printed: ``sqrt(2 alpha^2 C1 / (Re^2 Gamma) (1 - 1/(delta^2 r_o'(Re)^4)))``."""
+    m = prestretch.membrane
+    drf = float(prestretch.slope(m.Re))
+    return np.sqrt(m.wave_speed2 * alpha**2 / m.Re**2 * (1.0 - 1.0 / (m.delta**2 * drf**4)))
+
+
+def frequency_bound(membrane: Membrane, alpha: float):
+    """Eq. (29): the upper bound ``sqrt(2 alpha^2 C1 / (Re^2 Gamma))`` (rad/s)."""
+    return np.sqrt(membrane.wave_speed2) * alpha / membrane.Re

@@ -1,0 +1,88 @@
+"""Linear mode shapes of the fixed-fixed annulus (paper, Eqs. 26-27 and 31).
+
+``alpha_mn`` is the m-th positive root of Eq. (27) for wave number n (the paper writes
+``A_mn`` for both the root and the modal amplitude; here the root is ``alpha``).  The mode
+shape keeps the paper's normalisation, ``phi = C J_n(alpha rho/Re) - Y_n(alpha rho/Re)``
+with ``C = Y_n(alpha)/J_n(alpha)``, so that modal amplitudes compare with the paper's
+``A_10`` axes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import brentq
+from scipy.special import jv, jvp, yv, yvp
+
+
+def cross_product(alpha, n: int, delta_o: float):
+    """Left-hand side of Eq. (27): ``J_n(delta_o a) Y_n(a) - J_n(a) Y_n(delta_o a)``."""
+    a = np.asarray(alpha, dtype=float)
+    return jv(n, delta_o * a) * yv(n, a) - jv(n, a) * yv(n, delta_o * a)
+
+
+def bessel_roots(n: int, delta_o: float, count: int) -> np.ndarray:
+    """The first ``count`` positive roots ``alpha_1n < alpha_2n < ...`` of Eq. (27).
+
+    The roots are simple (Sturm-Liouville eigenvalues) and spaced by about
+    ``pi / (1 - delta_o)``; for every n they exceed ``n`` (the annulus' Dirichlet
+    eigenvalues lie above the disk's, ``j_n1 > n``).  The scan therefore starts just below
+    ``n`` with a step of a twentieth of the asymptotic spacing, so that no root is skipped,
+    and each bracketed sign change is refined by Brent's method.
+
+    Parameters
+    ----------
+    n : int
+        Circumferential wave number, ``n >= 0``.
+    delta_o : float
+        Inner radius ratio ``Ro/Re`` in (0, 1).
+    count : int
+        Number of roots, ``count >= 1``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``alpha_mn`` for ``m = 1..count`` (dimensionless; the wave number is ``alpha/Re``).
+    """
+    if int(n) != n or n < 0:
+        raise ValueError(f"n = {n!r} is invalid: must be an integer >= 0")
+    if int(count) != count or count < 1:
+        raise ValueError(f"count = {count!r} is invalid: must be an integer >= 1")
+    if not 0.0 < delta_o < 1.0:
+        raise ValueError(f"delta_o = {delta_o!r} is invalid: must be in the open interval (0, 1)")
+    step = np.pi / (1.0 - delta_o) / 20.0
+    roots: list[float] = []
+    a0 = max(0.9 * n, step)
+    while len(roots) < count:
+        grid = a0 + step * np.arange(20 * (count - len(roots)) + 41)
+        f = cross_product(grid, n, delta_o)
+        for i in np.nonzero(np.sign(f[:-1]) * np.sign(f[1:]) < 0)[0]:
+            roots.append(brentq(cross_product, grid[i], grid[i + 1], args=(n, delta_o),
+                                xtol=1e-14, rtol=4 * np.finfo(float).eps))
+            if len(roots) == count:
+                break
+        a0 = grid[-1]
+    return np.array(roots)
+
+
+def mode_shape(rho, alpha: float, n: int, Re: float = 1.0):
+    """Radial mode shape of Eq. (26) and its derivative.
+
+    Parameters
+    ----------
+    rho : array_like
+        Undeformed radius (m).
+    alpha : float
+        Root of Eq. (27) for this n.
+    n : int
+        Circumferential wave number.
+    Re : float
+        Outer radius (m).
+
+    Returns
+    -------
+    phi, dphi : numpy.ndarray
+        ``phi(rho)`` (1) and ``d phi / d rho`` (m-1).
+    """
+    x = alpha * np.asarray(rho, dtype=float) / Re
+    c = yv(n, alpha) / jv(n, alpha)
+    return c * jv(n, x) - yv(n, x), (alpha / Re) * (c * jvp(n, x) - yvp(n, x))

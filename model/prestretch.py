@@ -1,0 +1,245 @@
+"""Axisymmetric pre-stretch of the annular membrane (paper, section 3).
+
+Three variants of the deformed radius ``r_o(rho)`` share one interface
+(:class:`Prestretch`): ``analytic`` (linearised solution, Eq. 21), ``numeric`` (shooting
+on the nonlinear equilibrium Eq. 15, with the first-order form corrected in MODEL.md) and
+``fit`` (least-squares fit Eq. 18 of the numeric solution, used by the paper's
+Appendix A).  Radii are in metres; internally the problem is scaled by ``Re`` (Eq. 20).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.polynomial import chebyshev as C
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from .params import Membrane
+
+KINDS = ("analytic", "numeric", "fit")
+
+#: Relative and absolute tolerance of the shooting integration (scaled variables).
+_SHOOT_TOL = 1e-13
+
+
+def _equilibrium_rhs(rho, state):
+    """First-order form of Eq. (15) in scaled variables, as corrected in MODEL.md.
+
+    ``state = (r, y)`` with ``y = dr/drho``; returns ``(y, dy/drho)``.
+    """
+    r, y = state
+    num = r**4 * y**4 - 3 * rho**4 * y**2 - rho * r**3 * y**5 + 3 * rho**3 * r * y
+    den = rho**2 * r * (3 * rho**2 + r**2 * y**4)
+    return np.array([y, num / den])
+
+
+def equilibrium_residual(rho, r, dr, d2r):
+    """Residual of the radial equilibrium equation, Eq. (15), as printed.
+
+    Parameters
+    ----------
+    rho, r, dr, d2r : array_like
+        Undeformed radius, deformed radius and its first two derivatives (any consistent
+        length unit; the residual is dimensionless).
+    """
+    return (r / rho - 3 * rho**3 / (r**3 * dr**2) - dr + 3 * rho**2 / (r**2 * dr**3)
+            - (3 * rho**3 / (r**2 * dr**4) + rho) * d2r)
+
+
+@dataclass(frozen=True)
+class Prestretch:
+    """The deformed radius ``r_o(rho)`` of one pre-stretched membrane.
+
+    Build it with :func:`solve_prestretch`.  ``coef`` holds the variant's representation
+    in scaled variables (``rho/Re``, ``r_o/Re``): the Eq. (21) constants for ``analytic``,
+    Chebyshev series of ``r`` and ``r'`` on ``[delta_o, 1]`` for ``numeric``, the Eq. (18)
+    coefficients ``A1..A5`` for ``fit``.
+    """
+
+    kind: str
+    membrane: Membrane
+    coef: tuple
+
+    def _scaled(self, s):
+        if self.kind == "analytic":
+            a, b = self.coef
+            return a * s + b / s, a - b / s**2
+        if self.kind == "numeric":
+            cr, cy, dom = self.coef
+            t = (2 * s - dom[0] - dom[1]) / (dom[1] - dom[0])
+            return C.chebval(t, cr), C.chebval(t, cy)
+        a1, a2, a3, a4, a5 = self.coef
+        ls = np.log(s)
+        return (a1 * ls + a2 * s**2 * ls + a3 * s**2 + a4 * s + a5,
+                a1 / s + a2 * (2 * s * ls + s) + 2 * a3 * s + a4)
+
+    def radius(self, rho):
+        """Deformed radius ``r_o`` (m) at undeformed radius ``rho`` (m)."""
+        s = np.asarray(rho, dtype=float) / self.membrane.Re
+        return self.membrane.Re * self._scaled(s)[0]
+
+    def slope(self, rho):
+        """Radial stretch ``lambda_1 = d r_o / d rho`` (1) at ``rho`` (m), Eq. (12)."""
+        s = np.asarray(rho, dtype=float) / self.membrane.Re
+        return self._scaled(s)[1]
+
+    def stretches(self, rho):
+        """Principal stretches ``(lambda_1, lambda_2, lambda_3)`` of Eq. (12) at ``rho`` (m)."""
+        rho = np.asarray(rho, dtype=float)
+        r, dr = self.radius(rho), self.slope(rho)
+        return dr, r / rho, rho / (r * dr)
+
+    def stresses(self, rho):
+        """Cauchy principal stresses ``(sigma_1, sigma_2)`` (Pa), Eq. (22).
+
+        ``sigma_i = 2 C1 (lambda_i^2 - lambda_3^2)`` for the incompressible neo-Hookean
+        membrane in plane stress.
+        """
+        l1, l2, l3 = self.stretches(rho)
+        c1 = self.membrane.C1
+        return 2 * c1 * (l1**2 - l3**2), 2 * c1 * (l2**2 - l3**2)
+
+    def traction(self) -> float:
+        """Edge traction ``f`` (N m-1 of undeformed edge) that holds the stretch, Eq. (16)."""
+        m = self.membrane
+        r, dr = m.Rf, float(self.slope(m.Re))
+        return 2 * m.h * m.C1 / (m.Re * r**2 * dr**3) * (r**2 * dr**4 * m.Re - m.Re**3)
+
+
+def _analytic_coef(delta, delta_o):
+    """Constants ``(a, b)`` of Eq. (21): ``r/Re = a rho/Re + b Re/rho``."""
+    d2 = delta_o**2
+    return ((delta - d2) / (1 - d2), d2 * (1 - delta) / (1 - d2))
+
+
+def _shoot(slope0, delta_o, dense=False):
+    sol = solve_ivp(_equilibrium_rhs, (delta_o, 1.0), [delta_o, slope0], method="DOP853",
+                    rtol=_SHOOT_TOL, atol=_SHOOT_TOL, dense_output=dense)
+    return sol
+
+
+def _cheb_lobatto(n, dom):
+    """Chebyshev-Lobatto points on ``dom`` and the differentiation matrix (Trefethen 2000)."""
+    t = np.cos(np.pi * np.arange(n + 1) / n)
+    c = np.ones(n + 1)
+    c[0] = c[-1] = 2.0
+    c *= (-1.0) ** np.arange(n + 1)
+    dt = t[:, None] - t[None, :]
+    d = np.outer(c, 1.0 / c) / (dt + np.eye(n + 1))
+    d -= np.diag(d.sum(axis=1))
+    half = 0.5 * (dom[1] - dom[0])
+    return 0.5 * (dom[0] + dom[1]) + half * t, d / half
+
+
+def _polish(s, r, d):
+    """Newton on the first-order Chebyshev collocation of Eq. (15), ends held fixed.
+
+    Unknowns are ``r`` and ``y = r'`` at the Lobatto points; the equations are
+    ``D r = y`` everywhere and Eq. (15) with ``r'' = D y`` at the interior points.  The
+    first-order form keeps the round-off amplification of the second derivative at
+    ``O(n^2)`` instead of ``O(n^4)``.
+    """
+    n1 = s.size
+    y = d @ r
+    eye = np.eye(n1)
+    for _ in range(30):
+        z = d @ y
+        f = equilibrium_residual(s, r, y, z)
+        f_r = 1 / s + 9 * s**3 / (r**4 * y**2) - 6 * s**2 / (r**3 * y**3) + 6 * s**3 * z / (r**3 * y**4)
+        f_y = 6 * s**3 / (r**3 * y**3) - 1 - 9 * s**2 / (r**2 * y**4) + 12 * s**3 * z / (r**2 * y**5)
+        f_z = -(3 * s**3 / (r**2 * y**4) + s)
+        jac = np.block([[d, -eye], [np.diag(f_r), np.diag(f_y) + f_z[:, None] * d]])
+        res = np.concatenate([d @ r - y, f])
+        for row in (n1, 2 * n1 - 1):  # boundary rows: the end values stay fixed
+            jac[row] = 0.0
+            jac[row, row - n1] = 1.0
+            res[row] = 0.0
+        step = np.linalg.solve(jac, -res)
+        r, y = r + step[:n1], y + step[n1:]
+        if np.abs(step).max() < 1e-15 * (1 + np.abs(y).max()):
+            break
+    return r, y
+
+
+def _numeric_coef(delta, delta_o):
+    """Solve Eq. (15) with ``r(delta_o) = delta_o``, ``r(1) = delta`` (scaled variables).
+
+    Shooting (the paper's method): the slope at the inner edge is bracketed around the
+    Eq. (21) value and found by Brent's method so that the DOP853 integration of the
+    first-order form hits ``r(1) = delta``.  The shooting solution, sampled at
+    Chebyshev-Lobatto points, then seeds a Newton iteration on the Chebyshev collocation
+    of Eq. (15) itself, which removes the integrator's interpolation noise and yields a
+    spectrally accurate series (degree doubled from 32 until its tail is below 1e-14).
+    """
+    a, b = _analytic_coef(delta, delta_o)
+    guess = a - b / delta_o**2
+
+    def miss(s):
+        sol = _shoot(s, delta_o)
+        if sol.status != 0 or not np.all(np.isfinite(sol.y)):
+            return np.inf
+        return sol.y[0, -1] - delta
+
+    lo, hi = guess, guess
+    for _ in range(60):
+        lo = 1.0 + (lo - 1.0) * 0.7 if lo > 1.0 else lo * 0.9
+        if miss(lo) < 0:
+            break
+    for _ in range(60):
+        hi = 1.0 + (hi - 1.0) * 1.5
+        if miss(hi) > 0:
+            break
+    s0 = brentq(miss, lo, hi, xtol=1e-15, rtol=1e-15, maxiter=200)
+    sol = _shoot(s0, delta_o, dense=True)
+    dom = (delta_o, 1.0)
+    n = 32
+    while True:
+        s, d = _cheb_lobatto(n, dom)
+        r = sol.sol(s)[0]
+        r[0], r[-1] = delta, delta_o  # Lobatto points run from rho = Re down to Ro
+        r, y = _polish(s, r, d)
+        t = (2 * s - dom[0] - dom[1]) / (dom[1] - dom[0])
+        cr, cy = C.chebfit(t, r, n), C.chebfit(t, y, n)
+        if np.abs(cr[-4:]).max() < 1e-14 * delta or n >= 256:
+            break
+        n *= 2
+    return (C.chebtrim(cr, 1e-17), C.chebtrim(cy, 1e-17), dom)
+
+
+def _fit_coef(delta, delta_o, numeric_coef):
+    """Least-squares coefficients ``A1..A5`` of Eq. (18) on 401 equispaced radii."""
+    ref = Prestretch("numeric", Membrane(delta=delta, delta_o=delta_o), numeric_coef)
+    s = np.linspace(delta_o, 1.0, 401)
+    ls = np.log(s)
+    basis = np.column_stack([ls, s**2 * ls, s**2, s, np.ones_like(s)])
+    coef, *_ = np.linalg.lstsq(basis, ref.radius(s), rcond=None)
+    return tuple(float(c) for c in coef)
+
+
+def solve_prestretch(membrane: Membrane, kind: str = "numeric") -> Prestretch:
+    """Solve the static pre-stretch of ``membrane`` with the chosen variant.
+
+    Parameters
+    ----------
+    membrane : Membrane
+        Geometry and material; only ``delta``, ``delta_o``, ``Re`` (and ``C1``, ``h`` for
+        stresses and traction) matter.
+    kind : {"analytic", "numeric", "fit"}
+        Eq. (21), shooting on Eq. (15), or the Eq. (18) fit of the shooting solution.
+
+    Returns
+    -------
+    Prestretch
+    """
+    if kind not in KINDS:
+        raise ValueError(f"prestretch = {kind!r} is invalid: must be one of {', '.join(KINDS)}")
+    d, do = membrane.delta, membrane.delta_o
+    if kind == "analytic":
+        coef = _analytic_coef(d, do)
+    elif kind == "numeric":
+        coef = _numeric_coef(d, do)
+    else:
+        coef = _fit_coef(d, do, _numeric_coef(d, do))
+    return Prestretch(kind, membrane, coef)

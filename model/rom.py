@@ -1,0 +1,284 @@
+"""Nonlinear Galerkin reduced-order model of the transverse dynamics (Eqs. 30-31).
+
+``w(rho, theta, t) = sum_k q_k(t) psi_k``, ``psi_k = phi_k(rho) cos(n_k theta)`` over a set
+of (m, n) modes with the paper's normalisation (:mod:`model.modes`).  With the exact
+neo-Hookean transverse energy of MODEL.md (no Taylor truncation)::
+
+    D  = r'^2 r^2 + r'^2 w_theta^2 + r^2 w_rho^2
+    I1 = r'^2 + w_rho^2 + (r^2 + w_theta^2)/rho^2 + rho^2 / D
+    Gamma h M q'' + c M q' + C1 h g(q) = P0 cos(Omega t) f
+
+with ``g_k = dU/dq_k = int int rho (I1_a psi_k,rho + I1_b psi_k,theta) dtheta drho``
+(``a = w_rho``, ``b = w_theta``), ``M`` the (diagonal) modal mass, ``c`` the viscous
+damping per unit undeformed area and ``f_k = int int psi_k r r' dtheta drho`` the
+pressure load on the projected stretched area.
+
+The integrals are evaluated by Gauss-Legendre in rho and the uniform (trapezoidal) rule in
+theta, flattened into one list of quadrature points ``p``; the kernels below see only these
+tables (:class:`RomTables`) and scalars.  State vectors are ``y = (q, q')``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numba as nb
+import numpy as np
+
+from .linear import gauss_radial
+from .modes import bessel_roots, mode_shape
+from .params import Membrane
+from .prestretch import Prestretch
+
+
+class RomTables(NamedTuple):
+    """Quadrature tables of one ROM, as passed to the numba kernels.
+
+    Attributes
+    ----------
+    weight : (P,) quadrature weight times ``rho`` (m2)
+    rho2 : (P,) ``rho^2`` (m2)
+    r2 : (P,) ``r_o^2`` (m2)
+    dr2 : (P,) ``r_o'^2`` (1)
+    base : (P,) ``r_o'^2 + r_o^2/rho^2`` (1), the ``w``-independent part of I1
+    b_rho : (K, P) ``psi_k,rho`` (m-1)
+    b_theta : (K, P) ``psi_k,theta`` (1)
+    k_force : (K,) ``C1 / (Gamma M_k)`` (m2 s-2 per unit of ``g``)
+    k_damp : float-like (1,) ``c/(Gamma h)`` is *not* stored: damping is a run parameter
+    load : (K,) ``f_k / (Gamma h M_k)`` (m Pa-1 s-2 ... i.e. q'' per Pa)
+    probe : (K,) ``phi_k(rho_probe)`` so that ``w(rho_probe, 0) = probe @ q``
+    """
+
+    weight: np.ndarray
+    rho2: np.ndarray
+    r2: np.ndarray
+    dr2: np.ndarray
+    base: np.ndarray
+    b_rho: np.ndarray
+    b_theta: np.ndarray
+    k_force: np.ndarray
+    load: np.ndarray
+    probe: np.ndarray
+
+
+@dataclass(frozen=True)
+class Rom:
+    """A reduced-order model ready for the kernels.
+
+    Build with :func:`build_rom`.  ``tables`` feed the kernels; the remaining fields
+    describe the model for reports.
+    """
+
+    membrane: Membrane
+    modes: tuple[tuple[int, int], ...]
+    alpha: np.ndarray
+    mass: np.ndarray          # M_k (m2)
+    forcing: np.ndarray       # f_k (m2)
+    probe_rho: float
+    radial_points: int
+    theta_points: int
+    tables: RomTables
+
+    @property
+    def dof(self) -> int:
+        """Number of modal coordinates K."""
+        return len(self.modes)
+
+    def displacement(self, q, rho, theta=0.0):
+        """Transverse displacement ``w`` (m) at ``(rho, theta)`` for modal coordinates ``q``.
+
+        ``q`` may carry leading batch axes; its last axis is the mode index.
+        """
+        m = self.membrane
+        vals = np.array([mode_shape(rho, a, n, m.Re)[0] * np.cos(n * theta)
+                         for a, (_, n) in zip(self.alpha, self.modes)])
+        return np.tensordot(np.asarray(q), vals, axes=([-1], [0]))
+
+
+def default_quadrature(modes) -> tuple[int, int]:
+    """Radial and angular points that resolve the integrands of ``modes`` to ~1e-13.
+
+    ``theta_points`` is 0 for an axisymmetric mode set (the theta integral is 2 pi).
+    """
+    mmax = max(m for m, _ in modes)
+    nmax = max(n for _, n in modes)
+    return 32 + 16 * mmax + 4 * nmax, (0 if nmax == 0 else 16 + 12 * nmax)
+
+
+def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
+              radial_points: int | None = None, theta_points: int | None = None) -> Rom:
+    """Assemble the Galerkin ROM of Eq. (31) for ``modes`` on ``prestretch``.
+
+    Parameters
+    ----------
+    prestretch : Prestretch
+        Static solution; its membrane fixes geometry and material.
+    modes : sequence of (m, n)
+        Mode indices, ``m >= 1``, ``n >= 0``, no repeats.
+    probe_rho : float, optional
+        Undeformed radius (m) of the reported displacement ``w(probe_rho, 0)``; default
+        ``0.5 Re`` (the paper's point).  Must lie inside ``(Ro, Re)``.
+    radial_points, theta_points : int, optional
+        Gauss-Legendre points on ``[Ro, Re]`` and uniform points on ``[0, 2 pi)``;
+        defaults from :func:`default_quadrature`.  ``theta_points = 0`` means the
+        axisymmetric shortcut and is only allowed when every ``n`` is 0.
+    """
+    m = prestretch.membrane
+    modes = tuple((int(a), int(b)) for a, b in modes)
+    if not modes:
+        raise ValueError("modes = [] is invalid: give at least one (m, n) pair")
+    for mm, nn in modes:
+        if mm < 1 or nn < 0:
+            raise ValueError(f"mode = ({mm}, {nn}) is invalid: need m >= 1 and n >= 0")
+    if len(set(modes)) != len(modes):
+        raise ValueError(f"modes = {list(modes)} is invalid: a mode is repeated")
+    probe_rho = 0.5 * m.Re if probe_rho is None else float(probe_rho)
+    if not m.Ro < probe_rho < m.Re:
+        raise ValueError(f"probe_rho = {probe_rho!r} is invalid: must lie in (Ro, Re) = ({m.Ro}, {m.Re}) m")
+    nr_def, nt_def = default_quadrature(modes)
+    nr = radial_points or nr_def
+    nt = nt_def if theta_points is None else int(theta_points)
+    if nt == 0 and any(n for _, n in modes):
+        raise ValueError("theta_points = 0 is invalid for a mode set with n > 0")
+    rho, wr = gauss_radial(m, nr)
+    if nt == 0:
+        theta, wt = np.zeros(1), np.array([2 * np.pi])
+    else:
+        theta, wt = 2 * np.pi * np.arange(nt) / nt, np.full(nt, 2 * np.pi / nt)
+    alpha = np.array([bessel_roots(n, m.delta_o, mm)[-1] for mm, n in modes])
+    shapes = [mode_shape(rho, a, n, m.Re) for a, (_, n) in zip(alpha, modes)]
+    ns = np.array([n for _, n in modes], dtype=float)
+    cos = np.cos(ns[:, None] * theta[None, :])
+    dsin = -ns[:, None] * np.sin(ns[:, None] * theta[None, :])
+    K, P = len(modes), rho.size * theta.size
+    b_rho = np.stack([np.outer(s[1], cos[k]).ravel() for k, s in enumerate(shapes)]).reshape(K, P)
+    b_theta = np.stack([np.outer(s[0], dsin[k]).ravel() for k, s in enumerate(shapes)]).reshape(K, P)
+    psi = np.stack([np.outer(s[0], cos[k]).ravel() for k, s in enumerate(shapes)])
+    rr = np.repeat(rho, theta.size)
+    wq = np.outer(wr, wt).ravel()
+    r, dr = prestretch.radius(rr), prestretch.slope(rr)
+    mass = (psi**2 * (wq * rr)).sum(axis=1)
+    forcing = (psi * (wq * r * dr)).sum(axis=1)
+    probe = np.array([mode_shape(probe_rho, a, n, m.Re)[0] for a, (_, n) in zip(alpha, modes)])
+    tables = RomTables(
+        weight=wq * rr, rho2=rr**2, r2=r**2, dr2=dr**2, base=dr**2 + r**2 / rr**2,
+        b_rho=np.ascontiguousarray(b_rho), b_theta=np.ascontiguousarray(b_theta),
+        k_force=m.C1 / (m.Gamma * mass), load=forcing / (m.Gamma * m.h * mass), probe=probe)
+    return Rom(m, modes, alpha, mass, forcing, probe_rho, nr, nt, tables)
+
+
+@nb.njit(cache=True, fastmath=False)
+def elastic_force(q, tab, out):
+    """``out[k] = g_k(q) = dU/dq_k`` (m2 per unit q), the exact neo-Hookean force.
+
+    ``U = int int (I1 - 3) rho dtheta drho``; the physical generalised force is
+    ``C1 h g``.  ``tab`` is a :class:`RomTables`.
+    """
+    K = q.size
+    P = tab.weight.size
+    for k in range(K):
+        out[k] = 0.0
+    for p in range(P):
+        a = 0.0
+        b = 0.0
+        for k in range(K):
+            a += q[k] * tab.b_rho[k, p]
+            b += q[k] * tab.b_theta[k, p]
+        D = tab.dr2[p] * tab.r2[p] + tab.dr2[p] * b * b + tab.r2[p] * a * a
+        s = tab.rho2[p] / (D * D)
+        ia = 2.0 * a * (1.0 - s * tab.r2[p]) * tab.weight[p]
+        ib = 2.0 * b * (1.0 / tab.rho2[p] - s * tab.dr2[p]) * tab.weight[p]
+        for k in range(K):
+            out[k] += ia * tab.b_rho[k, p] + ib * tab.b_theta[k, p]
+
+
+@nb.njit(cache=True)
+def force_jacobian(q, tab, out):
+    """``out[k, l] = d g_k / d q_l`` in closed form (the Hessian of U)."""
+    K = q.size
+    P = tab.weight.size
+    for k in range(K):
+        for l in range(K):
+            out[k, l] = 0.0
+    for p in range(P):
+        a = 0.0
+        b = 0.0
+        for k in range(K):
+            a += q[k] * tab.b_rho[k, p]
+            b += q[k] * tab.b_theta[k, p]
+        r2 = tab.r2[p]
+        dr2 = tab.dr2[p]
+        rho2 = tab.rho2[p]
+        D = dr2 * r2 + dr2 * b * b + r2 * a * a
+        D2 = D * D
+        D3 = D2 * D
+        w = tab.weight[p]
+        iaa = (2.0 - 2.0 * rho2 * r2 / D2 + 8.0 * rho2 * r2 * r2 * a * a / D3) * w
+        iab = (8.0 * rho2 * r2 * dr2 * a * b / D3) * w
+        ibb = (2.0 / rho2 - 2.0 * rho2 * dr2 / D2 + 8.0 * rho2 * dr2 * dr2 * b * b / D3) * w
+        for k in range(K):
+            bk = tab.b_rho[k, p]
+            tk = tab.b_theta[k, p]
+            for l in range(K):
+                bl = tab.b_rho[l, p]
+                tl = tab.b_theta[l, p]
+                out[k, l] += iaa * bk * bl + iab * (bk * tl + tk * bl) + ibb * tk * tl
+
+
+@nb.njit(cache=True)
+def strain_energy(q, tab):
+    """``U(q) - U(0) = int int (I1(q) - I1(0)) rho dtheta drho`` (m2); times ``C1 h`` in J."""
+    K = q.size
+    P = tab.weight.size
+    e = 0.0
+    for p in range(P):
+        a = 0.0
+        b = 0.0
+        for k in range(K):
+            a += q[k] * tab.b_rho[k, p]
+            b += q[k] * tab.b_theta[k, p]
+        r2 = tab.r2[p]
+        dr2 = tab.dr2[p]
+        D = dr2 * r2 + dr2 * b * b + r2 * a * a
+        e += (a * a + b * b / tab.rho2[p] + tab.rho2[p] / D - tab.rho2[p] / (dr2 * r2)) * tab.weight[p]
+    return e
+
+
+@nb.njit(cache=True)
+def rhs(t, y, tab, c_damp, p_load, omega, g, out):
+    """Right-hand side of the ROM, ``y' = F(t, y)``, with ``y = (q, q')``.
+
+    Parameters
+    ----------
+    t : float
+        Time (s).
+    y : (2K,) array
+        State.
+    tab : RomTables
+    c_damp : float
+        ``c / (Gamma h)`` (s-1).
+    p_load : float
+        ``P0`` (Pa).
+    omega : float
+        ``Omega`` (rad s-1).
+    g : (K,) array
+        Work space for the elastic force.
+    out : (2K,) array
+        Receives ``y'``.
+    """
+    K = g.size
+    elastic_force(y[:K], tab, g)
+    pt = p_load * np.cos(omega * t)
+    for k in range(K):
+        out[k] = y[K + k]
+        out[K + k] = -c_damp * y[K + k] - tab.k_force[k] * g[k] + pt * tab.load[k]
+
+
+def total_energy(rom: Rom, y) -> float:
+    """Kinetic plus strain energy (J) of state ``y`` relative to the pre-stretched rest state."""
+    m = rom.membrane
+    K = rom.dof
+    y = np.asarray(y, dtype=float)
+    kin = 0.5 * m.Gamma * m.h * float(np.sum(rom.mass * y[K:] ** 2))
+    return kin + m.C1 * m.h * strain_energy(y[:K].copy(), rom.tables)

@@ -1,0 +1,162 @@
+"""The contract between the sweep runner and an analysis.
+
+An analysis turns one *task* into a dictionary of fixed-shape numpy arrays.  A task is
+one grid point (a dict of the swept parameters) and one *subtask* index: most analyses
+have a single subtask per grid point, the basins analysis splits its lattice of initial
+conditions into tiles, one subtask each.  The runner never looks inside the arrays: it
+stores them with the shapes declared by :meth:`Analysis.variables`, merges them into a
+raw :class:`xarray.Dataset` with dimensions ``(*grid_dims, "subtask", *variable_dims)``
+and hands that to :meth:`Analysis.assemble`, which returns the final labelled Dataset.
+
+Kernels never see this module: it lives in ``sweep`` and only wraps ``model``.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+#: Values of the per-task ``status`` variable (CF ``flag_values``/``flag_meanings``).
+STATUS_OK = 0
+STATUS_NOT_CONVERGED = 1
+STATUS_FAILED = 2
+STATUS_MEANINGS = "ok not_converged failed"
+
+#: Grid keys a job may sweep, with units and long names.
+GRID_KEYS: dict[str, tuple[str, str]] = {
+    "delta": ("1", "radial stretch ratio Rf/Re"),
+    "delta_o": ("1", "inner radius ratio Ro/Re"),
+    "Omega": ("rad s-1", "forcing frequency"),
+    "P0": ("Pa", "forcing pressure amplitude"),
+    "c": ("N s m-3", "viscous damping coefficient per unit undeformed area"),
+}
+
+
+class _Missing:
+    """Type of :data:`MISSING`."""
+
+    def __repr__(self) -> str:
+        return "<missing>"
+
+
+#: The ``value`` of a :class:`JobError` for a required key that is absent, so the message
+#: reads ``job.name = <missing> is invalid: ...``.
+MISSING = _Missing()
+
+
+class JobError(ValueError):
+    """A job file is invalid.  The message names the key, the value and what is allowed."""
+
+    def __init__(self, key: str, value: Any, allowed: str):
+        self.key, self.value, self.allowed = key, value, allowed
+        super().__init__(f"{key} = {value!r} is invalid: {allowed}")
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One output of a task, as the runner stores it.
+
+    Parameters
+    ----------
+    name : str
+        Variable name in the raw dataset.
+    dims : tuple of str
+        Dimension names beyond the grid's (and beyond ``subtask``).
+    shape : tuple of int
+        Shape of the array a task returns; ``len(shape) == len(dims)``.
+    dtype : str
+        numpy dtype string (``"f8"``, ``"i4"``, ``"i1"``).
+    units : str
+        CF ``units`` attribute (``"1"`` for dimensionless).
+    long_name : str
+        CF ``long_name`` attribute.
+    fill : float or int
+        Value of a task that has not produced this variable.
+    """
+
+    name: str
+    dims: tuple[str, ...]
+    shape: tuple[int, ...]
+    dtype: str
+    units: str
+    long_name: str
+    fill: float | int = np.nan
+
+
+class Analysis(ABC):
+    """One kind of computation a job can ask for (``[job] analysis = name``).
+
+    Subclasses are stateless; everything a task needs travels in ``options`` (the
+    validated option table) and ``point`` (the grid values and the membrane).
+    """
+
+    name: ClassVar[str]
+    #: grid keys that must be present (each may still have length 1)
+    required_grid: ClassVar[tuple[str, ...]] = ("delta", "delta_o")
+
+    @abstractmethod
+    def parse_options(self, table: Mapping[str, Any], grid: Mapping[str, np.ndarray],
+                      membrane: Mapping[str, float]) -> Any:
+        """Validate the analysis' option table; raise :class:`JobError` on bad input.
+
+        ``grid`` maps each grid key to its 1-D array of values; ``membrane`` holds the
+        validated ``[membrane]`` table (C1, h, Gamma, Re).  Returns an immutable, picklable
+        options object (a frozen dataclass), whose ``repr`` is stable.
+        """
+
+    @abstractmethod
+    def variables(self, options: Any) -> list[Variable]:
+        """The arrays every task returns (``status`` is added by the runner)."""
+
+    def coords(self, options: Any) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict]]:
+        """Coordinates of the non-grid dimensions: ``name -> (dims, values, attrs)``."""
+        return {}
+
+    def n_subtasks(self, options: Any) -> int:
+        """Number of subtasks per grid point (tiles of a lattice)."""
+        return 1
+
+    @abstractmethod
+    def compute(self, point: Mapping[str, float], options: Any, subtask: int) -> dict[str, np.ndarray]:
+        """Compute one task.
+
+        ``point`` holds every grid key of the job (floats) plus the membrane constants
+        ``C1, h, Gamma, Re``.  Returns ``{name: array}`` for every declared variable and
+        ``"status"`` (one of the ``STATUS_*`` codes).  Numerical non-convergence is a
+        status, not an exception; an exception means a bug and aborts the run.
+        """
+
+    def warmup(self, options: Any) -> None:
+        """Compile the numba kernels this analysis uses (called once, on rank 0, first).
+
+        On several nodes the runner calls it on the first rank of each node, so that
+        node-local numba caches are filled once per node before any task runs.
+        """
+
+    def assemble(self, raw, options: Any):
+        """Turn the raw merged Dataset into the published one (rank 0, at collect).
+
+        ``raw`` has dims ``(*grid_dims, "subtask", *variable_dims)``.  The default drops
+        the ``subtask`` dimension, which is valid when :meth:`n_subtasks` is 1.
+        """
+        return raw.isel(subtask=0, drop=True)
+
+    def figures(self, ds, outdir) -> list:
+        """Write the standard plots of a result as PNG files (``python -m sweep figures``).
+
+        ``ds`` is the published Dataset read back from the NetCDF file, ``outdir`` an
+        existing :class:`pathlib.Path`.  Returns the paths written.  The default writes
+        nothing, and the command line says that this analysis has no figures.
+        """
+        return []
+
+    def figures(self, ds, outdir) -> list:
+        """Draw the standard figures of a published Dataset into ``outdir``.
+
+        Returns the list of written PNG paths (empty if the analysis draws none).
+        """
+        return []

@@ -1,0 +1,108 @@
+"""Validation helpers for analysis option tables (``[<analysis>]`` in a job file).
+
+Every helper raises :class:`~sweep.analyses.base.JobError` naming the dotted key, the
+value and what is allowed, so that analyses validate their tables in a few lines.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from model.params import Membrane
+from model.prestretch import KINDS
+
+from .base import JobError
+
+
+def check_keys(table: Mapping[str, Any], section: str, allowed) -> None:
+    """Reject keys of ``table`` that are not in ``allowed``."""
+    for key in table:
+        if key not in allowed:
+            raise JobError(f"{section}.{key}", table[key],
+                           f"unknown option; allowed options are {', '.join(sorted(allowed))}")
+
+
+def number(table, section: str, key: str, default=None, *, low=None, high=None,
+           low_open=False, integer=False) -> float | int:
+    """A finite number (or integer) option with optional bounds."""
+    if key not in table:
+        if default is None:
+            raise JobError(f"{section}.{key}", None, "this option is required")
+        return default
+    v = table[key]
+    kind = "an integer" if integer else "a number"
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or (integer and not isinstance(v, int)):
+        raise JobError(f"{section}.{key}", v, f"must be {kind}")
+    if not math.isfinite(v):
+        raise JobError(f"{section}.{key}", v, f"must be a finite {kind[2:] if integer else 'number'}")
+    if low is not None and (v <= low if low_open else v < low):
+        raise JobError(f"{section}.{key}", v, f"must be {'>' if low_open else '>='} {low}")
+    if high is not None and v > high:
+        raise JobError(f"{section}.{key}", v, f"must be <= {high}")
+    return int(v) if integer else float(v)
+
+
+def choice(table, section: str, key: str, allowed, default=None) -> str:
+    """A string option from a fixed set."""
+    v = table.get(key, default)
+    if v is None:
+        raise JobError(f"{section}.{key}", None, f"this option is required: one of {', '.join(allowed)}")
+    if v not in allowed:
+        raise JobError(f"{section}.{key}", v, f"must be one of {', '.join(allowed)}")
+    return v
+
+
+def prestretch(table, section: str, default: str = "numeric") -> str:
+    """The ``prestretch`` option: ``analytic`` (Eq. 21), ``numeric`` (Eq. 15) or ``fit`` (Eq. 18)."""
+    return choice(table, section, "prestretch", KINDS, default)
+
+
+def modes(table, section: str, default=((1, 0),)) -> tuple[tuple[int, int], ...]:
+    """The ``modes`` option: a non-empty list of distinct ``[m, n]`` pairs, m >= 1, n >= 0."""
+    v = table.get("modes", [list(p) for p in default])
+    key = f"{section}.modes"
+    if not isinstance(v, list) or not v:
+        raise JobError(key, v, "must be a non-empty list of [m, n] pairs")
+    out = []
+    for pair in v:
+        if (not isinstance(pair, list) or len(pair) != 2
+                or any(isinstance(x, bool) or not isinstance(x, int) for x in pair)):
+            raise JobError(key, pair, "each mode must be a pair [m, n] of integers")
+        if pair[0] < 1 or pair[1] < 0:
+            raise JobError(key, pair, "each mode needs m >= 1 and n >= 0")
+        out.append((pair[0], pair[1]))
+    if len(set(out)) != len(out):
+        raise JobError(key, v, "modes must be distinct")
+    return tuple(out)
+
+
+def linspace(table, section: str, key: str, default=None, *, low=None, low_open=False,
+             max_num: int = 100_000) -> tuple[float, float, int]:
+    """A ``{start, stop, num}`` table (``num >= 1``); returns ``(start, stop, num)``."""
+    v = table.get(key, default)
+    full = f"{section}.{key}"
+    if v is None:
+        raise JobError(full, None, "this option is required: a table {start = , stop = , num = }")
+    if not isinstance(v, Mapping) or set(v) != {"start", "stop", "num"}:
+        raise JobError(full, v, "must be a table with exactly the keys start, stop, num")
+    start = number(v, full, "start", low=low, low_open=low_open)
+    stop = number(v, full, "stop", low=low, low_open=low_open)
+    num = number(v, full, "num", integer=True, low=1, high=max_num)
+    return start, stop, num
+
+
+def membrane_from_point(point: Mapping[str, float]) -> Membrane:
+    """The :class:`~model.params.Membrane` of one task's ``point``."""
+    return Membrane(delta=point["delta"], delta_o=point["delta_o"], C1=point["C1"],
+                    h=point["h"], Gamma=point["Gamma"], Re=point["Re"])
+
+
+def mode_coords(mode_list) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict]]:
+    """Coordinates ``m`` and ``n`` along a ``mode`` dimension."""
+    arr = np.array(mode_list, dtype=np.int32).reshape(-1, 2)
+    return {"m": (("mode",), arr[:, 0], {"long_name": "radial mode index m", "units": "1"}),
+            "n": (("mode",), arr[:, 1], {"long_name": "circumferential wave number n", "units": "1"})}

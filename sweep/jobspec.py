@@ -1,0 +1,261 @@
+"""Job files: read, validate whole, and describe a sweep before anything is computed.
+
+A job file is TOML with the tables ``[job]``, ``[membrane]`` (optional), ``[grid]`` and
+``[<analysis>]`` (the analysis' options).  Every problem raises
+:class:`~sweep.analyses.base.JobError` naming the dotted key, the value and what is
+allowed; the first problem found is the one reported.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import re
+import tomllib
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from sweep import analyses
+from sweep.analyses.base import GRID_KEYS, MISSING, Analysis, JobError
+from sweep.grid import TaskLayout, default_chunk
+
+#: Defaults of the ``[membrane]`` table (the paper's values), SI units.
+MEMBRANE_DEFAULTS: dict[str, float] = {"C1": 0.17e6, "h": 1e-3, "Gamma": 2200.0, "Re": 1.0}
+
+_MEMBRANE_UNITS = {"C1": "Pa", "h": "m", "Gamma": "kg m-3", "Re": "m"}
+
+#: Allowed range of each grid key: (test, description).
+_GRID_RANGES: dict[str, tuple[Callable[[float], bool], str]] = {
+    "delta": (lambda x: x > 1, "a finite number > 1"),
+    "delta_o": (lambda x: 0 < x < 1, "a finite number in (0, 1)"),
+    "Omega": (lambda x: x > 0, "a finite number > 0 (rad s-1)"),
+    "P0": (lambda x: x >= 0, "a finite number >= 0 (Pa)"),
+    "c": (lambda x: x >= 0, "a finite number >= 0 (N s m-3)"),
+}
+
+_JOB_KEYS = ("name", "analysis", "seed", "chunk")
+_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]*")
+_GRID_FORMS = "a number, a non-empty list of numbers, or a table {start=, stop=, num=}"
+
+
+@dataclass(frozen=True, eq=False)
+class Job:
+    """A validated job.
+
+    Parameters
+    ----------
+    name : str
+        ``[job] name``; the default output is ``<name>.nc``.
+    analysis_name : str
+        ``[job] analysis``.
+    analysis : Analysis
+        The analysis object.
+    options : object
+        What ``analysis.parse_options`` returned.
+    membrane : dict of str to float
+        ``C1`` (Pa), ``h`` (m), ``Gamma`` (kg m-3), ``Re`` (m).
+    layout : TaskLayout
+        Grid, tasks and chunks.
+    seed : int or None
+        ``[job] seed``.
+    text : str
+        The job file text, stored in the results.
+    """
+
+    name: str
+    analysis_name: str
+    analysis: Analysis
+    options: Any
+    membrane: dict[str, float]
+    layout: TaskLayout
+    seed: int | None
+    text: str
+
+    @property
+    def sha256(self) -> str:
+        """Hex SHA-256 of the job file text (a resume must match it)."""
+        return job_hash(self.text)
+
+    def point(self, t: int) -> tuple[dict[str, float], int]:
+        """The ``point`` argument of ``compute`` for task ``t`` and its subtask index."""
+        grid_point, subtask = self.layout.task(t)
+        return {**grid_point, **self.membrane}, subtask
+
+
+def job_hash(text: str) -> str:
+    """Hex SHA-256 of a job file text."""
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def read_job_text(path: str | Path) -> str:
+    """Read a job file.
+
+    Raises
+    ------
+    JobError
+        If the file cannot be read as UTF-8 text.
+    """
+    try:
+        return Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise JobError("job file", str(path), "an existing file (no such file)") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise JobError("job file", str(path), f"a readable UTF-8 text file ({exc})") from None
+
+
+def load_job(path: str | Path) -> Job:
+    """Read and validate a job file (:func:`read_job_text` then :func:`parse_job`)."""
+    return parse_job(read_job_text(path), str(path))
+
+
+def parse_job(text: str, source: str = "<job>") -> Job:
+    """Validate a job file text whole.
+
+    Parameters
+    ----------
+    text : str
+        TOML text.
+    source : str
+        File name, for the message of a TOML syntax error.
+
+    Returns
+    -------
+    Job
+
+    Raises
+    ------
+    JobError
+        At the first problem, naming the key, the value and what is allowed.
+    """
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise JobError("job file", source, f"TOML syntax is required: {exc}") from None
+
+    job = _table(doc, "job", required=True)
+    _check_keys(job, "job", _JOB_KEYS)
+    name = _job_name(job.get("name", MISSING))
+    analysis_name = _string("job.analysis", job.get("analysis", MISSING))
+    analysis = analyses.get(analysis_name)
+    seed = _integer("job.seed", job["seed"], 0, "an integer >= 0") if "seed" in job else None
+
+    tables = ("job", "membrane", "grid", analysis_name)
+    for key, value in doc.items():
+        if key not in tables:
+            allowed = ", ".join(f"[{t}]" for t in tables)
+            raise JobError(key, value, f"unknown table; the tables are {allowed}")
+
+    membrane = _membrane(_table(doc, "membrane", required=False))
+    grid = _grid(_table(doc, "grid", required=True))
+    for key in analysis.required_grid:
+        if key not in grid:
+            raise JobError(f"grid.{key}", MISSING,
+                           f"analysis {analysis_name!r} needs grid keys "
+                           + ", ".join(analysis.required_grid))
+    options = analysis.parse_options(_table(doc, analysis_name, required=False), grid,
+                                     dict(membrane))
+
+    n_subtasks = analysis.n_subtasks(options)
+    n_tasks = math.prod(len(v) for v in grid.values()) * n_subtasks
+    chunk = (_integer("job.chunk", job["chunk"], 1, "an integer > 0 (tasks per chunk)")
+             if "chunk" in job else default_chunk(n_tasks))
+    layout = TaskLayout(tuple(grid), tuple(grid.values()), n_subtasks, chunk)
+    return Job(name, analysis_name, analysis, options, membrane, layout, seed, text)
+
+
+def _table(doc: Mapping, key: str, *, required: bool) -> dict:
+    if key not in doc:
+        if required:
+            raise JobError(key, MISSING, f"a [{key}] table is required")
+        return {}
+    if not isinstance(doc[key], dict):
+        raise JobError(key, doc[key], f"a [{key}] table")
+    return doc[key]
+
+
+def _check_keys(table: Mapping, prefix: str, allowed: tuple[str, ...]) -> None:
+    for key, value in table.items():
+        if key not in allowed:
+            raise JobError(f"{prefix}.{key}", value, "unknown key; the keys of "
+                           f"[{prefix}] are " + ", ".join(allowed))
+
+
+def _string(key: str, value: Any) -> str:
+    if not isinstance(value, str) or not value:
+        raise JobError(key, value, "a non-empty string")
+    return value
+
+
+def _job_name(value: Any) -> str:
+    if not isinstance(value, str) or not _NAME.fullmatch(value):
+        raise JobError("job.name", value, "a string of letters, digits, '.', '_', '-' "
+                       "starting with a letter or digit (it names the output file)")
+    return value
+
+
+def _integer(key: str, value: Any, minimum: int, allowed: str) -> int:
+    if not isinstance(value, int) or isinstance(value, bool) or value < minimum:
+        raise JobError(key, value, allowed)
+    return value
+
+
+def _finite(key: str, value: Any, allowed: str) -> float:
+    """A TOML number (int or float, not bool) that is finite, as a float."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise JobError(key, value, allowed)
+    return float(value)
+
+
+def _membrane(table: Mapping) -> dict[str, float]:
+    _check_keys(table, "membrane", tuple(MEMBRANE_DEFAULTS))
+    membrane = dict(MEMBRANE_DEFAULTS)
+    for key, value in table.items():
+        allowed = f"a finite number > 0 ({_MEMBRANE_UNITS[key]})"
+        membrane[key] = _finite(f"membrane.{key}", value, allowed)
+        if membrane[key] <= 0:
+            raise JobError(f"membrane.{key}", value, allowed)
+    return membrane
+
+
+def _grid(table: Mapping) -> dict[str, np.ndarray]:
+    _check_keys(table, "grid", tuple(GRID_KEYS))
+    if not table:
+        raise JobError("grid", table, "at least one of the keys " + ", ".join(GRID_KEYS))
+    return {key: _axis(key, table[key]) for key in GRID_KEYS if key in table}
+
+
+def _axis(key: str, spec: Any) -> np.ndarray:
+    """Values of one grid key from a number, a list or ``{start, stop, num}``."""
+    test, allowed = _GRID_RANGES[key]
+
+    def value(subkey: str, v: Any) -> float:
+        x = _finite(subkey, v, allowed)
+        if not test(x):
+            raise JobError(subkey, v, allowed)
+        return x
+
+    dotted = f"grid.{key}"
+    if isinstance(spec, dict):
+        _check_keys(spec, dotted, ("start", "stop", "num"))
+        for sub in ("start", "stop", "num"):
+            if sub not in spec:
+                raise JobError(f"{dotted}.{sub}", MISSING, "start, stop and num are all required")
+        start, stop = value(f"{dotted}.start", spec["start"]), value(f"{dotted}.stop", spec["stop"])
+        num = _integer(f"{dotted}.num", spec["num"], 1, "an integer >= 1 (number of values)")
+        values = np.linspace(start, stop, num)
+    elif isinstance(spec, list):
+        if not spec:
+            raise JobError(dotted, spec, _GRID_FORMS + "; an empty list gives an empty grid")
+        values = np.array([value(f"{dotted}[{i}]", v) for i, v in enumerate(spec)])
+    elif isinstance(spec, (int, float)) and not isinstance(spec, bool):
+        values = np.array([value(dotted, spec)])
+    else:
+        raise JobError(dotted, spec, _GRID_FORMS)
+    unique, counts = np.unique(values, return_counts=True)
+    if (counts > 1).any():
+        raise JobError(dotted, spec, f"distinct values ({float(unique[counts > 1][0])!r} repeats)")
+    return values.astype(np.float64)

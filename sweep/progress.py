@@ -1,0 +1,71 @@
+"""Progress of a run on rank 0: tasks done / total, rate and ETA, to stderr.
+
+On a terminal one line is redrawn in place with a bar; in a pipe or a batch log a plain
+line is printed at longer intervals.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TextIO
+
+
+def format_duration(seconds: float) -> str:
+    """``"1h02m"``, ``"3m05s"`` or ``"12s"``."""
+    s = int(round(seconds))
+    if s >= 3600:
+        return f"{s // 3600}h{s % 3600 // 60:02d}m"
+    if s >= 60:
+        return f"{s // 60}m{s % 60:02d}s"
+    return f"{s}s"
+
+
+class Progress:
+    """Reports the tasks done by all ranks.
+
+    Parameters
+    ----------
+    total : int
+        Tasks of the job.
+    already_done : int
+        Tasks found on disk when the run started (``--resume``); the rate counts only
+        the tasks of this run.
+    stream : file
+        Where to write (stderr).
+    """
+
+    BAR_WIDTH = 30
+
+    def __init__(self, total: int, already_done: int, stream: TextIO):
+        self.total, self.already_done, self.stream = total, already_done, stream
+        self.tty = stream.isatty()
+        self.interval = 0.5 if self.tty else 10.0  # seconds between reports
+        self.start = self.last = time.monotonic()
+
+    def _line(self, done: int) -> str:
+        elapsed = time.monotonic() - self.start
+        n = self.already_done + done
+        rate = done / elapsed if elapsed > 0 else 0.0
+        eta = format_duration((self.total - n) / rate) if rate > 0 else "?"
+        text = (f"{n} / {self.total} tasks ({100 * n / self.total:.0f}%), "
+                f"{rate:.3g} tasks/s, elapsed {format_duration(elapsed)}, ETA {eta}")
+        if not self.tty:
+            return text
+        filled = self.BAR_WIDTH * n // self.total
+        return f"[{'#' * filled}{'.' * (self.BAR_WIDTH - filled)}] {text}"
+
+    def update(self, done: int) -> None:
+        """Report, if the interval has passed, that ``done`` tasks of this run are done."""
+        now = time.monotonic()
+        if now - self.last < self.interval:
+            return
+        self.last = now
+        self.stream.write(("\r" + self._line(done) + "\x1b[K") if self.tty
+                          else self._line(done) + "\n")
+        self.stream.flush()
+
+    def finish(self, done: int) -> None:
+        """Final report: ``done`` tasks of this run are done."""
+        self.stream.write(("\r" + self._line(done) + "\x1b[K\n") if self.tty
+                          else self._line(done) + "\n")
+        self.stream.flush()
