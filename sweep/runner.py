@@ -178,7 +178,9 @@ def _compute(job: Job, parts: Path, missing: list[int], comm: MPI.Intracomm,
             storage.write_part(parts, missing[i], tasks, arrays, status)
         except Exception as exc:
             counter.stop()
-            failure = (f"{exc} (on rank {comm.rank})", traceback.format_exc())
+            cause = (str(exc) if isinstance(exc, TaskError)
+                     else f"chunk {missing[i]}: {type(exc).__name__}: {exc}")
+            failure = (f"{cause} (on rank {comm.rank})", traceback.format_exc())
             break
         mine += len(tasks)
         done = counter.add_done(len(tasks))
@@ -190,7 +192,7 @@ def _compute(job: Job, parts: Path, missing: list[int], comm: MPI.Intracomm,
 
 
 def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
-        overwrite: bool = False, progress_stream=sys.stderr) -> RunSummary:
+        overwrite: bool = False, progress_stream=None) -> RunSummary:
     """Run a job and write its merged NetCDF file; collective over comm.
 
     Parameters
@@ -205,8 +207,8 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
         Compute only the chunks without a part file (the job file must be unchanged).
     overwrite : bool
         Delete earlier results at ``out`` first.
-    progress_stream : file
-        Where rank 0 reports progress.
+    progress_stream : file, optional
+        Where rank 0 reports progress (default: ``sys.stderr``).
 
     Returns
     -------
@@ -222,7 +224,7 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
     _warmup(job, comm)
     layout = job.layout
     todo = sum(len(layout.chunk_tasks(k)) for k in missing)
-    progress = (Progress(layout.n_tasks, layout.n_tasks - todo, progress_stream)
+    progress = (Progress(layout.n_tasks, layout.n_tasks - todo, progress_stream or sys.stderr)
                 if comm.rank == 0 else None)
     start = time.perf_counter()
     computed = _compute(job, storage.parts_dir(out), missing, comm, progress)

@@ -75,7 +75,8 @@ def get(name: str) -> Analysis:
     """
     entries = registry()
     if name not in entries:
-        raise JobError("job.analysis", name, "one of " + ", ".join(repr(n) for n in entries))
+        raise JobError("job.analysis", name, "one of the available analyses: "
+                       + (", ".join(repr(n) for n in entries) or "none is installed"))
     module_name, _, attribute = entries[name].partition(":")
     analysis = getattr(importlib.import_module(module_name), attribute)
     if not isinstance(analysis, Analysis):

@@ -1,0 +1,330 @@
+"""Pseudo-arclength continuation of periodic responses in ``Omega`` or ``P0`` (Figs. 14-17).
+
+The branch of fixed points of the stroboscopic map (:mod:`model.shooting`) is followed in
+the scaled unknowns ``x = (S y / L, lambda / Lambda)`` (``S`` of
+:func:`model.shooting.state_scale` at the reference frequency, ``L`` = :data:`LENGTH`,
+``Lambda`` = the length of the parameter range), so that arclength weighs a change of the
+response and a change of the parameter alike.  The steps follow AUTO-07p/BifurcationKit:
+
+* predictor ``x + ds t`` along the unit tangent ``t``;
+* corrector: Newton on ``G(x) = S (P(y) - y) / L = 0`` plus the arclength condition
+  ``t . (x - x_pred) = 0``, with the bordered Jacobian ``[[S (Phi - I) S^-1, dG/dmu], [t]]``
+  (``Phi`` the monodromy matrix, ``dG/dmu`` by central differences);
+* step control: a failed corrector or a tangent turning by more than :data:`MAX_TURN`
+  halves ``ds``; a corrector converged in at most 3 iterations grows it by 1.5, up to
+  ``ds_max``;
+* test functions between consecutive points: the parameter component of the tangent
+  (fold, saddle-node: a real multiplier crosses +1), ``det(Phi + I)`` (period doubling: a
+  multiplier crosses -1) and ``Re prod_{i<j} (mu_i mu_j - 1)`` restricted to a complex pair
+  (Neimark-Sacker: a pair crosses the unit circle).  A sign change is located by the secant
+  (Illinois) method on the arclength from the previous point, each evaluation a corrector
+  solve on the same hyperplane, until the arclength changes by less than 1e-10 (a fold's
+  parameter value is then exact to ~1e-12 relative, the test function being quadratic in it);
+  the located point is inserted into the branch.
+
+The branch ends when the parameter leaves ``[min(start, stop), max(start, stop)]`` (the last
+point is placed exactly on the bound), after ``max_points`` points, or when ``ds`` falls
+below ``ds_min``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .integrate import monodromy, rk4_period
+from .params import Loading
+from .rom import Rom
+from .shooting import DEFAULT_STEPS, damping_rate, orbit_amplitude, shoot, sorted_multipliers, state_scale
+
+#: Length scale ``L`` (m) of the scaled displacements.
+LENGTH = 0.05
+#: Largest angle (rad) between consecutive tangents before a step is rejected.
+MAX_TURN = 0.3
+#: Labels of the points of a branch.
+REGULAR, FOLD, PERIOD_DOUBLING, NEIMARK_SACKER = 0, 1, 2, 3
+KIND_NAMES = ("regular", "fold", "period_doubling", "neimark_sacker")
+PARAMETERS = ("Omega", "P0")
+
+
+@dataclass
+class Branch:
+    """A continued branch of periodic responses.
+
+    Attributes
+    ----------
+    parameter : str
+        ``"Omega"`` or ``"P0"``.
+    value : (N,) array
+        Parameter along the branch (rad s-1 or Pa).
+    state : (N, 2K) array
+        ``y(0)`` of each response.
+    amplitude : (N,) array
+        ``max_t |w(0.5 Re, 0, t)|`` (m).
+    multipliers : (N, 2K) complex array
+        Floquet multipliers, sorted by decreasing modulus.
+    stable : (N,) bool array
+        All multipliers inside the unit circle (False at located bifurcation points).
+    kind : (N,) int array
+        :data:`REGULAR`, :data:`FOLD`, :data:`PERIOD_DOUBLING` or :data:`NEIMARK_SACKER`.
+    complete : bool
+        The branch reached the end of the parameter range.
+    message : str
+        Why the continuation stopped.
+    """
+
+    parameter: str
+    value: np.ndarray
+    state: np.ndarray
+    amplitude: np.ndarray
+    multipliers: np.ndarray
+    stable: np.ndarray
+    kind: np.ndarray
+    complete: bool
+    message: str
+
+    def special(self, kind: int) -> np.ndarray:
+        """Indices of the points of type ``kind`` (e.g. :data:`FOLD`)."""
+        return np.flatnonzero(self.kind == kind)
+
+
+class _Problem:
+    """The scaled fixed-point problem ``G(x) = 0`` of one continuation."""
+
+    def __init__(self, rom, loading, parameter, start, stop, steps):
+        self.rom, self.loading, self.parameter, self.steps = rom, loading, parameter, steps
+        self.start, self.stop = start, stop
+        self.span = abs(stop - start)
+        self.lo, self.hi = min(start, stop), max(start, stop)
+        self.s = state_scale(rom.dof, loading.Omega if parameter == "P0" else 0.5 * (start + stop)) / LENGTH
+        self.n = 2 * rom.dof
+        self.cd = damping_rate(rom, loading)
+        self.work = np.empty((6, self.n))
+
+    def lam(self, x):
+        return self.start + x[-1] * self.span
+
+    def unpack(self, x):
+        return x[:-1] / self.s, self.lam(x)
+
+    def pack(self, y, lam):
+        return np.append(self.s * y, (lam - self.start) / self.span)
+
+    def _args(self, lam):
+        om, p0 = (lam, self.loading.P0) if self.parameter == "Omega" else (self.loading.Omega, lam)
+        return om, p0
+
+    def _map(self, y, lam):
+        om, p0 = self._args(lam)
+        z = y.copy()
+        period = 2.0 * np.pi / om
+        rk4_period(z, 0.0, period / self.steps, self.steps, self.rom.tables, self.cd, p0, om, self.work)
+        return z
+
+    def evaluate(self, x):
+        """``G(x)``, its Jacobian ``(n, n+1)`` and the monodromy matrix."""
+        y, lam = self.unpack(x)
+        om, p0 = self._args(lam)
+        yT, phi = monodromy(y, 0.0, 2.0 * np.pi / om, self.steps, self.rom.tables, self.cd, p0, om)
+        g = self.s * (yT - y)
+        jac = np.empty((self.n, self.n + 1))
+        jac[:, :-1] = (self.s[:, None] * (phi - np.eye(self.n))) / self.s[None, :]
+        h = 1e-6 * self.span
+        jac[:, -1] = self.s * (self._map(y, lam + h) - self._map(y, lam - h)) / (2 * h) * self.span
+        return g, jac, phi
+
+    def tangent(self, jac, previous):
+        """Unit null vector of ``jac`` with a positive projection on ``previous``."""
+        a = np.vstack([jac, previous])
+        rhs = np.zeros(self.n + 1)
+        rhs[-1] = 1.0
+        t = np.linalg.solve(a, rhs)
+        return t / np.linalg.norm(t)
+
+    def correct(self, x0, normal, anchor, sigma, tol, max_iter=8):
+        """Newton on ``G(x) = 0``, ``normal . (x - anchor) = sigma``; ``(x, jac, phi, iters)`` or None."""
+        x = x0.copy()
+        for it in range(1, max_iter + 1):
+            g, jac, phi = self.evaluate(x)
+            a = np.vstack([jac, normal])
+            r = np.append(g, normal @ (x - anchor) - sigma)
+            try:
+                dx = np.linalg.solve(a, -r)
+            except np.linalg.LinAlgError:
+                return None
+            x = x + dx
+            if not np.all(np.isfinite(x)):
+                return None
+            if np.linalg.norm(dx) < tol and np.linalg.norm(g) < 1e3 * tol:
+                g, jac, phi = self.evaluate(x)
+                return x, jac, phi, it
+        return None
+
+
+def _pd_test(phi):
+    return float(np.linalg.det(phi + np.eye(phi.shape[0])))
+
+
+def _ns_test(mu):
+    # Re prod_{i<j} (mu_i mu_j - 1) over the complex multipliers only (a real pair with
+    # mu_i mu_j = 1 is a neutral saddle, not a bifurcation); +1 when there is no pair.
+    c = mu[np.abs(mu.imag) > 1e-12 * np.maximum(1.0, np.abs(mu))]
+    out = 1.0 + 0j
+    for i in range(c.size):
+        for j in range(i + 1, c.size):
+            out *= c[i] * c[j] - 1.0
+    return float(out.real)
+
+
+def continue_orbits(rom: Rom, loading: Loading, parameter: str, start: float, stop: float,
+                    guess=None, steps: int = DEFAULT_STEPS, ds: float = 0.01, ds_min: float = 1e-6,
+                    ds_max: float = 0.05, max_points: int = 400, tol: float = 1e-10) -> Branch:
+    """Follow the periodic responses of the forced ROM from ``start`` to ``stop``.
+
+    Parameters
+    ----------
+    rom : Rom
+    loading : Loading
+        Fixed ``Omega`` (rad s-1), ``P0`` (Pa) and ``c`` (N s m-3); the continued one is
+        overridden by the branch.
+    parameter : {"Omega", "P0"}
+        The continuation parameter.
+    start, stop : float
+        Parameter range (rad s-1 or Pa); the branch starts at ``start`` from the response
+        that :func:`model.shooting.shoot` finds from ``guess``.
+    guess : (2K,) array, optional
+        Initial guess at ``start`` (default: rest, which converges to the unique small
+        response away from resonance and at ``P0 = 0``).
+    steps : int
+        RK4 steps per forcing period.
+    ds, ds_min, ds_max : float
+        Initial, smallest and largest arclength step in the scaled unknowns (a unit
+        parameter step is the whole range; a unit state step is :data:`LENGTH`).
+    max_points : int
+        Largest number of points (located bifurcation points included).
+    tol : float
+        Corrector tolerance on the scaled unknowns.
+
+    Returns
+    -------
+    Branch
+        Every point computed; ``complete`` is False when the range end was not reached.
+    """
+    if parameter not in PARAMETERS:
+        raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(PARAMETERS)}")
+    if not (np.isfinite(start) and np.isfinite(stop)) or start == stop:
+        raise ValueError(f"(start, stop) = ({start!r}, {stop!r}) is invalid: need two different finite values")
+    if parameter == "Omega" and min(start, stop) <= 0:
+        raise ValueError(f"(start, stop) = ({start!r}, {stop!r}) is invalid: Omega must stay > 0")
+    if not 0 < ds_min <= ds <= ds_max:
+        raise ValueError(f"(ds_min, ds, ds_max) = ({ds_min}, {ds}, {ds_max}) is invalid: need 0 < ds_min <= ds <= ds_max")
+    if max_points < 2:
+        raise ValueError(f"max_points = {max_points} is invalid: must be >= 2")
+    prob = _Problem(rom, loading, parameter, float(start), float(stop), steps)
+    first = shoot(rom, replace(loading, **{parameter: float(start)}), np.zeros(prob.n) if guess is None else guess,
+                  steps)
+    pts: list[tuple] = []
+
+    def record(x, phi, kind):
+        y, lam = prob.unpack(x)
+        mu = sorted_multipliers(phi)
+        stable = kind == REGULAR and bool(np.max(np.abs(mu)) < 1.0)
+        amp = orbit_amplitude(rom, replace(loading, **{parameter: lam}), y, steps)
+        pts.append((lam, y, amp, mu, stable, kind))
+
+    def finish(complete, message):
+        lam, y, amp, mu, st, kind = (list(v) for v in zip(*pts))
+        return Branch(parameter, np.array(lam), np.array(y), np.array(amp), np.array(mu),
+                      np.array(st, dtype=bool), np.array(kind, dtype=np.int8), complete, message)
+
+    x = prob.pack(first.state, float(start))
+    if not first.converged:
+        g, jac, phi = prob.evaluate(x)
+        record(x, phi, REGULAR)
+        return finish(False, f"no periodic response found at {parameter} = {start}")
+    g, jac, phi = prob.evaluate(x)
+    record(x, phi, REGULAR)
+    e = np.zeros(prob.n + 1)
+    e[-1] = 1.0
+    t = prob.tangent(jac, e)
+    mu = pts[-1][3]
+    tests = (t[-1], _pd_test(phi), _ns_test(mu))
+    while len(pts) < max_points:
+        res = None
+        while ds >= ds_min:
+            res = prob.correct(x + ds * t, t, x, ds, tol)
+            if res is not None:
+                t_new = prob.tangent(res[1], t)
+                if t_new @ t >= np.cos(MAX_TURN):
+                    break
+                res = None
+            ds *= 0.5
+        if res is None:
+            return finish(False, f"step size fell below ds_min = {ds_min} at {parameter} = {prob.lam(x):.9g}")
+        x_new, jac, phi, iters = res
+        lam_new = prob.lam(x_new)
+        if not prob.lo <= lam_new <= prob.hi:
+            bound = prob.hi if lam_new > prob.hi else prob.lo
+            sigma = (bound - prob.lam(x)) / (lam_new - prob.lam(x))
+            end = prob.correct(x + sigma * (x_new - x), e, prob.pack(np.zeros(prob.n), bound), 0.0, tol)
+            if end is None:
+                return finish(False, f"could not place the last point on {parameter} = {bound}")
+            record(end[0], end[2], REGULAR)
+            return finish(True, f"reached {parameter} = {bound}")
+        mu_new = sorted_multipliers(phi)
+        new_tests = (t_new[-1], _pd_test(phi), _ns_test(mu_new))
+        found = []
+        for kind, a, b in zip((FOLD, PERIOD_DOUBLING, NEIMARK_SACKER), tests, new_tests):
+            if a * b < 0 and len(pts) + len(found) < max_points - 1:
+                loc = _locate(prob, kind, x, t, ds, a, b, tol)
+                if loc is not None:
+                    found.append(loc)
+        for sigma, xs, phis, kind in sorted(found, key=lambda f: f[0]):
+            record(xs, phis, kind)
+        record(x_new, phi, REGULAR)
+        x, t, tests = x_new, t_new, new_tests
+        ds = min(ds_max, ds * 1.5) if iters <= 3 else ds
+    return finish(False, f"max_points = {max_points} reached at {parameter} = {prob.lam(x):.9g}")
+
+
+def _test_value(prob, kind, jac, phi, normal):
+    if kind == FOLD:
+        return prob.tangent(jac, normal)[-1]
+    if kind == PERIOD_DOUBLING:
+        return _pd_test(phi)
+    return _ns_test(sorted_multipliers(phi))
+
+
+def _locate(prob, kind, x, t, ds, fa, fb, tol):
+    """Zero of a test function between ``x`` (arclength 0) and the next point (``ds``).
+
+    Illinois (modified regula falsi) on the arclength ``sigma`` along the hyperplanes
+    ``t . (x' - x) = sigma``; returns ``(sigma, x', phi, kind)`` or None.  Complex-pair
+    crossings of the NS test that turn out to be real (neutral saddles) are discarded.
+    """
+    a, b = 0.0, ds
+    best = None
+    sigma_old = np.inf
+    for _ in range(60):
+        sigma = (a * fb - b * fa) / (fb - fa)
+        res = prob.correct(x + sigma * t, t, x, sigma, tol)
+        if res is None:
+            return None
+        xs, jac, phi, _ = res
+        f = _test_value(prob, kind, jac, phi, t)
+        best = (sigma, xs, phi, kind)
+        if f == 0.0 or abs(sigma - sigma_old) < 1e-10 * ds:
+            break
+        sigma_old = sigma
+        if f * fb < 0:
+            a, fa = b, fb
+        else:
+            fa *= 0.5
+        b, fb = sigma, f
+    if kind == NEIMARK_SACKER:
+        mu = sorted_multipliers(best[2])
+        on_circle = np.abs(np.abs(mu) - 1.0) < 1e-6
+        if not np.any(np.abs(mu[on_circle].imag) > 1e-8):
+            return None
+    return best

@@ -1,0 +1,151 @@
+"""Brute-force steady-state response of the forced ROM, stepped up and down (Figs. 13, 18).
+
+One parameter (``Omega`` or ``P0``) takes the values of a list, first in increasing and
+then in decreasing order; at every value the ROM is integrated period by period (RK4,
+:func:`model.integrate.rk4_period`) from the steady state of the previous value, until the
+stroboscopic map has settled.  The descending sweep starts from the last state of the
+ascending one.  Both directions therefore follow a branch until it ends at a fold and jump
+there: this is the independent cross-check of :mod:`model.continuation`.
+
+Convergence criterion (no fixed transient).  With ``y_j`` the state after ``j`` periods and
+``S`` of :func:`model.shooting.state_scale`, the relative stroboscopic residual is::
+
+    r_j = |S (y_{j+1} - y_j)| / (|S y_{j+1}| + atol)
+
+A value is settled when ``r_j < tol`` for ``consecutive`` consecutive periods (at least
+``min_periods`` periods are always run).  Near a stable fixed point with leading multiplier
+``mu``, the remaining distance to it is about ``r / (1 - |mu|)`` relative: with the paper's
+light damping ``|mu| ~ 0.998`` per period (c = 0.05), so the default ``tol = 1e-7`` leaves
+~5e-5 relative error in the state and the amplitude.  ``consecutive`` periods guard against
+a momentary small residual of a trajectory that is still moving (e.g. near a turning point
+of a spiralling transient).  A value that has not settled after ``max_periods`` periods is
+reported as not converged, and the sweep continues from where it stopped.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import NamedTuple
+
+import numba as nb
+import numpy as np
+
+from .integrate import rk4_period
+from .params import Loading
+from .rom import Rom
+from .shooting import DEFAULT_STEPS, _period_amplitude, damping_rate, state_scale
+
+PARAMETERS = ("Omega", "P0")
+
+
+class SweepResult(NamedTuple):
+    """Steady states of a stepped sweep; axis 0 is the direction (0 up, 1 down).
+
+    Attributes
+    ----------
+    values : (N,) array
+        The parameter values in increasing order (rad s-1 or Pa).
+    amplitude : (2, N) array
+        ``max_t |w(0.5 Re, 0, t)|`` over the last period (m), indexed like ``values``.
+    state : (2, N, 2K) array
+        ``y(0)`` reached at each value.
+    converged : (2, N) bool array
+        The criterion was met within ``max_periods``.
+    periods : (2, N) int array
+        Forcing periods integrated at each value.
+    """
+
+    values: np.ndarray
+    amplitude: np.ndarray
+    state: np.ndarray
+    converged: np.ndarray
+    periods: np.ndarray
+
+
+@nb.njit(cache=True)
+def _settle(y, steps, tab, c_damp, p_load, omega, scale, tol, atol, consecutive, min_periods,
+            max_periods, work, prev):
+    # Integrate whole periods in place until the relative stroboscopic residual stays
+    # below tol for `consecutive` periods; returns (periods, converged).
+    period = 2.0 * np.pi / omega
+    h = period / steps
+    run = 0
+    n = y.size
+    for j in range(1, max_periods + 1):
+        for i in range(n):
+            prev[i] = y[i]
+        rk4_period(y, 0.0, h, steps, tab, c_damp, p_load, omega, work)
+        num = 0.0
+        den = 0.0
+        for i in range(n):
+            d = scale[i] * (y[i] - prev[i])
+            num += d * d
+            den += (scale[i] * y[i]) ** 2
+        if not np.isfinite(num):
+            return j, False
+        if np.sqrt(num) < tol * (np.sqrt(den) + atol):
+            run += 1
+        else:
+            run = 0
+        if run >= consecutive and j >= min_periods:
+            return j, True
+    return max_periods, False
+
+
+def stepped_sweep(rom: Rom, loading: Loading, parameter: str, values, steps: int = DEFAULT_STEPS,
+                  tol: float = 1e-7, consecutive: int = 20, min_periods: int = 20,
+                  max_periods: int = 30000, atol: float = 1e-12, initial=None) -> SweepResult:
+    """Steady-state amplitudes for ``parameter`` stepped up through ``values`` and back down.
+
+    Parameters
+    ----------
+    rom : Rom
+    loading : Loading
+        Fixed ``Omega`` (rad s-1), ``P0`` (Pa), ``c`` (N s m-3); the swept one is replaced.
+    parameter : {"Omega", "P0"}
+    values : array_like
+        Parameter values (any order; swept in increasing order, then decreasing).
+    steps : int
+        RK4 steps per forcing period.
+    tol, consecutive, min_periods, max_periods, atol :
+        The convergence criterion of the module docstring.
+    initial : (2K,) array, optional
+        State at the first (smallest) value; default rest.
+
+    Returns
+    -------
+    SweepResult
+    """
+    if parameter not in PARAMETERS:
+        raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(PARAMETERS)}")
+    vals = np.sort(np.asarray(values, dtype=float).ravel())
+    if vals.size == 0 or not np.all(np.isfinite(vals)):
+        raise ValueError(f"values = {values!r} is invalid: need a non-empty list of finite numbers")
+    if parameter == "Omega" and vals[0] <= 0 or parameter == "P0" and vals[0] < 0:
+        raise ValueError(f"values = {values!r} is invalid: {parameter} must be "
+                         + ("> 0" if parameter == "Omega" else ">= 0"))
+    if tol <= 0 or consecutive < 1 or min_periods < 1 or max_periods < min_periods:
+        raise ValueError(f"(tol, consecutive, min_periods, max_periods) = ({tol}, {consecutive}, {min_periods}, "
+                         f"{max_periods}) is invalid: need tol > 0, consecutive >= 1, "
+                         "1 <= min_periods <= max_periods")
+    n = 2 * rom.dof
+    y = np.zeros(n) if initial is None else np.array(initial, dtype=float)
+    if y.shape != (n,):
+        raise ValueError(f"initial.shape = {y.shape} is invalid: expected ({n},)")
+    N = vals.size
+    amp = np.empty((2, N))
+    states = np.empty((2, N, n))
+    conv = np.zeros((2, N), dtype=bool)
+    periods = np.zeros((2, N), dtype=np.int64)
+    work = np.empty((6, n))
+    prev = np.empty(n)
+    cd = damping_rate(rom, loading)
+    for d, order in enumerate((range(N), range(N - 1, -1, -1))):
+        for i in order:
+            ld = replace(loading, **{parameter: float(vals[i])})
+            scale = state_scale(rom.dof, ld.Omega)
+            periods[d, i], conv[d, i] = _settle(y, steps, rom.tables, cd, ld.P0, ld.Omega, scale, tol, atol,
+                                                consecutive, min_periods, max_periods, work, prev)
+            states[d, i] = y
+            amp[d, i] = _period_amplitude(y.copy(), steps, rom.tables, cd, ld.P0, ld.Omega, work)
+    return SweepResult(vals, amp, states, conv, periods)

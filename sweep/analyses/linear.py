@@ -1,0 +1,80 @@
+"""Analysis ``linear``: natural frequencies of the pre-stretched membrane (section 4.1).
+
+Per grid point and mode (m, n): the converged Galerkin frequency of Eq. (25)
+(``omega``), Eq. (28) (``omega_approx``) and the Eq. (29) bound (``omega_bound``).
+Option table ``[linear]``: ``modes`` (list of [m, n], default [[1, 0]]), ``prestretch``
+(default numeric) and ``basis`` (Bessel functions per wave number; default adaptive,
+converged to 1e-6, see :func:`model.linear.galerkin_frequencies`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from model.linear import MAX_BASIS, approximate_frequency, frequency_bound, galerkin_frequencies
+from model.modes import bessel_roots
+from model.prestretch import solve_prestretch
+
+from . import options as opt
+from .base import STATUS_OK, Analysis, JobError, Variable
+
+
+@dataclass(frozen=True)
+class LinearOptions:
+    modes: tuple[tuple[int, int], ...]
+    prestretch: str
+    basis: int | None
+
+
+class LinearAnalysis(Analysis):
+    """Linear frequencies omega_mn by Galerkin (Eq. 25), Eq. (28) and Eq. (29)."""
+
+    name = "linear"
+
+    def parse_options(self, table, grid, membrane):
+        opt.check_keys(table, self.name, {"modes", "prestretch", "basis"})
+        modes = opt.modes(table, self.name)
+        basis = table.get("basis")
+        if basis is not None:
+            basis = opt.number(table, self.name, "basis", low=1, high=MAX_BASIS, integer=True)
+        mmax = max(m for m, _ in modes)
+        if basis is not None and mmax > basis:
+            raise JobError("linear.basis", basis, f"must be >= the largest m in linear.modes ({mmax})")
+        return LinearOptions(modes, opt.prestretch(table, self.name), basis)
+
+    def variables(self, options):
+        k = len(options.modes)
+        return [
+            Variable("omega", ("mode",), (k,), "f8", "rad s-1", "natural frequency, Galerkin solution of Eq. 25"),
+            Variable("omega_approx", ("mode",), (k,), "f8", "rad s-1", "approximate natural frequency, Eq. 28"),
+            Variable("omega_bound", ("mode",), (k,), "f8", "rad s-1", "upper bound of the natural frequency, Eq. 29"),
+        ]
+
+    def coords(self, options):
+        return opt.mode_coords(options.modes)
+
+    def compute(self, point, options, subtask):
+        m = opt.membrane_from_point(point)
+        ps = solve_prestretch(m, options.prestretch)
+        out = {name: np.empty(len(options.modes)) for name in ("omega", "omega_approx", "omega_bound")}
+        by_n: dict[int, np.ndarray] = {}
+        for k, (mm, n) in enumerate(options.modes):
+            if n not in by_n:
+                mmax = max(a for a, b in options.modes if b == n)
+                by_n[n] = galerkin_frequencies(ps, n, mmax, basis=options.basis)[0]
+            alpha = bessel_roots(n, m.delta_o, mm)[-1]
+            out["omega"][k] = by_n[n][mm - 1]
+            out["omega_approx"][k] = approximate_frequency(ps, alpha)
+            out["omega_bound"][k] = frequency_bound(m, alpha)
+        out["status"] = STATUS_OK
+        return out
+
+    def figures(self, ds, outdir):
+        from .plots import linear_figures
+
+        return linear_figures(ds, outdir)
+
+
+LINEAR = LinearAnalysis()

@@ -1,0 +1,96 @@
+"""Standard figures of the ``static`` and ``linear`` analyses (paper Figs. 2-6).
+
+Every function takes the published Dataset and an output directory and returns the list
+of PNG paths it wrote.  matplotlib is imported lazily (Agg backend).
+"""
+
+from __future__ import annotations
+
+import itertools
+from pathlib import Path
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    plt.rcParams.update({"figure.dpi": 120, "axes.grid": True, "grid.alpha": 0.3,
+                         "font.size": 10, "legend.fontsize": 8, "savefig.bbox": "tight"})
+    return plt
+
+
+def _save(fig, outdir, name) -> Path:
+    path = Path(outdir) / name
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    return path
+
+
+def _label(ds, **sel) -> str:
+    return ", ".join(f"{k} = {float(v):g}" for k, v in sel.items())
+
+
+def _points(ds, exclude):
+    """Iterate over the grid points of ``ds`` other than the dims in ``exclude``."""
+    dims = [d for d in ("delta", "delta_o", "Omega", "P0", "c") if d in ds.dims and d not in exclude]
+    for values in itertools.product(*(ds[d].values for d in dims)):
+        yield dict(zip(dims, values))
+
+
+def static_figures(ds, outdir) -> list[Path]:
+    """Fig. 2 (deformed radius) and Fig. 3 (principal stresses) versus ``rho``."""
+    plt = _pyplot()
+    paths = []
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for sel in _points(ds, ("rho",)):
+        ax.plot(ds.rho, ds.r_o.sel(sel), label=_label(ds, **sel))
+    ax.set(xlabel=r"undeformed radius $\rho$ (m)", ylabel=r"deformed radius $r_o$ (m)",
+           title=f"Pre-stretch ({ds.attrs.get('prestretch', '')})".replace(" ()", ""))
+    ax.legend()
+    paths.append(_save(fig, outdir, "fig02_radius.png"))
+    fig, axes = plt.subplots(1, 2, figsize=(9, 4), sharex=True)
+    for sel in _points(ds, ("rho",)):
+        for ax, var in zip(axes, ("sigma_1", "sigma_2")):
+            ax.plot(ds.rho, ds[var].sel(sel) / 1e6, label=_label(ds, **sel))
+    for ax, sym in zip(axes, ("1", "2")):
+        ax.set(xlabel=r"undeformed radius $\rho$ (m)", ylabel=rf"$\sigma_{sym}$ (MPa)")
+    axes[0].legend()
+    paths.append(_save(fig, outdir, "fig03_stresses.png"))
+    return paths
+
+
+def linear_figures(ds, outdir) -> list[Path]:
+    """Frequency spectra (Fig. 4) and frequencies versus delta (Fig. 5) and delta_o (Fig. 6)."""
+    plt = _pyplot()
+    paths = []
+    modes = list(zip(ds.m.values.tolist(), ds.n.values.tolist()))
+    for dim, name, xlabel in (("delta", "fig05_frequency_vs_delta.png", r"stretch ratio $\delta$"),
+                              ("delta_o", "fig06_frequency_vs_delta_o.png", r"inner radius ratio $\delta_o$")):
+        if ds.sizes.get(dim, 1) < 2:
+            continue
+        fig, ax = plt.subplots(figsize=(5, 4))
+        for sel in _points(ds, (dim,)):
+            for k, (m, n) in enumerate(modes):
+                line, = ax.plot(ds[dim], ds.omega.sel(sel).isel(mode=k), marker=".",
+                                label=f"m={m}, n={n}" + (f" ({_label(ds, **sel)})" if sel else ""))
+                ax.plot(ds[dim], ds.omega_bound.sel(sel).isel(mode=k), ls="--", color=line.get_color(), lw=0.8)
+        ax.set(xlabel=xlabel, ylabel=r"$\omega_{mn}$ (rad/s)", title="Natural frequencies (dashed: Eq. 29)")
+        ax.legend()
+        paths.append(_save(fig, outdir, name))
+    ns = sorted(set(n for _, n in modes))
+    if len(modes) > 1:
+        fig, ax = plt.subplots(figsize=(5, 4))
+        for sel in itertools.islice(_points(ds, ()), 4):
+            for n in ns:
+                idx = [k for k, (_, nn) in enumerate(modes) if nn == n]
+                ax.plot([modes[k][0] for k in idx], ds.omega.sel(sel).isel(mode=idx), marker="o",
+                        label=f"n={n}, {_label(ds, **sel)}")
+        ax.set(xlabel="radial index m", ylabel=r"$\omega_{mn}$ (rad/s)", title="Frequency spectrum")
+        ax.legend()
+        paths.append(_save(fig, outdir, "fig04_spectrum.png"))
+    return paths

@@ -1,0 +1,192 @@
+"""The command line: ``python -m sweep run|plan|status|collect|figures``.
+
+This is the only place that reads ``MPI.COMM_WORLD``, and only for ``run``; the other
+commands are serial and do not initialise MPI.  Launch parallel runs as
+``mpiexec -n N python -m mpi4py -m sweep run JOB.toml`` so that an uncaught exception
+aborts every rank.
+
+Exit status: 0 success, 1 the run was refused or failed (a task raised, files missing),
+2 the job file or the command line is invalid.  Messages go to stderr, from rank 0.
+"""
+
+import sweep.threads  # noqa: F401  (before numpy and numba load: one thread per rank)
+
+import argparse
+import sys
+from pathlib import Path
+
+from sweep import analyses
+from sweep.analyses.base import JobError
+from sweep.errors import RunError
+from sweep.jobspec import Job, load_job, parse_job, read_job_text
+
+EXIT_FAILED = 1
+EXIT_INVALID = 2
+
+
+def _error(message: str, details: str = "") -> None:
+    sys.stderr.write(details)
+    print(f"error: {message}", file=sys.stderr)
+
+
+def _output(args: argparse.Namespace, job: Job) -> Path:
+    return Path(args.output) if args.output else Path(f"{job.name}.nc")
+
+
+def _run(args: argparse.Namespace) -> int:
+    from mpi4py import MPI
+
+    from sweep import runner
+
+    comm = MPI.COMM_WORLD
+    try:
+        read = None
+        if comm.rank == 0:
+            try:
+                read = ("ok", read_job_text(args.job))
+            except JobError as exc:
+                read = ("error", (exc.key, exc.value, exc.allowed))
+        kind, value = comm.bcast(read, root=0)
+        if kind == "error":
+            raise JobError(*value)
+        job = parse_job(value, args.job)
+    except JobError as exc:
+        if comm.rank == 0:
+            _error(f"{args.job}: {exc}")
+        return EXIT_INVALID
+    out = _output(args, job)
+    try:
+        summary = runner.run(job, out, comm, resume=args.resume, overwrite=args.overwrite)
+    except RunError as exc:
+        if comm.rank == 0:
+            _error(exc.message, exc.details)
+        return EXIT_FAILED
+    if comm.rank == 0:
+        report = summary.report
+        for note in report.notes:
+            print(f"note: {note}", file=sys.stderr)
+        if args.report_memory:
+            ranks = ", ".join(f"{m:.1f}" for m in summary.peak_rss_mib)
+            print(f"memory: peak RSS per rank after compute (MiB): {ranks}; rank 0 after "
+                  f"collect: {summary.peak_rss_collect_mib:.1f}", file=sys.stderr)
+        print(f"wrote {report.path}: {report.tasks_completed} / {report.tasks_total} tasks, "
+              f"{summary.tasks_computed} computed by this run on {comm.size} rank(s) in "
+              f"{summary.seconds:.2f} s")
+    return 0
+
+
+def _plan(args: argparse.Namespace) -> int:
+    job = load_job(args.job)
+    layout = job.layout
+    print(f"job {job.name!r}, analysis {job.analysis_name!r}, from {args.job}")
+    for dim, values in zip(layout.dims, layout.values):
+        print(f"  {dim}: {len(values)} value(s) from {values[0]:g} to {values[-1]:g}")
+    print(f"grid shape {layout.shape} (dims {', '.join(layout.dims)}), "
+          f"{layout.n_subtasks} subtask(s) per grid point")
+    last = len(layout.chunk_tasks(layout.n_chunks - 1))
+    print(f"tasks: {layout.n_tasks} in {layout.n_chunks} chunk(s) of {layout.chunk} "
+          f"task(s) (the last holds {last})")
+    print(f"output: {_output(args, job)}")
+    return 0
+
+
+def _status(args: argparse.Namespace) -> int:
+    from sweep import storage
+
+    print(storage.describe_status(Path(args.out)))
+    return 0
+
+
+def _collect(args: argparse.Namespace) -> int:
+    from sweep import storage
+
+    report = storage.collect(Path(args.out))
+    for note in report.notes:
+        print(f"note: {note}", file=sys.stderr)
+    print(f"wrote {report.path}: {report.tasks_completed} / {report.tasks_total} tasks")
+    return 0
+
+
+def _figures(args: argparse.Namespace) -> int:
+    import xarray as xr
+
+    out = Path(args.out)
+    if not out.exists():
+        raise RunError(f"{out} does not exist")
+    with xr.open_dataset(out, engine="netcdf4") as ds:
+        if "analysis" not in ds.attrs:
+            raise RunError(f"{out} is not a membrane-sweep result (no analysis attribute)")
+        analysis = analyses.get(ds.attrs["analysis"])
+        outdir = Path(args.output)
+        outdir.mkdir(parents=True, exist_ok=True)
+        paths = analysis.figures(ds.load(), outdir)
+    if not paths:
+        print(f"analysis {ds.attrs['analysis']!r} has no figures")
+    for path in paths:
+        print(path)
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``python -m sweep``."""
+    parser = argparse.ArgumentParser(
+        prog="python -m sweep",
+        description="Parameter sweeps of the pre-stretched hyperelastic annular membrane.",
+        epilog="Parallel: mpiexec -n N python -m mpi4py -m sweep run JOB.toml")
+    commands = parser.add_subparsers(dest="command", required=True)
+
+    run = commands.add_parser("run", help="validate, compute under MPI, write the NetCDF")
+    run.add_argument("job", help="job file (TOML)")
+    run.add_argument("-o", "--output", help="output NetCDF (default: <job name>.nc)")
+    again = run.add_mutually_exclusive_group()
+    again.add_argument("--resume", action="store_true",
+                       help="compute only the chunks missing from OUT.nc.parts/")
+    again.add_argument("--overwrite", action="store_true",
+                       help="delete OUT.nc and OUT.nc.parts/ first")
+    run.add_argument("--report-memory", action="store_true",
+                     help="print the peak resident memory of each rank")
+    run.set_defaults(handler=_run)
+
+    plan = commands.add_parser("plan", help="validate and print the task layout")
+    plan.add_argument("job", help="job file (TOML)")
+    plan.add_argument("-o", "--output", help="output NetCDF (default: <job name>.nc)")
+    plan.set_defaults(handler=_plan)
+
+    status = commands.add_parser("status", help="completed / total tasks of a run")
+    status.add_argument("out", help="output NetCDF of the run")
+    status.set_defaults(handler=_status)
+
+    collect = commands.add_parser("collect", help="merge the finished parts into the NetCDF")
+    collect.add_argument("out", help="output NetCDF of the run")
+    collect.set_defaults(handler=_collect)
+
+    figures = commands.add_parser("figures", help="standard plots of a result as PNG")
+    figures.add_argument("out", help="NetCDF result")
+    figures.add_argument("-o", "--output", default="figures",
+                         help="directory for the PNG files (default: figures)")
+    figures.set_defaults(handler=_figures)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``python -m sweep`` and ``membrane-sweep``.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        Exit status: 0, :data:`EXIT_FAILED` or :data:`EXIT_INVALID`.
+    """
+    args = build_parser().parse_args(argv)
+    try:
+        return args.handler(args)
+    except JobError as exc:
+        _error(f"{getattr(args, 'job', None) or args.out}: {exc}")
+        return EXIT_INVALID
+    except RunError as exc:
+        _error(exc.message, exc.details)
+        return EXIT_FAILED

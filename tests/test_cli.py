@@ -1,0 +1,258 @@
+"""The command line in-process, on one rank: every error path checked on its message."""
+
+import io
+import os
+import subprocess
+import sys
+
+import pytest
+import xarray as xr
+
+from sweep import analyses, cli
+from sweep.progress import Progress, format_duration
+from test_jobspec import BAD, EXTRA, GOOD, job_text
+
+import fake_analysis
+
+JOB = GOOD.replace('analysis = "fake"', 'analysis = "fake"\nchunk = 2')
+
+
+@pytest.fixture(autouse=True)
+def fake_registered(monkeypatch):
+    monkeypatch.setenv(analyses.EXTRA_ENV, EXTRA)
+
+
+@pytest.fixture
+def job(tmp_path):
+    path = tmp_path / "job.toml"
+    path.write_text(JOB)
+    return path
+
+
+def run(capsys, *argv):
+    """``cli.main(argv)`` -> (exit status, stdout, stderr)."""
+    code = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def data(path):
+    with xr.open_dataset(path) as ds:
+        ds = ds.load()
+    del ds.attrs["date_created"]
+    return ds
+
+
+def test_plan_prints_layout_and_computes_nothing(capsys, job, tmp_path):
+    code, out, _ = run(capsys, "plan", job)
+    assert code == 0
+    assert "grid shape (3, 2, 1) (dims delta, delta_o, Omega)" in out
+    assert "tasks: 6 in 3 chunk(s) of 2 task(s) (the last holds 2)" in out
+    assert "output: good.nc" in out
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["job.toml"]
+
+
+def test_run_status_collect(capsys, job, tmp_path):
+    out_nc = tmp_path / "r.nc"
+    code, out, err = run(capsys, "run", job, "-o", out_nc, "--report-memory")
+    assert code == 0, err
+    assert f"wrote {out_nc}: 6 / 6 tasks, 6 computed by this run on 1 rank(s)" in out
+    assert "6 / 6 tasks (100%)" in err and "memory: peak RSS per rank" in err
+    first = data(out_nc)
+    assert first.attrs["job_file"] == JOB and first.attrs["analysis"] == "fake"
+    assert first.attrs["tasks_completed"] == 6 and first.attrs["software_version"]
+    for var in first.variables.values():
+        assert var.attrs["units"] and var.attrs["long_name"]
+    assert first["status"].attrs["flag_meanings"] == "missing ok not_converged failed"
+
+    code, out, _ = run(capsys, "status", out_nc)
+    assert code == 0
+    assert "good (fake): 6 / 6 tasks completed, 3 / 3 chunks (ok " in out
+    assert f"{out_nc}: written" in out
+
+    code, out, _ = run(capsys, "collect", out_nc)
+    assert code == 0 and "6 / 6 tasks" in out
+    assert data(out_nc).identical(first)
+
+    code, out, _ = run(capsys, "run", job, "-o", out_nc, "--resume")
+    assert code == 0 and "0 computed by this run" in out
+    assert data(out_nc).identical(first)
+
+
+def test_rerun_refused_then_overwrite(capsys, job, tmp_path):
+    out_nc = tmp_path / "r.nc"
+    assert run(capsys, "run", job, "-o", out_nc)[0] == 0
+    code, _, err = run(capsys, "run", job, "-o", out_nc)
+    assert code == 1
+    assert (f"error: {out_nc}.parts/ holds the parts of an earlier run: add --resume to "
+            "continue it, or --overwrite (or delete the directory) to start again") in err
+    code, out, _ = run(capsys, "run", job, "-o", out_nc, "--overwrite")
+    assert code == 0 and "6 computed" in out
+
+
+def test_output_without_parts_is_not_overwritten(capsys, job, tmp_path):
+    out_nc = tmp_path / "r.nc"
+    out_nc.write_text("precious")
+    code, _, err = run(capsys, "run", job, "-o", out_nc)
+    assert code == 1
+    assert f"error: {out_nc} exists: use --overwrite to replace it, or -o" in err
+    assert out_nc.read_text() == "precious"
+
+
+def test_resume_with_changed_job_refused(capsys, job, tmp_path):
+    out_nc = tmp_path / "r.nc"
+    assert run(capsys, "run", job, "-o", out_nc)[0] == 0
+    job.write_text(JOB.replace("scale = 1.0", "scale = 2.0"))
+    code, _, err = run(capsys, "run", job, "-o", out_nc, "--resume")
+    assert code == 1
+    assert (f"error: cannot resume: {out_nc}.parts/ was written by a different job file"
+            in err)
+    assert "restore that file, or start again with --overwrite" in err
+
+
+def test_task_failure_names_task_and_cause_and_keeps_parts(capsys, tmp_path):
+    path = tmp_path / "fail.toml"
+    path.write_text(JOB.replace("scale = 1.0", "scale = 1.0\nfail_delta = 1.5"))
+    out_nc = tmp_path / "f.nc"
+    code, _, err = run(capsys, "run", path, "-o", out_nc)
+    assert code == 1
+    assert ("error: task 4 of 6 (delta=1.5, delta_o=0.2, Omega=2.0, subtask 0) failed: "
+            "ZeroDivisionError: the fake analysis fails here on purpose (on rank 0)") in err
+    assert "Traceback" in err
+    assert sorted(p.name for p in (tmp_path / "f.nc.parts").iterdir()) == [
+        "chunk-000000.h5", "chunk-000001.h5", "manifest.json"]
+    assert not out_nc.exists()
+
+    code, out, _ = run(capsys, "status", out_nc)
+    assert "4 / 6 tasks completed, 2 / 3 chunks" in out and "not collected yet" in out
+    code, out, err = run(capsys, "collect", out_nc)
+    assert code == 0 and "4 / 6 tasks" in out
+    assert "note: 2 of 6 tasks are missing (status -1); run --resume" in err
+    partial = data(out_nc)
+    assert (partial["status"].sel(delta=1.5) == -1).all()
+    assert partial["value"].sel(delta=1.5).isnull().all()
+    assert (partial["count"].sel(delta=1.5) == -1).all()
+    assert (partial["status"].sel(delta=1.1) >= 0).all()
+
+
+@pytest.mark.parametrize("result, message", [
+    ({"value": 1.0, "status": 0}, "compute returned the keys ['status', 'value'], expected "
+                                  "['count', 'profile', 'status', 'value']"),
+    ({"value": 1.0, "profile": [1.0], "count": 1, "status": 0},
+     "compute returned 'profile' with shape (1,), the analysis declares (4,)"),
+    ({"value": 1.0, "profile": [1.0] * 4, "count": 1, "status": 7},
+     "compute returned status 7, expected one of (0, 1, 2)"),
+    (None, "compute returned a NoneType, not a dict"),
+])
+def test_result_not_as_declared(capsys, monkeypatch, job, tmp_path, result, message):
+    monkeypatch.setattr(fake_analysis.FAKE, "compute", lambda *args: result)
+    code, _, err = run(capsys, "run", job, "-o", tmp_path / "r.nc")
+    assert code == 1
+    assert f"error: task 0 of 6 (delta=1.1, delta_o=0.2, Omega=2.0, subtask 0) failed: " \
+           f"TaskError: {message}" in err
+
+
+KINDS = ["unknown key", "name wrong type", "unknown analysis", "delta <= 1",
+         "delta_o out of range", "NaN", "bool for a number", "empty list", "num = 0",
+         "unknown table", "missing analysis table", "malformed TOML", "required grid key"]
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_bad_job_run_exits_2_with_message(capsys, tmp_path, kind):
+    (old, new), expected = BAD[kind]
+    path = tmp_path / "bad.toml"
+    path.write_text(job_text(a=(old, new)))
+    code, out, err = run(capsys, "run", path, "-o", tmp_path / "bad.nc")
+    assert code == 2
+    assert err.startswith(f"error: {path}: ") and err.count("\n") == 1
+    for text in expected[1:] if kind == "malformed TOML" else expected:
+        assert text in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"]
+
+
+def test_bad_job_plan_exits_2(capsys, tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(job_text(a=BAD["delta <= 1"][0]))
+    code, _, err = run(capsys, "plan", path)
+    assert code == 2 and "grid.delta.start = 1.0 is invalid: a finite number > 1" in err
+
+
+def test_missing_job_file(capsys, tmp_path):
+    code, _, err = run(capsys, "run", tmp_path / "nope.toml")
+    assert code == 2
+    assert f"job file = '{tmp_path}/nope.toml' is invalid: an existing file (no such file)" in err
+
+
+@pytest.mark.parametrize("command", ["status", "collect"])
+def test_status_collect_without_run(capsys, tmp_path, command):
+    code, _, err = run(capsys, command, tmp_path / "x.nc")
+    assert code == 1
+    expected = {"status": f"error: no run at {tmp_path}/x.nc: neither",
+                "collect": f"error: {tmp_path}/x.nc.parts/ does not exist: nothing to collect"}
+    assert expected[command] in err
+
+
+def test_parts_dir_without_manifest(capsys, tmp_path):
+    (tmp_path / "x.nc.parts").mkdir()
+    code, _, err = run(capsys, "collect", tmp_path / "x.nc")
+    assert code == 1 and "has no manifest.json: it is not the parts directory" in err
+
+
+def test_figures_dispatch(capsys, job, tmp_path):
+    out_nc = tmp_path / "r.nc"
+    assert run(capsys, "run", job, "-o", out_nc)[0] == 0
+    code, out, _ = run(capsys, "figures", out_nc, "-o", tmp_path / "figs")
+    assert code == 0 and out.strip() == str(tmp_path / "figs" / "value.png")
+    assert (tmp_path / "figs" / "value.png").exists()
+
+    job.write_text(JOB.replace('"fake"', '"fake_nofig"').replace("[fake]", "[fake_nofig]"))
+    assert run(capsys, "run", job, "-o", tmp_path / "n.nc")[0] == 0
+    code, out, _ = run(capsys, "figures", tmp_path / "n.nc", "-o", tmp_path / "figs")
+    assert code == 0 and out.strip() == "analysis 'fake_nofig' has no figures"
+
+
+def test_figures_errors(capsys, tmp_path):
+    code, _, err = run(capsys, "figures", tmp_path / "x.nc")
+    assert code == 1 and f"error: {tmp_path}/x.nc does not exist" in err
+    xr.Dataset({"a": ("x", [1.0])}).to_netcdf(tmp_path / "other.nc")
+    code, _, err = run(capsys, "figures", tmp_path / "other.nc")
+    assert code == 1 and "is not a membrane-sweep result (no analysis attribute)" in err
+    code, _, err = run(capsys, "status", tmp_path / "other.nc")
+    assert code == 1 and "is not a membrane-sweep result (no tasks_total attribute)" in err
+
+
+def test_resume_and_overwrite_are_exclusive(capsys, job):
+    with pytest.raises(SystemExit) as info:
+        cli.main(["run", str(job), "--resume", "--overwrite"])
+    assert info.value.code == 2
+    assert "not allowed with argument" in capsys.readouterr().err
+
+
+def test_one_thread_per_rank_is_the_default():
+    env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
+    code = ("import sweep.cli, os, numba; "
+            "print(os.environ['OMP_NUM_THREADS'], numba.config.NUMBA_NUM_THREADS)")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                         text=True, timeout=60, check=True).stdout
+    assert out.split() == ["1", "1"]
+
+
+class Tty(io.StringIO):
+    def isatty(self):
+        return True
+
+
+def test_progress_lines():
+    assert [format_duration(s) for s in (4.2, 185, 3720)] == ["4s", "3m05s", "1h02m"]
+    pipe = io.StringIO()
+    progress = Progress(10, 4, pipe)
+    progress.update(1)
+    assert pipe.getvalue() == ""
+    progress.finish(6)
+    assert pipe.getvalue().startswith("10 / 10 tasks (100%), ")
+    assert "tasks/s" in pipe.getvalue() and "ETA 0s" in pipe.getvalue()
+    tty = Tty()
+    progress = Progress(10, 0, tty)
+    progress.last -= 1
+    progress.update(5)
+    assert tty.getvalue().startswith("\r[###############...............] 5 / 10 tasks (50%)")
