@@ -99,7 +99,7 @@ def _galerkin(prestretch, n, count, basis, quad_points):
     alpha = bessel_roots(n, m.delta_o, basis)
     phi, dphi = np.empty((basis, rho.size)), np.empty((basis, rho.size))
     for k, a in enumerate(alpha):
-        phi[k], dphi[k] = mode_shape(rho, a, n, m.Re)
+        phi[k], dphi[k] = mode_shape(rho, a, n, m.Re, m.delta_o)
     # Scale the basis to unit norm for conditioning; undone on the eigenvectors.
     scale = 1.0 / np.sqrt((phi**2 * rho * wq).sum(axis=1))
     phi *= scale[:, None]

@@ -64,7 +64,21 @@ def bessel_roots(n: int, delta_o: float, count: int) -> np.ndarray:
     return np.array(roots)
 
 
-def mode_shape(rho, alpha: float, n: int, Re: float = 1.0):
+def shape_constant(alpha: float, n: int, delta_o: float) -> float:
+    """``C = Y_n(alpha)/J_n(alpha)`` of Eq. (26), evaluated where it is well conditioned.
+
+    At a root of Eq. (27) ``C`` also equals ``Y_n(delta_o alpha)/J_n(delta_o alpha)``.
+    For a small hole and large n, ``J_n(alpha)`` is itself close to a zero of ``J_n`` and
+    the outer quotient loses all its digits, so the quotient is taken at the edge where
+    ``|J_n|`` is largest relative to ``|Y_n|``.
+    """
+    out = (jv(n, alpha), yv(n, alpha))
+    inn = (jv(n, delta_o * alpha), yv(n, delta_o * alpha))
+    use = inn if abs(inn[0]) / np.hypot(*inn) > abs(out[0]) / np.hypot(*out) else out
+    return use[1] / use[0]
+
+
+def mode_shape(rho, alpha: float, n: int, Re: float = 1.0, delta_o: float | None = None):
     """Radial mode shape of Eq. (26) and its derivative.
 
     Parameters
@@ -77,6 +91,9 @@ def mode_shape(rho, alpha: float, n: int, Re: float = 1.0):
         Circumferential wave number.
     Re : float
         Outer radius (m).
+    delta_o : float, optional
+        Inner radius ratio; when given, ``C`` comes from :func:`shape_constant` (needed for
+        accuracy near a small hole at large n), otherwise from the outer edge.
 
     Returns
     -------
@@ -84,5 +101,5 @@ def mode_shape(rho, alpha: float, n: int, Re: float = 1.0):
         ``phi(rho)`` (1) and ``d phi / d rho`` (m-1).
     """
     x = alpha * np.asarray(rho, dtype=float) / Re
-    c = yv(n, alpha) / jv(n, alpha)
+    c = yv(n, alpha) / jv(n, alpha) if delta_o is None else shape_constant(alpha, n, delta_o)
     return c * jv(n, x) - yv(n, x), (alpha / Re) * (c * jvp(n, x) - yvp(n, x))

@@ -91,7 +91,7 @@ class Rom:
         ``q`` may carry leading batch axes; its last axis is the mode index.
         """
         m = self.membrane
-        vals = np.array([mode_shape(rho, a, n, m.Re)[0] * np.cos(n * theta)
+        vals = np.array([mode_shape(rho, a, n, m.Re, m.delta_o)[0] * np.cos(n * theta)
                          for a, (_, n) in zip(self.alpha, self.modes)])
         return np.tensordot(np.asarray(q), vals, axes=([-1], [0]))
 
@@ -147,7 +147,7 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
     else:
         theta, wt = 2 * np.pi * np.arange(nt) / nt, np.full(nt, 2 * np.pi / nt)
     alpha = np.array([bessel_roots(n, m.delta_o, mm)[-1] for mm, n in modes])
-    shapes = [mode_shape(rho, a, n, m.Re) for a, (_, n) in zip(alpha, modes)]
+    shapes = [mode_shape(rho, a, n, m.Re, m.delta_o) for a, (_, n) in zip(alpha, modes)]
     ns = np.array([n for _, n in modes], dtype=float)
     cos = np.cos(ns[:, None] * theta[None, :])
     dsin = -ns[:, None] * np.sin(ns[:, None] * theta[None, :])
@@ -160,7 +160,7 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
     r, dr = prestretch.radius(rr), prestretch.slope(rr)
     mass = (psi**2 * (wq * rr)).sum(axis=1)
     forcing = (psi * (wq * r * dr)).sum(axis=1)
-    probe = np.array([mode_shape(probe_rho, a, n, m.Re)[0] for a, (_, n) in zip(alpha, modes)])
+    probe = np.array([mode_shape(probe_rho, a, n, m.Re, m.delta_o)[0] for a, (_, n) in zip(alpha, modes)])
     tables = RomTables(
         weight=wq * rr, rho2=rr**2, r2=r**2, dr2=dr**2, base=dr**2 + r**2 / rr**2,
         b_rho=np.ascontiguousarray(b_rho), b_theta=np.ascontiguousarray(b_theta),

@@ -74,6 +74,7 @@ def state_scale(dof: int, omega: float) -> np.ndarray:
 def _period_amplitude(y, steps, tab, c_damp, p_load, omega, work):
     # One RK4 period from t = 0, in place on y, sampling w = probe @ q after every step;
     # the largest |w| is refined by the vertex of the parabola through its neighbours.
+    # (The vertex formula holds for |w| when w keeps its sign over the three samples.)
     K = y.size // 2
     h = 2.0 * np.pi / omega / steps
     w = np.empty(steps + 1)
@@ -87,17 +88,17 @@ def _period_amplitude(y, steps, tab, c_damp, p_load, omega, work):
         for k in range(K):
             s += tab.probe[k] * y[k]
         w[i + 1] = s
+    # the samples are treated as periodic (w[steps] = w[0] on a periodic orbit)
     best = 0
-    for i in range(steps + 1):
+    for i in range(steps):
         if abs(w[i]) > abs(w[best]):
             best = i
     a = abs(w[best])
-    if 0 < best < steps:
-        wm = abs(w[best - 1])
-        wp = abs(w[best + 1])
-        den = wm - 2.0 * a + wp
-        if den < 0.0:
-            a = a - 0.125 * (wp - wm) ** 2 / den
+    wm = abs(w[best - 1 if best > 0 else steps - 1])
+    wp = abs(w[best + 1])
+    den = wm - 2.0 * a + wp
+    if den < 0.0:
+        a = a - 0.125 * (wp - wm) ** 2 / den
     return a
 
 

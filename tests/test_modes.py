@@ -17,9 +17,10 @@ def test_roots_are_complete_and_simple(n, delta_o):
     # Sturm oscillation: the m-th mode has exactly m - 1 interior zeros, so none was missed.
     rho = np.linspace(delta_o, 1.0, 4001)[1:-1]
     for m, a in enumerate(alpha, start=1):
-        phi, _ = mode_shape(rho, a, n)
-        # Near a small hole phi is a difference of huge Bessel values; ignore its round-off.
-        phi = phi[np.abs(phi) > 1e-12 * np.abs(phi).max()]
+        phi, _ = mode_shape(rho, a, n, delta_o=delta_o)
+        # Near a small hole at large n, phi is a difference of huge Bessel values whose
+        # round-off reaches ~1e-8 of its maximum; a missed root would be an O(1) extra zero.
+        phi = phi[np.abs(phi) > 1e-6 * np.abs(phi).max()]
         assert np.count_nonzero(np.diff(np.sign(phi)) != 0) == m - 1
 
 

@@ -1,0 +1,159 @@
+"""Analysis ``backbone``: frequency-amplitude relation of the free vibration (Figs. 9-12).
+
+Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``:
+
+* ``omega_nl`` -- frequency (rad/s) of the free periodic orbit whose maximum of
+  ``|w(0.5 Re, 0, t)|`` equals ``amplitude``, by continuation (shooting) of the free
+  periodic orbits of the undamped ROM (:func:`model.backbone.shooting`);
+* ``omega_peak`` -- the same by the peak-to-peak method of Nandakumar and Chatterjee on
+  lightly damped free decays (:func:`model.backbone.peak_to_peak`), the method the paper
+  applies to its finite element model (section 4.2);
+* ``modal_amplitude`` (``point``, ``mode``) -- the modal amplitudes ``A_mn`` of the orbit in
+  the paper's normalisation (Fig. 9), ``(q_k(trough of w) - q_k(peak of w)) / 2``, so that
+  ``A_10 > 0``;
+* ``omega_linear`` -- the small-amplitude limit of the ROM, and ``omega_bound`` -- the
+  upper bound of Eq. (29) for the backbone's mode.
+
+Option table ``[backbone]``: ``modes`` (list of [m, n], default [[1, 0]]), ``prestretch``
+(analytic | numeric | fit, default numeric), ``amplitude`` (``{start, stop, num}``,
+targets of ``max |w(0.5, 0)|`` in m, default 1 mm to 0.4 m in 40 points) and
+``peak_damping`` (damping c of the decays of the peak-to-peak method, N s/m^3, default
+0.05).  The status is ``not_converged`` when some target has no ``omega_nl`` or no
+``omega_peak``; those entries are NaN.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from model.backbone import linear_mode, peak_to_peak, shooting
+from model.linear import frequency_bound
+from model.params import Membrane
+from model.prestretch import solve_prestretch
+from model.rom import build_rom
+
+from . import options as opt
+from .base import STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Variable
+
+#: Default amplitude targets: 1 mm to 0.4 m.
+DEFAULT_AMPLITUDE = {"start": 1e-3, "stop": 0.4, "num": 40}
+
+
+@dataclass(frozen=True)
+class BackboneOptions:
+    modes: tuple[tuple[int, int], ...]
+    prestretch: str
+    amplitude: tuple[float, float, int]
+    peak_damping: float
+
+    @property
+    def targets(self) -> np.ndarray:
+        """Target amplitudes (m)."""
+        return np.linspace(*self.amplitude)
+
+
+def _backbone_mode(rom) -> int:
+    """Index of the mode that dominates the lowest linear mode (its Eq. 29 bound applies)."""
+    _, v = linear_mode(rom)
+    return int(np.argmax(np.abs(v * np.sqrt(rom.mass))))
+
+
+class BackboneAnalysis(Analysis):
+    """Backbone curves by shooting and by the peak-to-peak method."""
+
+    name = "backbone"
+
+    def parse_options(self, table, grid, membrane):
+        opt.check_keys(table, self.name, {"modes", "prestretch", "amplitude", "peak_damping"})
+        return BackboneOptions(
+            modes=opt.modes(table, self.name),
+            prestretch=opt.prestretch(table, self.name),
+            amplitude=opt.linspace(table, self.name, "amplitude", DEFAULT_AMPLITUDE, low=0.0,
+                                   low_open=True, max_num=10_000),
+            peak_damping=opt.number(table, self.name, "peak_damping", 0.05, low=0.0, low_open=True))
+
+    def variables(self, options):
+        P, K = options.amplitude[2], len(options.modes)
+        return [
+            Variable("amplitude", ("point",), (P,), "f8", "m",
+                     "maximum of |w| at (rho, theta) = (0.5 Re, 0) over the free periodic orbit"),
+            Variable("omega_nl", ("point",), (P,), "f8", "rad s-1",
+                     "nonlinear free-vibration frequency, continuation of free periodic orbits"),
+            Variable("omega_peak", ("point",), (P,), "f8", "rad s-1",
+                     "nonlinear free-vibration frequency, peak-to-peak method on damped decays"),
+            Variable("modal_amplitude", ("point", "mode"), (P, K), "f8", "m",
+                     "modal amplitude A_mn of the free periodic orbit (Eq. 31 normalisation)"),
+            Variable("omega_linear", (), (), "f8", "rad s-1",
+                     "small-amplitude limit of the backbone (linearised ROM)"),
+            Variable("omega_bound", (), (), "f8", "rad s-1",
+                     "upper bound of the frequency of the backbone's mode, Eq. 29"),
+        ]
+
+    def coords(self, options):
+        return {"point": (("point",), np.arange(options.amplitude[2], dtype=np.int32),
+                          {"long_name": "index of the target amplitude", "units": "1"}),
+                **opt.mode_coords(options.modes)}
+
+    def warmup(self, options):
+        rom = build_rom(solve_prestretch(Membrane(), "analytic"), [(1, 0)])
+        shooting(rom, [1e-3], steps=8)
+        peak_to_peak(rom, [1e-3], cycles=2)
+
+    def compute(self, point, options, subtask):
+        m = opt.membrane_from_point(point)
+        rom = build_rom(solve_prestretch(m, options.prestretch), options.modes)
+        targets = options.targets
+        orbits = shooting(rom, targets)
+        peaks = peak_to_peak(rom, targets, c=options.peak_damping)
+        ok = bool(orbits.converged.all() and peaks.converged.all())
+        return {"amplitude": targets,
+                "omega_nl": orbits.omega,
+                "omega_peak": peaks.omega,
+                "modal_amplitude": orbits.modal,
+                "omega_linear": linear_mode(rom)[0],
+                "omega_bound": float(frequency_bound(m, rom.alpha[_backbone_mode(rom)])),
+                "status": STATUS_OK if ok else STATUS_NOT_CONVERGED}
+
+    def figures(self, ds, outdir):
+        """Backbone curves (Figs. 10-12) and modal amplitudes (Fig. 9)."""
+        from .plots import _points, _pyplot, _save
+
+        plt = _pyplot()
+        sels = list(_points(ds, ()))
+        swept = [d for d in ("delta", "delta_o", "Omega", "P0", "c") if ds.sizes.get(d, 1) > 1]
+
+        def label(sel):
+            return ", ".join(rf"$\{d}$ = {float(sel[d]):g}" if d.startswith("delta") else f"{d} = {float(sel[d]):g}"
+                             for d in (swept or ["delta", "delta_o"]) if d in sel)
+
+        paths = []
+        fig, ax = plt.subplots(figsize=(5.5, 4.2))
+        for sel in sels:
+            line, = ax.plot(ds.omega_nl.sel(sel), ds.amplitude.sel(sel), lw=1.6, label=label(sel))
+            ax.plot(ds.omega_peak.sel(sel), ds.amplitude.sel(sel), ls="none", marker="o", ms=3.5,
+                    mfc="none", color=line.get_color())
+            ax.axvline(float(ds.omega_bound.sel(sel)), ls="--", lw=1.0, color=line.get_color())
+        ax.plot([], [], "k-", label="periodic orbits (continuation)")
+        ax.plot([], [], "ko", mfc="none", ms=3.5, ls="none", label="peak-to-peak (damped decay)")
+        ax.plot([], [], "k--", lw=1.0, label="bound, Eq. 29")
+        ax.set(xlabel=r"frequency $\omega$ (rad/s)", ylabel=r"amplitude max $|w(0.5, 0)|$ (m)",
+               title="Frequency-amplitude relation", ylim=(0, None))
+        ax.legend(loc="upper left")
+        paths.append(_save(fig, outdir, "backbone.png"))
+
+        K = ds.sizes["mode"]
+        fig, axes = plt.subplots(1, K, figsize=(4.0 * K, 3.6), squeeze=False)
+        for k, ax in enumerate(axes[0]):
+            m, n = int(ds.m[k]), int(ds.n[k])
+            for sel in sels:
+                ax.plot(ds.omega_nl.sel(sel), ds.modal_amplitude.sel(sel).isel(mode=k), label=label(sel))
+            ax.set(xlabel=r"frequency $\omega$ (rad/s)", ylabel=f"$A_{{{m}{n}}}$ (m)",
+                   title=f"modal amplitude $A_{{{m}{n}}}$")
+        axes[0, 0].legend()
+        paths.append(_save(fig, outdir, "modal_amplitudes.png"))
+        return paths
+
+
+BACKBONE = BackboneAnalysis()
