@@ -15,8 +15,8 @@ Convergence criterion (no fixed transient).  With ``y_j`` the state after ``j`` 
 A value is settled when ``r_j < tol`` for ``consecutive`` consecutive periods (at least
 ``min_periods`` periods are always run).  Near a stable fixed point with leading multiplier
 ``mu``, the remaining distance to it is about ``r / (1 - |mu|)`` relative: with the paper's
-light damping ``|mu| ~ 0.998`` per period (c = 0.05), so the default ``tol = 1e-7`` leaves
-~5e-5 relative error in the state and the amplitude.  ``consecutive`` periods guard against
+light damping ``|mu| ~ 0.998`` per period (c = 0.05), so the default ``tol = 1e-6`` leaves
+~5e-4 relative error in the state and the amplitude, far below the resolution of a sweep.  ``consecutive`` periods guard against
 a momentary small residual of a trajectory that is still moving (e.g. near a turning point
 of a spiralling transient).  A value that has not settled after ``max_periods`` periods is
 reported as not converged, and the sweep continues from where it stopped.
@@ -93,7 +93,7 @@ def _settle(y, steps, tab, c_damp, p_load, omega, scale, tol, atol, consecutive,
 
 
 def stepped_sweep(rom: Rom, loading: Loading, parameter: str, values, steps: int = DEFAULT_STEPS,
-                  tol: float = 1e-7, consecutive: int = 20, min_periods: int = 20,
+                  tol: float = 1e-6, consecutive: int = 20, min_periods: int = 20,
                   max_periods: int = 30000, atol: float = 1e-12, initial=None) -> SweepResult:
     """Steady-state amplitudes for ``parameter`` stepped up through ``values`` and back down.
 

@@ -1,0 +1,290 @@
+"""Analysis ``continuation``: bifurcation diagrams of the stroboscopic map (Figs. 14-17).
+
+Per grid point, the branch of periodic responses of the forced ROM is continued by
+pseudo-arclength (:func:`model.continuation.continue_orbits`) in one parameter, ``Omega`` or
+``P0``, from ``start`` to ``stop``; the other forcing parameters (``P0`` or ``Omega``, and
+``c``) come from the grid, and the continued one must not be a grid key.
+
+Option table ``[continuation]``:
+
+``parameter`` (required)
+    ``"Omega"`` (rad/s) or ``"P0"`` (Pa).
+``start``, ``stop`` (required)
+    The range; the branch starts at ``start`` from rest (a unique small response there:
+    ``P0 = 0``, or ``Omega`` away from resonance).
+``modes``, ``prestretch``
+    As everywhere (default ``[[1, 0]]``, ``"numeric"``).
+``max_points`` (default 400), ``ds_max`` (default 0.1), ``steps`` (default 128)
+    Length of the ``point`` dimension, largest arclength step (scaled unknowns: the whole
+    parameter range is 1, 0.05 m of displacement is 1) and RK4 steps per forcing period.
+
+Outputs (a task's branches differ in length: every ``point`` array is padded with NaN,
+``stable`` and ``point_type`` with -1):
+
+* ``<parameter>`` (``point``): the continued parameter's value, the variable is named
+  after it (``Omega`` in rad/s or ``P0`` in Pa; the dataset attribute
+  ``continued_parameter`` names it too);
+* ``amplitude`` (``point``): max over one period of ``|w(0.5 Re, 0, t)|`` (m);
+* ``stable`` (``point``, int8): 1 stable, 0 unstable (and at located bifurcation points);
+* ``point_type`` (``point``, int8): 0 regular, 1 fold (saddle-node), 2 period doubling,
+  3 Neimark-Sacker; bifurcation points are located to ~1e-10 in arclength and inserted;
+* ``multiplier_real``, ``multiplier_imag`` (``point``, ``multiplier``): Floquet
+  multipliers by decreasing modulus, and ``multiplier_modulus`` (``point``) the largest;
+* ``fold_value``, ``fold_amplitude`` (``fold``, :data:`MAX_FOLDS` long, NaN padded): the
+  saddle-node points in branch order, and ``n_points``, ``n_folds``.
+
+Fold loci versus damping (Fig. 17): put ``c`` in the grid (a dense list).  When ``c`` has
+three or more values and ``parameter = "P0"``, :meth:`ContinuationAnalysis.assemble` adds,
+per combination of the other grid keys, the cusp where the two folds merge:
+``cusp_c`` (N s/m^3) and ``cusp_value`` (Pa).  Near a cusp the two fold amplitudes differ
+like ``sqrt(c_cusp - c)``, so the cusp is where the straight line through the squared fold
+amplitude differences of the last two ``c`` values with two folds reaches zero (bounded by
+the first ``c`` with no fold), and ``cusp_value`` the mean fold value extrapolated linearly
+to it.  The status is ``ok`` when the branch reached ``stop``, ``not_converged`` otherwise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from model.continuation import FOLD, KIND_NAMES, PARAMETERS, continue_orbits
+from model.params import Loading
+from model.prestretch import solve_prestretch
+from model.rom import build_rom
+from model.shooting import DEFAULT_STEPS
+
+from . import options as opt
+from .base import GRID_KEYS, MISSING, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable
+
+#: Length of the ``fold`` dimension.
+MAX_FOLDS = 6
+
+
+@dataclass(frozen=True)
+class ContinuationOptions:
+    parameter: str
+    start: float
+    stop: float
+    modes: tuple[tuple[int, int], ...]
+    prestretch: str
+    max_points: int
+    ds_max: float
+    steps: int
+
+
+def _other_keys(parameter: str) -> tuple[str, ...]:
+    return ("P0", "c") if parameter == "Omega" else ("Omega", "c")
+
+
+class ContinuationAnalysis(Analysis):
+    """Pseudo-arclength continuation of periodic responses in Omega or P0 (Figs. 14-17)."""
+
+    name = "continuation"
+
+    def parse_options(self, table, grid, membrane):
+        s = self.name
+        opt.check_keys(table, s, {"parameter", "start", "stop", "modes", "prestretch", "max_points",
+                                  "ds_max", "steps"})
+        parameter = table.get("parameter", MISSING)
+        if parameter not in PARAMETERS:
+            raise JobError(f"{s}.parameter", parameter, f"must be one of {', '.join(PARAMETERS)}")
+        if parameter in grid:
+            raise JobError(f"{s}.parameter", parameter,
+                           f"{parameter} is continued, so it must not also be a [grid] key")
+        for key in _other_keys(parameter):
+            if key not in grid:
+                raise JobError(f"grid.{key}", MISSING,
+                               f"continuation in {parameter} needs {key} ({GRID_KEYS[key][0]}) in [grid]")
+        low = 0.0
+        start = opt.number(table, s, "start", low=low, low_open=parameter == "Omega")
+        stop = opt.number(table, s, "stop", low=low, low_open=parameter == "Omega")
+        if start == stop:
+            raise JobError(f"{s}.stop", stop, "must differ from continuation.start")
+        return ContinuationOptions(
+            parameter, start, stop, opt.modes(table, s), opt.prestretch(table, s),
+            opt.number(table, s, "max_points", 400, low=2, high=100_000, integer=True),
+            opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0),
+            opt.number(table, s, "steps", DEFAULT_STEPS, low=16, high=4096, integer=True))
+
+    def variables(self, options):
+        n, k, p = options.max_points, 2 * len(options.modes), options.parameter
+        units, what = GRID_KEYS[p]
+        pt = ("point",)
+        return [
+            Variable(p, pt, (n,), "f8", units, f"continued parameter: {what}"),
+            Variable("amplitude", pt, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)|"),
+            Variable("stable", pt, (n,), "i1", "1", "1 stable, 0 unstable periodic response", -1),
+            Variable("point_type", pt, (n,), "i1", "1",
+                     "0 regular, 1 fold (saddle-node), 2 period doubling, 3 Neimark-Sacker", -1),
+            Variable("multiplier_real", ("point", "multiplier"), (n, k), "f8", "1",
+                     "real part of the Floquet multipliers, by decreasing modulus"),
+            Variable("multiplier_imag", ("point", "multiplier"), (n, k), "f8", "1",
+                     "imaginary part of the Floquet multipliers, by decreasing modulus"),
+            Variable("multiplier_modulus", pt, (n,), "f8", "1", "largest Floquet multiplier modulus"),
+            Variable("fold_value", ("fold",), (MAX_FOLDS,), "f8", units, f"{p} at the saddle-node points"),
+            Variable("fold_amplitude", ("fold",), (MAX_FOLDS,), "f8", "m", "amplitude at the saddle-node points"),
+            Variable("n_points", (), (), "i4", "1", "points on the branch", -1),
+            Variable("n_folds", (), (), "i4", "1", "saddle-node points on the branch", -1),
+        ]
+
+    def coords(self, options):
+        return {
+            "point": (("point",), np.arange(options.max_points, dtype=np.int32),
+                      {"long_name": "index along the branch", "units": "1"}),
+            "multiplier": (("multiplier",), np.arange(2 * len(options.modes), dtype=np.int32),
+                           {"long_name": "Floquet multiplier index", "units": "1"}),
+            "fold": (("fold",), np.arange(MAX_FOLDS, dtype=np.int32),
+                     {"long_name": "saddle-node index along the branch", "units": "1"}),
+        }
+
+    def compute(self, point, options, subtask):
+        rom = build_rom(solve_prestretch(opt.membrane_from_point(point), options.prestretch), options.modes)
+        fixed = {key: point[key] for key in _other_keys(options.parameter)}
+        fixed[options.parameter] = options.start
+        br = continue_orbits(rom, Loading(**fixed), options.parameter, options.start, options.stop,
+                             steps=options.steps, ds_max=options.ds_max, max_points=options.max_points)
+        n, k = options.max_points, 2 * len(options.modes)
+        m = br.value.size
+        out = {options.parameter: np.full(n, np.nan), "amplitude": np.full(n, np.nan),
+               "stable": np.full(n, -1, np.int8), "point_type": np.full(n, -1, np.int8),
+               "multiplier_real": np.full((n, k), np.nan), "multiplier_imag": np.full((n, k), np.nan),
+               "multiplier_modulus": np.full(n, np.nan),
+               "fold_value": np.full(MAX_FOLDS, np.nan), "fold_amplitude": np.full(MAX_FOLDS, np.nan)}
+        out[options.parameter][:m] = br.value
+        out["amplitude"][:m] = br.amplitude
+        out["stable"][:m] = br.stable
+        out["point_type"][:m] = br.kind
+        out["multiplier_real"][:m] = br.multipliers.real
+        out["multiplier_imag"][:m] = br.multipliers.imag
+        out["multiplier_modulus"][:m] = np.abs(br.multipliers).max(axis=1)
+        folds = br.special(FOLD)[:MAX_FOLDS]
+        out["fold_value"][:folds.size] = br.value[folds]
+        out["fold_amplitude"][:folds.size] = br.amplitude[folds]
+        out["n_points"] = np.int32(m)
+        out["n_folds"] = np.int32(br.special(FOLD).size)
+        out["status"] = STATUS_OK if br.complete else STATUS_NOT_CONVERGED
+        return out
+
+    def warmup(self, options):
+        from model.params import Membrane
+        from model.shooting import shoot
+
+        rom = build_rom(solve_prestretch(Membrane(), "analytic"), options.modes)
+        shoot(rom, Loading(30.0, 0.1, 0.05), np.zeros(2 * rom.dof), steps=16)
+
+    def assemble(self, raw, options):
+        ds = raw.isel(subtask=0, drop=True)
+        ds.attrs["continued_parameter"] = options.parameter
+        ds["point_type"].attrs.update(flag_values=np.arange(4, dtype=np.int8), flag_meanings=" ".join(KIND_NAMES))
+        if options.parameter == "P0" and ds.sizes.get("c", 0) >= 3:
+            cusp_c, cusp_v = _cusp(ds)
+            ds["cusp_c"] = cusp_c.assign_attrs(units=GRID_KEYS["c"][0],
+                                               long_name="damping at which the two saddle-nodes merge (cusp)")
+            ds["cusp_value"] = cusp_v.assign_attrs(units=GRID_KEYS["P0"][0], long_name="P0 at the cusp")
+        return ds
+
+    def figures(self, ds, outdir):
+        return continuation_figures(ds, outdir)
+
+
+def _cusp_1d(c, value, amp):
+    """Cusp from the fold values/amplitudes ``(nc, fold)`` along increasing ``c``."""
+    two = np.isfinite(value[:, 0]) & np.isfinite(value[:, 1])
+    idx = np.flatnonzero(two)
+    if idx.size < 2 or idx[-1] == c.size - 1:
+        return np.nan, np.nan
+    i, j = idx[-2], idx[-1]
+    d2 = np.abs(amp[[i, j], 0] - amp[[i, j], 1]) ** 2
+    mean = value[[i, j], :2].mean(axis=1)
+    if d2[1] >= d2[0]:
+        return np.nan, np.nan
+    cc = c[j] + d2[1] * (c[j] - c[i]) / (d2[0] - d2[1])
+    cc = min(cc, c[j + 1])
+    return cc, mean[1] + (mean[1] - mean[0]) * (cc - c[j]) / (c[j] - c[i])
+
+
+def _cusp(ds):
+    import xarray as xr
+
+    order = np.argsort(ds.c.values)
+    sub = ds.isel(c=order)
+    return xr.apply_ufunc(
+        lambda v, a: _cusp_1d(sub.c.values, v, a), sub.fold_value, sub.fold_amplitude,
+        input_core_dims=[["c", "fold"], ["c", "fold"]], output_core_dims=[[], []], vectorize=True)
+
+
+CONTINUATION = ContinuationAnalysis()
+
+
+def _runs(stable):
+    """Index ranges ``(i0, i1, stable)`` of consecutive points drawn with one line style.
+
+    A located bifurcation point (stable = 0) closes one run and opens the next.
+    """
+    n = stable.size
+    runs, i0 = [], 0
+    for i in range(1, n):
+        if stable[i] != stable[i0] or i == n - 1:
+            style = bool(stable[i0]) if i > i0 + 1 or stable[i0] == stable[i] else bool(stable[i])
+            runs.append((i0, i, style))
+            i0 = i
+    return runs
+
+
+def _draw_branch(ax, x, amp, stable, kind, color, label):
+    ok = np.isfinite(x)
+    x, amp, stable, kind = x[ok], amp[ok], stable[ok], kind[ok]
+    first = True
+    for i0, i1, st in _runs(stable):
+        ax.plot(x[i0:i1 + 1], amp[i0:i1 + 1] * 1e3, color=color, ls="-" if st else "--", lw=1.2,
+                label=label if first else None)
+        first = False
+    for k, marker in ((1, "o"), (2, "s"), (3, "D")):
+        sel = kind == k
+        ax.plot(x[sel], amp[sel] * 1e3, ls="none", marker=marker, mfc="white", color=color, ms=5)
+
+
+def continuation_figures(ds, outdir) -> list:
+    """Bifurcation diagrams (Figs. 14-16) and, with a ``c`` grid in P0, fold loci (Fig. 17).
+
+    One panel per combination of the grid keys other than ``c``; the ``c`` values are
+    overlaid.  Stable responses solid, unstable dashed, saddle-nodes circles (period
+    doubling squares, Neimark-Sacker diamonds).
+    """
+    from .plots import _points, _pyplot, _save
+
+    plt = _pyplot()
+    par = ds.attrs.get("continued_parameter", "P0" if "P0" in ds.data_vars else "Omega")
+    xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
+    panels = list(_points(ds, ("c", "point", "fold", "multiplier")))
+    cs = ds.c.values if "c" in ds.dims else [None]
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.8), squeeze=False)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for ax, sel in zip(axes[0], panels):
+        for j, c in enumerate(cs):
+            s = dict(sel, **({} if c is None else {"c": c}))
+            b = ds.sel(s)
+            _draw_branch(ax, b[par].values, b.amplitude.values, b.stable.values, b.point_type.values,
+                         colors[j % len(colors)], None if c is None else f"c = {float(c):g} N s/m$^3$")
+        ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)",
+               title=", ".join(f"{k} = {float(v):g}" for k, v in sel.items()))
+        if len(cs) > 1:
+            ax.legend()
+    fig.suptitle("Periodic responses: stable solid, unstable dashed, saddle-nodes o")
+    paths = [_save(fig, outdir, f"bifurcation_{par}.png")]
+    if par == "P0" and ds.sizes.get("c", 0) >= 3:
+        fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.8), squeeze=False)
+        for ax, sel in zip(axes[0], panels):
+            b = ds.sel(sel)
+            for f in range(2):
+                ax.plot(b.c, b.fold_value.isel(fold=f), marker=".", label=f"saddle-node {f + 1}")
+            if "cusp_c" in b and np.isfinite(b.cusp_c):
+                ax.plot(b.cusp_c, b.cusp_value, marker="*", ms=10, ls="none", color="k", label="cusp")
+            ax.set(xlabel=r"damping $c$ (N s/m$^3$)", ylabel=r"$P_0$ at saddle-node (Pa)",
+                   title=", ".join(f"{k} = {float(v):g}" for k, v in sel.items()))
+            ax.legend()
+        fig.suptitle("Saddle-node loci versus damping")
+        paths.append(_save(fig, outdir, "fold_loci_damping.png"))
+    return paths

@@ -1,0 +1,163 @@
+"""Analysis ``response``: brute-force steady states stepped up and down (Figs. 13, 18).
+
+Per grid point, :func:`model.response.stepped_sweep` steps one parameter through
+``values`` upwards, then downwards, each value starting from the previous steady state and
+integrated until the stroboscopic map has settled (criterion in :mod:`model.response`).
+
+Option table ``[response]``:
+
+``parameter`` (required)
+    ``"Omega"`` (rad/s) or ``"P0"`` (Pa); it must not be a grid key, and the other forcing
+    parameters (``P0`` or ``Omega``, and ``c``) must be.
+``values`` (required)
+    ``{start, stop, num}``: the swept values (a dimension named after the parameter).
+``modes``, ``prestretch``
+    As everywhere (default ``[[1, 0]]``, ``"numeric"``).
+``steps`` (128), ``tol`` (1e-6), ``consecutive`` (20), ``max_periods`` (30000)
+    RK4 steps per period and the convergence criterion: relative stroboscopic residual
+    below ``tol`` for ``consecutive`` periods in a row, at most ``max_periods`` periods.
+
+Outputs over (``<parameter>``, ``direction`` = up, down): ``amplitude`` (m, max over one
+period of ``|w(0.5 Re, 0, t)|``), ``converged`` (int8 1/0) and ``periods`` (integrated per
+value).  The task status is ``not_converged`` if any value did not settle.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from model.params import Loading
+from model.prestretch import solve_prestretch
+from model.response import PARAMETERS, stepped_sweep
+from model.rom import build_rom
+from model.shooting import DEFAULT_STEPS
+
+from . import options as opt
+from .base import GRID_KEYS, MISSING, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable
+
+
+@dataclass(frozen=True)
+class ResponseOptions:
+    parameter: str
+    values: tuple[float, float, int]
+    modes: tuple[tuple[int, int], ...]
+    prestretch: str
+    steps: int
+    tol: float
+    consecutive: int
+    max_periods: int
+
+    @property
+    def grid(self) -> np.ndarray:
+        """The swept values in increasing order."""
+        return np.sort(np.linspace(*self.values))
+
+
+def _other_keys(parameter: str) -> tuple[str, ...]:
+    return ("P0", "c") if parameter == "Omega" else ("Omega", "c")
+
+
+class ResponseAnalysis(Analysis):
+    """Brute-force stepped sweeps of the forced ROM, up and down."""
+
+    name = "response"
+
+    def parse_options(self, table, grid, membrane):
+        s = self.name
+        opt.check_keys(table, s, {"parameter", "values", "modes", "prestretch", "steps", "tol",
+                                  "consecutive", "max_periods"})
+        parameter = table.get("parameter", MISSING)
+        if parameter not in PARAMETERS:
+            raise JobError(f"{s}.parameter", parameter, f"must be one of {', '.join(PARAMETERS)}")
+        if parameter in grid:
+            raise JobError(f"{s}.parameter", parameter,
+                           f"{parameter} is swept by the analysis, so it must not also be a [grid] key")
+        for key in _other_keys(parameter):
+            if key not in grid:
+                raise JobError(f"grid.{key}", MISSING,
+                               f"a response in {parameter} needs {key} ({GRID_KEYS[key][0]}) in [grid]")
+        values = opt.linspace(table, s, "values", low=0.0, low_open=parameter == "Omega", max_num=10_000)
+        return ResponseOptions(
+            parameter, values, opt.modes(table, s), opt.prestretch(table, s),
+            opt.number(table, s, "steps", DEFAULT_STEPS, low=16, high=4096, integer=True),
+            opt.number(table, s, "tol", 1e-6, low=0.0, low_open=True, high=1e-2),
+            opt.number(table, s, "consecutive", 20, low=1, high=10_000, integer=True),
+            opt.number(table, s, "max_periods", 30_000, low=1, high=10_000_000, integer=True))
+
+    def variables(self, options):
+        dims = (options.parameter, "direction")
+        shape = (options.values[2], 2)
+        return [
+            Variable("amplitude", dims, shape, "f8", "m",
+                     "steady-state max over one period of |w(0.5 Re, 0, t)|"),
+            Variable("converged", dims, shape, "i1", "1", "1 if the steady-state criterion was met", -1),
+            Variable("periods", dims, shape, "i4", "1", "forcing periods integrated at this value", -1),
+        ]
+
+    def coords(self, options):
+        units, what = GRID_KEYS[options.parameter]
+        return {
+            options.parameter: ((options.parameter,), options.grid, {"units": units, "long_name": what}),
+            "direction": (("direction",), np.array(["up", "down"]),
+                          {"long_name": "sweep direction of the parameter"}),
+        }
+
+    def compute(self, point, options, subtask):
+        rom = build_rom(solve_prestretch(opt.membrane_from_point(point), options.prestretch), options.modes)
+        fixed = {key: point[key] for key in _other_keys(options.parameter)}
+        fixed[options.parameter] = float(options.grid[0])
+        res = stepped_sweep(rom, Loading(**fixed), options.parameter, options.grid, steps=options.steps,
+                            tol=options.tol, consecutive=options.consecutive, max_periods=options.max_periods,
+                            min_periods=min(options.consecutive, options.max_periods))
+        conv = res.converged.T
+        return {"amplitude": res.amplitude.T.copy(), "converged": conv.astype(np.int8),
+                "periods": res.periods.T.astype(np.int32),
+                "status": STATUS_OK if conv.all() else STATUS_NOT_CONVERGED}
+
+    def warmup(self, options):
+        from model.params import Membrane
+
+        rom = build_rom(solve_prestretch(Membrane(), "analytic"), options.modes)
+        stepped_sweep(rom, Loading(30.0, 0.1, 1.0), "P0", [0.1], steps=16, max_periods=2, min_periods=1)
+
+    def assemble(self, raw, options):
+        ds = raw.isel(subtask=0, drop=True)
+        ds.attrs["swept_parameter"] = options.parameter
+        return ds
+
+    def figures(self, ds, outdir):
+        return response_figures(ds, outdir)
+
+
+RESPONSE = ResponseAnalysis()
+
+
+def response_figures(ds, outdir) -> list:
+    """Brute-force resonance curves (Figs. 13, 18): one curve pair per grid point.
+
+    Up sweeps solid with upward triangles, down sweeps dashed with downward triangles,
+    values that did not settle crossed.
+    """
+    from .plots import _points, _pyplot, _save
+
+    plt = _pyplot()
+    par = ds.attrs["swept_parameter"]
+    xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for j, sel in enumerate(_points(ds, (par, "direction"))):
+        b = ds.sel(sel)
+        color = colors[j % len(colors)]
+        label = ", ".join(f"{k} = {float(v):g}" for k, v in sel.items() if ds.sizes.get(k, 1) > 1)
+        for d, ls, marker in (("up", "-", "^"), ("down", "--", "v")):
+            a = b.amplitude.sel(direction=d)
+            ax.plot(b[par], a * 1e3, ls=ls, marker=marker, ms=3, color=color,
+                    label=f"{label} {d}".strip())
+            bad = b.converged.sel(direction=d) == 0
+            ax.plot(b[par].values[bad.values], a.values[bad.values] * 1e3, "x", color="k")
+    ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)",
+           title="Steady states, stepped up and down (brute force)")
+    ax.legend(ncol=2)
+    return [_save(fig, outdir, f"response_{par}.png")]
