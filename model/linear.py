@@ -17,8 +17,11 @@ so that ``omega^2 = (2 C1 / Gamma) lambda`` with ``lambda`` the generalised eige
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 from scipy.linalg import eigh
+from scipy.special import roots_legendre
 
 from .modes import bessel_roots, mode_shape
 from .params import Membrane
@@ -32,9 +35,14 @@ MAX_BASIS = 256
 CHANGE_TOL = 2e-6
 
 
+@lru_cache(maxsize=64)
+def _legendre(points: int):
+    return roots_legendre(points)
+
+
 def gauss_radial(membrane: Membrane, points: int):
     """Gauss-Legendre nodes (m) and weights (m) on ``[Ro, Re]``."""
-    x, w = np.polynomial.legendre.leggauss(points)
+    x, w = _legendre(points)
     a, b = membrane.Ro, membrane.Re
     return 0.5 * (a + b) + 0.5 * (b - a) * x, 0.5 * (b - a) * w
 

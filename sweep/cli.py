@@ -36,31 +36,39 @@ def _output(args: argparse.Namespace, job: Job) -> Path:
 def _run(args: argparse.Namespace) -> int:
     from mpi4py import MPI
 
-    from sweep import runner
-
     comm = MPI.COMM_WORLD
     try:
-        read = None
+        code = _run_on(comm, args)
+    except (JobError, RunError) as exc:
         if comm.rank == 0:
-            try:
-                read = ("ok", read_job_text(args.job))
-            except JobError as exc:
-                read = ("error", (exc.key, exc.value, exc.allowed))
-        kind, value = comm.bcast(read, root=0)
-        if kind == "error":
-            raise JobError(*value)
-        job = parse_job(value, args.job)
-    except JobError as exc:
-        if comm.rank == 0:
-            _error(f"{args.job}: {exc}")
-        return EXIT_INVALID
-    out = _output(args, job)
-    try:
-        summary = runner.run(job, out, comm, resume=args.resume, overwrite=args.overwrite)
-    except RunError as exc:
-        if comm.rank == 0:
-            _error(exc.message, exc.details)
-        return EXIT_FAILED
+            if isinstance(exc, JobError):
+                _error(f"{args.job}: {exc}")
+            else:
+                _error(exc.message, exc.details)
+            sys.stderr.flush()
+        code = EXIT_INVALID if isinstance(exc, JobError) else EXIT_FAILED
+    # Every rank reaches this point with the same outcome.  Under ``python -m mpi4py`` a
+    # non-zero exit calls MPI_Abort, which must not kill rank 0 before it has printed.
+    comm.Barrier()
+    return code
+
+
+def _run_on(comm, args: argparse.Namespace) -> int:
+    """``run``; collective over comm.  Raises the same error on every rank."""
+    from sweep import runner
+
+    read = None
+    if comm.rank == 0:
+        try:
+            read = ("ok", read_job_text(args.job))
+        except JobError as exc:
+            read = ("error", (exc.key, exc.value, exc.allowed))
+    kind, value = comm.bcast(read, root=0)
+    if kind == "error":
+        raise JobError(*value)
+    job = parse_job(value, args.job)
+    summary = runner.run(job, _output(args, job), comm, resume=args.resume,
+                         overwrite=args.overwrite)
     if comm.rank == 0:
         report = summary.report
         for note in report.notes:

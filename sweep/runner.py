@@ -65,20 +65,24 @@ def peak_rss_mib() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def _on_root(comm: MPI.Intracomm, action: Callable):
+def _on_root(comm: MPI.Intracomm, action: Callable, what: str):
     """Run ``action()`` on rank 0 and broadcast its result; collective over comm.
 
-    A :class:`RunError` raised by the action is raised on every rank.
+    If the action raises, every rank raises a :class:`RunError` (a plain message for a
+    RunError, the type, message and traceback otherwise), so no rank is left waiting.
     """
     outcome = None
     if comm.rank == 0:
         try:
             outcome = ("ok", action())
         except RunError as exc:
-            outcome = ("error", exc.message)
+            outcome = ("error", (exc.message, exc.details))
+        except Exception as exc:
+            outcome = ("error", (f"{what} failed on rank 0: {type(exc).__name__}: {exc}",
+                                 traceback.format_exc()))
     kind, value = comm.bcast(outcome, root=0)
     if kind == "error":
-        raise RunError(value)
+        raise RunError(*value)
     return value
 
 
@@ -220,7 +224,8 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
         On every rank, when the run is refused or a task fails.
     """
     missing = _on_root(comm, lambda: storage.prepare(job, out, resume=resume,
-                                                     overwrite=overwrite))
+                                                     overwrite=overwrite),
+                       f"preparing {storage.parts_dir(out)}/")
     _warmup(job, comm)
     layout = job.layout
     todo = sum(len(layout.chunk_tasks(k)) for k in missing)
@@ -232,5 +237,5 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
     if progress is not None:
         progress.finish(computed)
     rss = comm.allgather(peak_rss_mib())
-    report = _on_root(comm, lambda: storage.collect(out))
+    report = _on_root(comm, lambda: storage.collect(out), f"collecting {out}")
     return RunSummary(report, computed, seconds, rss, comm.bcast(peak_rss_mib(), root=0))

@@ -256,3 +256,22 @@ def test_progress_lines():
     progress.last -= 1
     progress.update(5)
     assert tty.getvalue().startswith("\r[###############...............] 5 / 10 tasks (50%)")
+
+
+def test_collect_failure_is_reported_and_parts_kept(capsys, monkeypatch, job, tmp_path):
+    def broken(raw, options):
+        raise KeyError("no such variable")
+
+    monkeypatch.setattr(fake_analysis.FAKE, "assemble", broken)
+    code, _, err = run(capsys, "run", job, "-o", tmp_path / "r.nc")
+    assert code == 1
+    assert (f"error: collecting {tmp_path}/r.nc failed on rank 0: KeyError: 'no such "
+            "variable'") in err
+    assert len(list((tmp_path / "r.nc.parts").glob("chunk-*.h5"))) == 3
+
+
+def test_unwritable_output_is_reported(capsys, job, tmp_path):
+    (tmp_path / "file").write_text("")
+    code, _, err = run(capsys, "run", job, "-o", tmp_path / "file" / "r.nc")
+    assert code == 1
+    assert f"error: preparing {tmp_path}/file/r.nc.parts/ failed on rank 0: " in err

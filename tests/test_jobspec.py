@@ -1,5 +1,9 @@
 """Job file validation, task layout and the analysis registry (in-process, no MPI)."""
 
+import importlib.util
+import json
+import subprocess
+import sys
 import textwrap
 
 import numpy as np
@@ -142,11 +146,18 @@ def test_missing_file(tmp_path):
         load_job(tmp_path / "nope.toml")
 
 
-def test_registry_is_lazy_and_lists_only_existing_modules():
-    entries = analyses.registry()
-    assert entries["fake"] == "fake_analysis:FAKE"
-    for name, target in entries.items():
-        assert target.startswith(("sweep.analyses.", "fake_analysis:"))
+def test_registry_lists_existing_modules_without_importing_them():
+    code = ("import json, sys, sweep.cli; from sweep import analyses; "
+            "print(json.dumps([sorted(analyses.registry()), sorted(m for m in sys.modules if m in "
+            "('numba', 'mpi4py.MPI', 'xarray') or m.startswith(('model', 'sweep.analyses.')))]))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=60, check=True).stdout
+    listed, imported = json.loads(out)
+    assert {"fake", "fake_nofig"} <= set(listed)
+    for name in ("static", "linear", "backbone", "response", "continuation", "basins"):
+        module = f"sweep.analyses.{name}"
+        assert (name in listed) == (importlib.util.find_spec(module) is not None)
+    assert imported == ["sweep.analyses.base"]
 
 
 def test_malformed_extra_registry_entry(monkeypatch):

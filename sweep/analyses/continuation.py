@@ -246,6 +246,20 @@ def _draw_branch(ax, x, amp, stable, kind, color, label):
         ax.plot(x[sel], amp[sel] * 1e3, ls="none", marker=marker, mfc="white", color=color, ms=5)
 
 
+def _title(sel) -> str:
+    symbols = {"delta": r"$\delta$", "delta_o": r"$\delta_o$", "Omega": r"$\Omega$", "P0": "$P_0$"}
+    return ", ".join(f"{symbols.get(k, k)} = {float(v):g}" for k, v in sel.items())
+
+
+def _panel_axes(plt, n):
+    cols = min(n, 3)
+    rows = -(-n // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.6 * rows), squeeze=False)
+    for ax in axes.ravel()[n:]:
+        ax.set_visible(False)
+    return fig, axes.ravel()[:n]
+
+
 def continuation_figures(ds, outdir) -> list:
     """Bifurcation diagrams (Figs. 14-16) and, with a ``c`` grid in P0, fold loci (Fig. 17).
 
@@ -260,31 +274,33 @@ def continuation_figures(ds, outdir) -> list:
     xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
     panels = list(_points(ds, ("c", "point", "fold", "multiplier")))
     cs = ds.c.values if "c" in ds.dims else [None]
-    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.8), squeeze=False)
+    fig, axes = _panel_axes(plt, len(panels))
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for ax, sel in zip(axes[0], panels):
+    for ax, sel in zip(axes, panels):
         for j, c in enumerate(cs):
             s = dict(sel, **({} if c is None else {"c": c}))
             b = ds.sel(s)
             _draw_branch(ax, b[par].values, b.amplitude.values, b.stable.values, b.point_type.values,
                          colors[j % len(colors)], None if c is None else f"c = {float(c):g} N s/m$^3$")
-        ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)",
-               title=", ".join(f"{k} = {float(v):g}" for k, v in sel.items()))
+        ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)")
+        ax.set_title(_title(sel), fontsize=9)
         if len(cs) > 1:
-            ax.legend()
+            ax.legend(fontsize=6, ncol=2 if len(cs) > 6 else 1)
     fig.suptitle("Periodic responses: stable solid, unstable dashed, saddle-nodes o")
+    fig.tight_layout()
     paths = [_save(fig, outdir, f"bifurcation_{par}.png")]
     if par == "P0" and ds.sizes.get("c", 0) >= 3:
-        fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.8), squeeze=False)
-        for ax, sel in zip(axes[0], panels):
+        fig, axes = _panel_axes(plt, len(panels))
+        for ax, sel in zip(axes, panels):
             b = ds.sel(sel)
             for f in range(2):
                 ax.plot(b.c, b.fold_value.isel(fold=f), marker=".", label=f"saddle-node {f + 1}")
             if "cusp_c" in b and np.isfinite(b.cusp_c):
                 ax.plot(b.cusp_c, b.cusp_value, marker="*", ms=10, ls="none", color="k", label="cusp")
-            ax.set(xlabel=r"damping $c$ (N s/m$^3$)", ylabel=r"$P_0$ at saddle-node (Pa)",
-                   title=", ".join(f"{k} = {float(v):g}" for k, v in sel.items()))
+            ax.set(xlabel=r"damping $c$ (N s/m$^3$)", ylabel=r"$P_0$ at saddle-node (Pa)")
+            ax.set_title(_title(sel), fontsize=9)
             ax.legend()
         fig.suptitle("Saddle-node loci versus damping")
+        fig.tight_layout()
         paths.append(_save(fig, outdir, "fold_loci_damping.png"))
     return paths

@@ -73,14 +73,15 @@ def linear_figures(ds, outdir) -> list[Path]:
                               ("delta_o", "fig06_frequency_vs_delta_o.png", r"inner radius ratio $\delta_o$")):
         if ds.sizes.get(dim, 1) < 2:
             continue
-        fig, ax = plt.subplots(figsize=(5, 4))
-        for sel in _points(ds, (dim,)):
+        panels = list(itertools.islice(_points(ds, (dim,)), 4))
+        fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4), sharey=True, squeeze=False)
+        for ax, sel in zip(axes[0], panels):
             for k, (m, n) in enumerate(modes):
-                line, = ax.plot(ds[dim], ds.omega.sel(sel).isel(mode=k), marker=".",
-                                label=f"m={m}, n={n}" + (f" ({_label(ds, **sel)})" if sel else ""))
+                line, = ax.plot(ds[dim], ds.omega.sel(sel).isel(mode=k), marker=".", label=f"m={m}, n={n}")
                 ax.plot(ds[dim], ds.omega_bound.sel(sel).isel(mode=k), ls="--", color=line.get_color(), lw=0.8)
-        ax.set(xlabel=xlabel, ylabel=r"$\omega_{mn}$ (rad/s)", title="Natural frequencies (dashed: Eq. 29)")
-        ax.legend()
+            ax.set(xlabel=xlabel, title=_label(ds, **sel))
+        axes[0, 0].set_ylabel(r"$\omega_{mn}$ (rad/s)")
+        axes[0, -1].legend(loc="center left", bbox_to_anchor=(1.02, 0.5), title="dashed: Eq. 29")
         paths.append(_save(fig, outdir, name))
     ns = sorted(set(n for _, n in modes))
     if len(modes) > 1:

@@ -1,0 +1,119 @@
+"""MPI scaling and memory of the sweep runner, measured side by side in one run.
+
+A sweep of the ``linear`` analysis (8 x 8 = 64 grid points of comparable cost: the
+converged Galerkin frequency of mode (1, 0)) runs on 1 and on 2 ranks, ``--repeats``
+times each, through ``mpiexec -n N python -m mpi4py -m sweep run``.  Printed:
+
+* wall time of the whole command (start-up, compute, collect) and of the compute phase
+  alone (as the runner reports it), median over the repeats, and the speed-ups (target
+  >= 1.7 on 2 ranks);
+* peak resident memory of each rank after the compute phase, and of rank 0 after the
+  collect, for two grid sizes (``--memory-sizes``): flat per rank as the grid grows.
+
+Run from the repository root:  ``python benchmarks/bench_mpi_scaling.py``.
+Other processes on the machine distort the timings: the load average is printed too.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+TIMEOUT = 900  # seconds per sweep
+
+JOB = """
+[job]
+name = "bench"
+analysis = "linear"
+
+[grid]
+delta = {{start = 1.1, stop = 2.0, num = {n_delta}}}
+delta_o = {{start = 0.2, stop = 0.5, num = 8}}
+
+[linear]
+modes = [[1, 0]]
+prestretch = "numeric"
+"""
+
+
+def mpiexec() -> str:
+    found = Path(sys.executable).with_name("mpiexec")
+    path = str(found) if found.exists() else shutil.which("mpiexec")
+    if path is None:
+        sys.exit("mpiexec not found next to the Python executable nor on PATH")
+    return path
+
+
+def write_job(directory: Path, n_tasks: int) -> Path:
+    """A job of ``n_tasks`` linear tasks (a multiple of 8)."""
+    path = directory / f"bench_{n_tasks}.toml"
+    path.write_text(JOB.format(n_delta=n_tasks // 8))
+    return path
+
+
+def sweep(job: Path, ranks: int, workdir: Path) -> tuple[float, float, str]:
+    """Run one sweep; returns (wall time s, compute time s, stderr)."""
+    env = {**os.environ, "MPIEXEC_TIMEOUT": str(TIMEOUT)}
+    command = [mpiexec(), "-n", str(ranks), sys.executable, "-m", "mpi4py", "-m", "sweep",
+               "run", str(job), "-o", str(workdir / "bench.nc"), "--overwrite",
+               "--report-memory"]
+    start = time.perf_counter()
+    proc = subprocess.run(command, env=env, capture_output=True, text=True, timeout=TIMEOUT)
+    wall = time.perf_counter() - start
+    if proc.returncode:
+        sys.exit(f"sweep failed:\n{proc.stderr}")
+    compute = float(re.search(r"rank\(s\) in ([0-9.]+) s", proc.stdout).group(1))
+    return wall, compute, proc.stderr
+
+
+def memory(stderr: str) -> tuple[list[float], float]:
+    """Peak RSS per rank after compute and of rank 0 after collect, MiB."""
+    match = re.search(r"after compute \(MiB\): ([0-9., ]+); rank 0 after collect: ([0-9.]+)",
+                      stderr)
+    return [float(x) for x in match.group(1).split(",")], float(match.group(2))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--tasks", type=int, default=64, help="tasks of the timed sweep")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--memory-sizes", default="64,512",
+                        help="comma-separated task counts for the memory measurement")
+    args = parser.parse_args()
+
+    print(f"load average before: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    with tempfile.TemporaryDirectory() as tmp:
+        workdir = Path(tmp)
+        job = write_job(workdir, args.tasks)
+        sweep(write_job(workdir, 8), 1, workdir)  # fills the numba cache
+        times = {}
+        for ranks in (1, 2):
+            runs = [sweep(job, ranks, workdir)[:2] for _ in range(args.repeats)]
+            times[ranks] = (statistics.median(w for w, _ in runs),
+                            statistics.median(c for _, c in runs))
+            print(f"{args.tasks} tasks on {ranks} rank(s): wall {times[ranks][0]:.2f} s, "
+                  f"compute {times[ranks][1]:.2f} s (median of {args.repeats})")
+        print(f"speed-up 2 ranks / 1 rank: wall {times[1][0] / times[2][0]:.2f}, "
+              f"compute {times[1][1] / times[2][1]:.2f} (target >= 1.7)")
+
+        for n_tasks in (int(s) for s in args.memory_sizes.split(",")):
+            n_tasks = 8 * math.ceil(n_tasks / 8)
+            _, _, stderr = sweep(write_job(workdir, n_tasks), 2, workdir)
+            per_rank, collect = memory(stderr)
+            print(f"{n_tasks} tasks on 2 ranks: peak RSS per rank after compute "
+                  f"{', '.join(f'{m:.1f}' for m in per_rank)} MiB; rank 0 after collect "
+                  f"{collect:.1f} MiB")
+    print(f"load average after: {os.getloadavg()[0]:.2f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,145 @@
+"""Pseudo-arclength continuation: linear limit, folds where a multiplier crosses +1,
+agreement with independent shooting, the continuation analysis' options and output."""
+
+import numpy as np
+import pytest
+
+from model.continuation import FOLD, REGULAR, continue_orbits
+from model.params import Loading, Membrane
+from model.prestretch import solve_prestretch
+from model.rom import build_rom, force_jacobian
+from model.shooting import period_map, shoot
+from sweep.analyses.base import JobError
+from sweep.analyses.continuation import CONTINUATION, _cusp_1d
+
+PAPER = Loading(Omega=33.5, P0=1.0, c=0.05)
+
+
+@pytest.fixture(scope="module")
+def rom():
+    return build_rom(solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric"), [(1, 0)])
+
+
+@pytest.fixture(scope="module")
+def p0_branch(rom):
+    return continue_orbits(rom, PAPER, "P0", 0.0, 3.0, ds_max=0.3)
+
+
+def test_linear_resonance_curve_in_omega(rom):
+    # P0 = 1e-5 Pa: the response is linear; every point matches the closed-form FRF.
+    ld = Loading(Omega=30.0, P0=1e-5, c=1.0)
+    br = continue_orbits(rom, ld, "Omega", 30.0, 35.0, ds_max=0.1)
+    jac = np.zeros((1, 1))
+    force_jacobian(np.zeros(1), rom.tables, jac)
+    w0sq = rom.tables.k_force[0] * jac[0, 0]
+    cd = ld.c / (rom.membrane.Gamma * rom.membrane.h)
+    frf = abs(rom.tables.load[0] * rom.tables.probe[0]) * 1e-5 / np.hypot(w0sq - br.value**2, cd * br.value)
+    assert br.complete and br.value[0] == 30.0 and br.value[-1] == pytest.approx(35.0, abs=1e-12)
+    assert np.all(np.diff(br.value) > 0) and br.stable.all() and not br.special(FOLD).size
+    assert br.amplitude == pytest.approx(frf, rel=1e-4)
+
+
+def test_p0_branch_has_two_folds_around_p0_1(p0_branch):
+    # Fig. 15a: at delta = 1.1, Omega = 33.5, c = 0.05 the folds bracket P0 = 1.
+    folds = p0_branch.special(FOLD)
+    assert p0_branch.complete and folds.size == 2
+    lo, hi = sorted(p0_branch.value[folds])
+    assert lo < 1.0 < hi
+
+
+def test_folds_are_where_a_multiplier_is_plus_one_and_stability_changes(p0_branch):
+    br = p0_branch
+    for i in br.special(FOLD):
+        mu = br.multipliers[i]
+        assert abs(mu[0] - 1.0) < 1e-8
+        assert br.stable[i - 1] != br.stable[i + 1]
+    regular = br.kind == REGULAR
+    assert np.array_equal(br.stable[regular], np.abs(br.multipliers[regular]).max(axis=1) < 1)
+
+
+def test_fold_value_is_the_extremum_of_the_branch(p0_branch):
+    # Independent check of the location: no regular point passes the folds.
+    br = p0_branch
+    f1, f2 = br.special(FOLD)
+    assert br.value[f1] >= br.value[: f2].max() - 1e-14
+    assert br.value[f2] <= br.value[f1:].min() + 1e-14
+
+
+def test_points_agree_with_shooting_and_stable_ones_with_time_integration(rom, p0_branch):
+    br = p0_branch
+    idx = np.flatnonzero(br.kind == REGULAR)[5::25]
+    for i in idx:
+        ld = Loading(Omega=33.5, P0=float(br.value[i]), c=0.05)
+        orbit = shoot(rom, ld, br.state[i])
+        assert orbit.iterations <= 1 and orbit.amplitude == pytest.approx(br.amplitude[i], rel=1e-9)
+        if br.stable[i]:
+            y = period_map(rom, ld, br.state[i], periods=100)
+            assert np.abs(y - br.state[i]).max() < 1e-8
+
+
+def test_bad_arguments_are_rejected(rom):
+    with pytest.raises(ValueError, match="parameter = 'c' is invalid: must be one of Omega, P0"):
+        continue_orbits(rom, PAPER, "c", 0.0, 1.0)
+    with pytest.raises(ValueError, match=r"\(start, stop\) = \(1.0, 1.0\) is invalid"):
+        continue_orbits(rom, PAPER, "P0", 1.0, 1.0)
+    with pytest.raises(ValueError, match="Omega must stay > 0"):
+        continue_orbits(rom, PAPER, "Omega", 0.0, 1.0)
+    with pytest.raises(ValueError, match="need 0 < ds_min <= ds <= ds_max"):
+        continue_orbits(rom, PAPER, "P0", 0.0, 1.0, ds=1.0, ds_max=0.1)
+    with pytest.raises(ValueError, match="max_points = 1 is invalid: must be >= 2"):
+        continue_orbits(rom, PAPER, "P0", 0.0, 1.0, max_points=1)
+
+
+def test_max_points_stops_and_says_so(rom):
+    br = continue_orbits(rom, PAPER, "P0", 0.0, 3.0, max_points=5)
+    assert br.value.size == 5 and not br.complete and "max_points = 5 reached" in br.message
+
+
+GRID = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "Omega": np.array([33.5]),
+        "c": np.array([0.05])}
+MEMBRANE = {"C1": 0.17e6, "h": 1e-3, "Gamma": 2200.0, "Re": 1.0}
+
+
+@pytest.mark.parametrize("table, grid, message", [
+    ({"start": 0.0, "stop": 1.0}, GRID, "continuation.parameter = <missing> is invalid: must be one of Omega, P0"),
+    ({"parameter": "Omega", "start": 30.0, "stop": 40.0}, GRID,
+     "continuation.parameter = 'Omega' is invalid: Omega is continued, so it must not also be a [grid] key"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0}, {k: v for k, v in GRID.items() if k != "c"},
+     "grid.c = <missing> is invalid: continuation in P0 needs c (N s m-3) in [grid]"),
+    ({"parameter": "P0", "start": -1.0, "stop": 1.0}, GRID, "continuation.start = -1.0 is invalid: must be >= 0.0"),
+    ({"parameter": "P0", "start": 1.0, "stop": 1.0}, GRID,
+     "continuation.stop = 1.0 is invalid: must differ from continuation.start"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "max_points": 1}, GRID,
+     "continuation.max_points = 1 is invalid: must be >= 2"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "bogus": 1}, GRID,
+     "continuation.bogus = 1 is invalid: unknown option"),
+])
+def test_option_errors_name_key_value_and_rule(table, grid, message):
+    with pytest.raises(JobError) as err:
+        CONTINUATION.parse_options(table, grid, MEMBRANE)
+    assert message in str(err.value)
+
+
+def test_compute_pads_outputs_to_max_points():
+    options = CONTINUATION.parse_options({"parameter": "P0", "start": 0.0, "stop": 3.0, "max_points": 200,
+                                          "ds_max": 0.3}, GRID, MEMBRANE)
+    point = {"delta": 1.1, "delta_o": 0.2, "Omega": 33.5, "c": 0.05, **MEMBRANE}
+    out = CONTINUATION.compute(point, options, 0)
+    shapes = {v.name: v.shape for v in CONTINUATION.variables(options)}
+    assert all(np.shape(out[k]) == s for k, s in shapes.items())
+    n = int(out["n_points"])
+    assert out["status"] == 0 and out["n_folds"] == 2
+    assert np.isnan(out["P0"][n:]).all() and (out["stable"][n:] == -1).all()
+    assert np.isfinite(out["fold_value"][:2]).all() and np.isnan(out["fold_value"][2:]).all()
+    assert set(np.unique(out["point_type"][:n])) == {0, 1}
+
+
+def test_cusp_extrapolation_of_a_square_root_merger():
+    # Fold amplitudes a_cusp +- sqrt(c* - c) and values P* +- (c* - c)^1.5: cusp at c* = 2.
+    c = np.array([1.0, 1.5, 1.9, 2.5])
+    d = np.sqrt(np.clip(2.0 - c, 0, None))
+    value = np.stack([1 + d**3, 1 - d**3], axis=1)
+    amp = np.stack([0.05 + d, 0.05 - d], axis=1)
+    value[-1] = amp[-1] = np.nan
+    cc, cv = _cusp_1d(c, value, amp)
+    assert cc == pytest.approx(2.0, rel=1e-12) and cv == pytest.approx(1.0, rel=1e-12)

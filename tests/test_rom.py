@@ -1,0 +1,190 @@
+"""The nonlinear Galerkin ROM (Eq. 31) and its integrators: RK4 and DOP853.
+
+Reference values come from closed forms (derivatives, energy conservation, the observed
+order of RK4), the independent linear Galerkin solver of :mod:`model.linear`, and
+``scipy.integrate.solve_ivp``.
+"""
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from model import dopri
+from model.integrate import monodromy, rk4_period, strobe_many
+from model.linear import galerkin_frequencies
+from model.params import Membrane
+from model.prestretch import solve_prestretch
+from model.rom import build_rom, elastic_force, force_jacobian, total_energy
+
+AXI = [(1, 0), (2, 0), (3, 0)]
+MIXED = [(1, 0), (2, 0), (1, 1), (1, 2)]
+
+
+@pytest.fixture(scope="module")
+def prestretch():
+    return solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric")
+
+
+@pytest.fixture(scope="module")
+def roms(prestretch):
+    return {"1": build_rom(prestretch, [(1, 0)]), "axi": build_rom(prestretch, AXI),
+            "mixed": build_rom(prestretch, MIXED)}
+
+
+def _force(rom, q):
+    g = np.empty(rom.dof)
+    elastic_force(np.asarray(q, dtype=float), rom.tables, g)
+    return g
+
+
+def _plain_rhs(rom):
+    """The ROM written plainly in numpy, for solve_ivp."""
+    t, K = rom.tables, rom.dof
+
+    def f(_, y):
+        q = y[:K]
+        a, b = q @ t.b_rho, q @ t.b_theta
+        D = t.dr2 * t.r2 + t.dr2 * b * b + t.r2 * a * a
+        s = t.rho2 / D**2
+        g = t.b_rho @ (2 * a * (1 - s * t.r2) * t.weight) + t.b_theta @ (2 * b * (1 / t.rho2 - s * t.dr2) * t.weight)
+        return np.concatenate([y[K:], -t.k_force * g])
+
+    return f
+
+
+@pytest.mark.parametrize("kind", ["axi", "mixed"])
+def test_jacobian_matches_central_differences(roms, kind):
+    rom = roms[kind]
+    rng = np.random.default_rng(4)
+    jac = np.empty((rom.dof, rom.dof))
+    for _ in range(3):
+        q = rng.uniform(-0.4, 0.4, rom.dof)
+        force_jacobian(q, rom.tables, jac)
+        h = 1e-5
+        fd = np.column_stack([(_force(rom, q + h * e) - _force(rom, q - h * e)) / (2 * h)
+                              for e in np.eye(rom.dof)])
+        assert np.abs(jac - fd).max() <= 1e-7 * np.abs(fd).max()
+
+
+def _backbone_states(dof):
+    """States met along the paper's backbones: |w(0.5, 0)| up to 0.4 m on the first mode,
+    the other modes at the percent level (Fig. 9)."""
+    q = np.random.default_rng(5).uniform(-0.01, 0.01, (3, dof))
+    q[:, 0] = [0.75, -0.4, 0.1]
+    return q
+
+
+@pytest.mark.parametrize("kind", ["axi", "mixed"])
+def test_doubling_the_default_quadrature_changes_nothing(prestretch, roms, kind):
+    rom = roms[kind]
+    fine = build_rom(prestretch, rom.modes, radial_points=2 * rom.radial_points,
+                     theta_points=2 * rom.theta_points)
+    for q in _backbone_states(rom.dof):
+        g, g_fine = _force(rom, q), _force(fine, q)
+        assert np.abs(g - g_fine).max() <= 1e-12 * np.abs(g_fine).max()
+
+
+def test_small_amplitude_frequencies_equal_linear_galerkin(prestretch, roms):
+    """The linearised ROM is the linear Galerkin problem on the same basis (n decouple)."""
+    rom = roms["mixed"]
+    jac = np.empty((rom.dof, rom.dof))
+    force_jacobian(np.zeros(rom.dof), rom.tables, jac)
+    d = np.sqrt(rom.tables.k_force)
+    omega = np.sort(np.sqrt(np.linalg.eigvalsh(d[:, None] * jac * d[None, :])))
+    ref = np.sort(np.concatenate([galerkin_frequencies(prestretch, n, len(ms), basis=len(ms))[0]
+                                  for n, ms in ((0, [1, 2]), (1, [1]), (2, [1]))]))
+    np.testing.assert_allclose(omega, ref, rtol=1e-10)
+
+
+@pytest.mark.parametrize("kind,periods", [("1", 1000), ("axi", 300)])
+def test_energy_conserved_by_dop853(roms, kind, periods):
+    rom = roms[kind]
+    y0 = np.zeros(2 * rom.dof)
+    y0[0], y0[rom.dof] = 0.2, 3.0
+    T = 2 * np.pi / 38.0
+    states, _ = dopri.solve(rom, y0, np.arange(periods + 1) * T, rtol=1e-12, atol=1e-15)
+    energy = np.array([total_energy(rom, y) for y in states[0]])
+    assert np.abs(energy / energy[0] - 1).max() <= 1e-9
+
+
+def test_dop853_agrees_with_solve_ivp(roms):
+    rom = roms["axi"]
+    y0 = np.array([0.3, -0.01, 0.002, 0.0, 1.0, 0.0])
+    te = np.linspace(0, 0.3, 4)
+    ours, _ = dopri.solve(rom, y0, te, c=0.05, P0=1.0, Omega=33.5, rtol=1e-12, atol=1e-14)
+    ref = solve_ivp(lambda t, y: _plain_rhs(rom)(t, y) + np.concatenate(
+        [np.zeros(3), -0.05 / 2.2 * y[3:] + np.cos(33.5 * t) * rom.tables.load]),
+        (0, 0.3), y0, method="DOP853", t_eval=te, rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(ours[0], ref.y.T, atol=1e-8 * np.abs(ref.y).max())
+
+
+def test_rk4_shows_fourth_order(roms):
+    rom = roms["axi"]
+    y0 = np.array([0.25, -0.01, 0.001, 0.0, 0.0, 0.0])
+    omega = 33.5
+    period = 2 * np.pi / omega
+    ref, _ = dopri.solve(rom, y0, [period], c=0.05, P0=1.0, Omega=omega, rtol=1e-13, atol=1e-15)
+    errors = []
+    for steps in (96, 192, 384):
+        y = y0.copy()
+        rk4_period(y, 0.0, period / steps, steps, rom.tables, 0.05 / 2.2, 1.0, omega, np.empty((6, 6)))
+        errors.append(np.abs(y - ref[0, 0]).max())
+    orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert np.all(np.abs(orders - 4.0) < 0.15), orders
+
+
+def test_batches_equal_one_by_one(roms):
+    rom = roms["axi"]
+    rng = np.random.default_rng(7)
+    y0 = rng.uniform(-0.1, 0.1, (4, 6))
+    c, p0, om = np.array([0.0, 0.05, 0.5, 1.0]), np.array([0.0, 1.0, 2.0, 0.5]), np.array([30.0, 33.5, 35.0, 40.0])
+    batch, nfev = dopri.solve(rom, y0, [0.1, 0.3], c=c, P0=p0, Omega=om)
+    ext = dopri.extrema(rom, y0, 0.5, 6, c=c, P0=p0, Omega=om)
+    for i in range(4):
+        one, nf = dopri.solve(rom, y0[i], [0.1, 0.3], c=c[i], P0=p0[i], Omega=om[i])
+        assert np.array_equal(one[0], batch[i]) and nf[0] == nfev[i]
+        e1 = dopri.extrema(rom, y0[i], 0.5, 6, c=c[i], P0=p0[i], Omega=om[i])
+        assert np.array_equal(e1.times[0], ext.times[i], equal_nan=True)
+    out = np.empty((4, 3, 6))
+    strobe_many(y0, 2, 50, rom.tables, 0.05 / 2.2, 1.0, 33.5, out)
+    for i in range(4):
+        one = np.empty((1, 3, 6))
+        strobe_many(y0[i:i + 1].copy(), 2, 50, rom.tables, 0.05 / 2.2, 1.0, 33.5, one)
+        assert np.array_equal(one[0], out[i])
+
+
+def test_extrema_are_zeros_of_the_probe_velocity(roms):
+    rom = roms["axi"]
+    y0 = np.array([0.2, 0.0, 0.0, 0.0, 0.0, 0.0])
+    ext = dopri.extrema(rom, y0, 1.0, 8, rtol=1e-11)
+    n = int(ext.count[0])
+    assert n == 8
+    probe = rom.tables.probe
+    v = ext.states[0, :n, 3:] @ probe
+    assert np.abs(v).max() <= 1e-9 * np.abs(ext.states[0, :n, 3:]).max()
+    w = ext.states[0, :n, :3] @ probe
+    assert np.all(np.sign(w[1:]) == -np.sign(w[:-1]))
+
+
+def test_monodromy_matches_finite_differences(roms):
+    rom = roms["axi"]
+    y0 = np.array([0.2, -0.01, 0.001, 0.0, 0.5, 0.0])
+    args = (0.0, 0.05, 40, rom.tables, 0.0, 0.0, 1.0)
+    _, phi = monodromy(y0, *args)
+    h = 1e-6
+    fd = np.column_stack([(monodromy(y0 + h * e, *args)[0] - monodromy(y0 - h * e, *args)[0]) / (2 * h)
+                          for e in np.eye(6)])
+    assert np.abs(phi - fd).max() <= 1e-7 * np.abs(fd).max()
+
+
+@pytest.mark.parametrize("call,message", [
+    (lambda r: dopri.solve(r, np.zeros(3), [1.0]), r"y0 shape \(1, 3\) is invalid: need \(N, 2\)"),
+    (lambda r: dopri.solve(r, np.zeros(2), [1.0], c=-1.0), r"c = -1.0 is invalid: must be finite and >= 0"),
+    (lambda r: dopri.solve(r, np.zeros(2), [1.0], Omega=0.0), r"Omega = 0.0 is invalid: must be finite and > 0"),
+    (lambda r: dopri.solve(r, np.zeros(2), [1.0], rtol=0.0), r"rtol = 0.0, atol = 1e-12 is invalid"),
+    (lambda r: dopri.solve(r, np.zeros(2), [2.0, 1.0]), r"t_eval = .* is invalid: need a non-empty increasing"),
+    (lambda r: dopri.extrema(r, np.zeros(2), 1.0, 0), r"max_count = 0, t_end = 1.0 is invalid"),
+])
+def test_integrator_errors_name_the_value(roms, call, message):
+    with pytest.raises(ValueError, match=message):
+        call(roms["1"])
