@@ -6,7 +6,7 @@ times each, through ``mpiexec -n N python -m mpi4py -m sweep run``.  Printed:
 
 * wall time of the whole command (start-up, compute, collect) and of the compute phase
   alone (as the runner reports it), median over the repeats, and the speed-ups (target
-  >= 1.7 on 2 ranks);
+  >= 1.7 on 2 ranks); the CPU time of all ranks shows the parallel overhead;
 * peak resident memory of each rank after the compute phase, and of rank 0 after the
   collect, for two grid sizes (``--memory-sizes``): flat per rank as the grid grows.
 
@@ -20,6 +20,7 @@ import argparse
 import math
 import os
 import re
+import resource
 import shutil
 import statistics
 import subprocess
@@ -60,19 +61,22 @@ def write_job(directory: Path, n_tasks: int) -> Path:
     return path
 
 
-def sweep(job: Path, ranks: int, workdir: Path) -> tuple[float, float, str]:
-    """Run one sweep; returns (wall time s, compute time s, stderr)."""
+def sweep(job: Path, ranks: int, workdir: Path) -> tuple[float, float, float, str]:
+    """Run one sweep; returns (wall time s, compute time s, CPU time of all ranks s, stderr)."""
     env = {**os.environ, "MPIEXEC_TIMEOUT": str(TIMEOUT)}
     command = [mpiexec(), "-n", str(ranks), sys.executable, "-m", "mpi4py", "-m", "sweep",
                "run", str(job), "-o", str(workdir / "bench.nc"), "--overwrite",
                "--report-memory"]
+    cpu_before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     proc = subprocess.run(command, env=env, capture_output=True, text=True, timeout=TIMEOUT)
     wall = time.perf_counter() - start
+    cpu_after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (cpu_after.ru_utime + cpu_after.ru_stime) - (cpu_before.ru_utime + cpu_before.ru_stime)
     if proc.returncode:
         sys.exit(f"sweep failed:\n{proc.stderr}")
     compute = float(re.search(r"rank\(s\) in ([0-9.]+) s", proc.stdout).group(1))
-    return wall, compute, proc.stderr
+    return wall, compute, cpu, proc.stderr
 
 
 def memory(stderr: str) -> tuple[list[float], float]:
@@ -97,17 +101,17 @@ def main() -> None:
         sweep(write_job(workdir, 8), 1, workdir)  # fills the numba cache
         times = {}
         for ranks in (1, 2):
-            runs = [sweep(job, ranks, workdir)[:2] for _ in range(args.repeats)]
-            times[ranks] = (statistics.median(w for w, _ in runs),
-                            statistics.median(c for _, c in runs))
+            runs = [sweep(job, ranks, workdir)[:3] for _ in range(args.repeats)]
+            times[ranks] = [statistics.median(run[i] for run in runs) for i in range(3)]
             print(f"{args.tasks} tasks on {ranks} rank(s): wall {times[ranks][0]:.2f} s, "
-                  f"compute {times[ranks][1]:.2f} s (median of {args.repeats})")
+                  f"compute {times[ranks][1]:.2f} s, CPU of all ranks {times[ranks][2]:.2f} s "
+                  f"(medians of {args.repeats})")
         print(f"speed-up 2 ranks / 1 rank: wall {times[1][0] / times[2][0]:.2f}, "
               f"compute {times[1][1] / times[2][1]:.2f} (target >= 1.7)")
 
         for n_tasks in (int(s) for s in args.memory_sizes.split(",")):
             n_tasks = 8 * math.ceil(n_tasks / 8)
-            _, _, stderr = sweep(write_job(workdir, n_tasks), 2, workdir)
+            stderr = sweep(write_job(workdir, n_tasks), 2, workdir)[3]
             per_rank, collect = memory(stderr)
             print(f"{n_tasks} tasks on 2 ranks: peak RSS per rank after compute "
                   f"{', '.join(f'{m:.1f}' for m in per_rank)} MiB; rank 0 after collect "

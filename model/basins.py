@@ -385,11 +385,11 @@ def _classify_kernel(states, labels, periods, cellmap, cells, geo, ix, iy, att_p
         i = ints[0]
         if ints[1] < 0:
             y[:] = states[i]
-        else:
-            y[:] = y_arg
             ints[1] = 0
             ints[2] = 0
             ints[3] = 0
+        else:
+            y[:] = y_arg
         label = -1
         run_label = -3
         run = 0
@@ -399,9 +399,20 @@ def _classify_kernel(states, labels, periods, cellmap, cells, geo, ix, iy, att_p
             if a >= 0:
                 label = a
                 break
+            if nd - ints[2] >= cooldown:
+                for k in range(1, min(kmax, nd) + 1):
+                    d = 0.0
+                    for j in range(n):
+                        e = (y[j] - ring[(nd - k) % kmax, j]) * scale[j]
+                        d += e * e
+                    if d < trig2:
+                        ints[2] = nd
+                        ints[4] = k
+                        y_arg[:] = y
+                        return 1
             if cells:
                 c = _cell(y, geo, ix, iy, nx, ny)
-                if c >= 0:
+                if c >= 0 and ints[3] < trail.size:
                     trail[ints[3]] = c
                     ints[3] += 1
                     lab = flat[c]
@@ -418,17 +429,6 @@ def _classify_kernel(states, labels, periods, cellmap, cells, geo, ix, iy, att_p
                         run = 0
                 else:
                     run = 0
-            if nd - ints[2] >= cooldown:
-                for k in range(1, min(kmax, nd) + 1):
-                    d = 0.0
-                    for j in range(n):
-                        e = (y[j] - ring[(nd - k) % kmax, j]) * scale[j]
-                        d += e * e
-                    if d < trig2:
-                        ints[2] = nd
-                        ints[4] = k
-                        y_arg[:] = y
-                        return 1
             if nd == max_periods:
                 break
             ring[nd % kmax] = y

@@ -338,10 +338,11 @@ def describe_status(out: Path) -> str:
     with xr.open_dataset(out, engine="netcdf4") as ds:
         if "tasks_total" not in ds.attrs:
             raise RunError(f"{out} is not a membrane-sweep result (no tasks_total attribute)")
-        counts = Counter(ds["status"].values.ravel().tolist())
+        statuses = (f" ({_status_counts(Counter(ds['status'].values.ravel().tolist()))})"
+                    if "status" in ds else "")
         return (f"{ds.attrs['job_name']} ({ds.attrs['analysis']}): "
-                f"{ds.attrs['tasks_completed']} / {ds.attrs['tasks_total']} tasks completed "
-                f"({_status_counts(counts)}); {parts}/ deleted")
+                f"{ds.attrs['tasks_completed']} / {ds.attrs['tasks_total']} tasks completed"
+                f"{statuses}; {parts}/ deleted")
 
 
 def _status_counts(counts: Mapping[int, int]) -> str:

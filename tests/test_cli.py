@@ -81,7 +81,8 @@ def test_run_status_collect(capsys, job, tmp_path):
 
 def test_rerun_refused_then_overwrite(capsys, job, tmp_path):
     out_nc = tmp_path / "r.nc"
-    assert run(capsys, "run", job, "-o", out_nc)[0] == 0
+    code, out, _ = run(capsys, "run", job, "-o", out_nc, "--resume")
+    assert code == 0 and "6 computed" in out
     code, _, err = run(capsys, "run", job, "-o", out_nc)
     assert code == 1
     assert (f"error: {out_nc}.parts/ holds the parts of an earlier run: add --resume to "
@@ -275,3 +276,37 @@ def test_unwritable_output_is_reported(capsys, job, tmp_path):
     code, _, err = run(capsys, "run", job, "-o", tmp_path / "file" / "r.nc")
     assert code == 1
     assert f"error: preparing {tmp_path}/file/r.nc.parts/ failed on rank 0: " in err
+
+
+def test_status_from_the_final_file_once_parts_are_deleted(capsys, job, tmp_path):
+    out_nc = tmp_path / "r.nc"
+    assert run(capsys, "run", job, "-o", out_nc)[0] == 0
+    for part in (tmp_path / "r.nc.parts").iterdir():
+        part.unlink()
+    (tmp_path / "r.nc.parts").rmdir()
+    code, out, _ = run(capsys, "status", out_nc)
+    assert code == 0
+    assert out.startswith("good (fake): 6 / 6 tasks completed (ok ")
+    assert out.strip().endswith(f"failed 0); {out_nc}.parts/ deleted")
+
+
+def test_warmup_failure_is_reported(capsys, monkeypatch, job, tmp_path):
+    def broken(options):
+        raise RuntimeError("no compiler")
+
+    monkeypatch.setattr(fake_analysis.FAKE, "warmup", broken)
+    code, _, err = run(capsys, "run", job, "-o", tmp_path / "r.nc")
+    assert code == 1
+    assert "error: warmup of analysis 'fake' failed on rank 0: RuntimeError: no compiler" in err
+
+
+def test_part_write_failure_is_reported(capsys, monkeypatch, job, tmp_path):
+    from sweep import storage
+
+    def broken(*args):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(storage, "write_part", broken)
+    code, _, err = run(capsys, "run", job, "-o", tmp_path / "r.nc")
+    assert code == 1
+    assert "error: chunk 0: OSError: disk full (on rank 0)" in err

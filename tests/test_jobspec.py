@@ -165,3 +165,16 @@ def test_malformed_extra_registry_entry(monkeypatch):
     with pytest.raises(JobError, match="SWEEP_EXTRA_ANALYSES = 'fake' is invalid: "
                                        "comma-separated name=module:attribute items"):
         analyses.registry()
+
+
+def test_registry_entry_that_is_not_an_analysis(monkeypatch):
+    monkeypatch.setenv(analyses.EXTRA_ENV, "odd=fake_analysis:FakeOptions")
+    with pytest.raises(TypeError, match="fake_analysis:FakeOptions is a type, not an Analysis"):
+        analyses.get("odd")
+
+
+def test_job_file_not_utf8(tmp_path):
+    path = tmp_path / "latin.toml"
+    path.write_bytes(b"# \xe9\n")
+    with pytest.raises(JobError, match=r"latin.toml' is invalid: a readable UTF-8 text file"):
+        load_job(path)
