@@ -1,0 +1,89 @@
+"""Run every paper job under MPI, draw every figure and regenerate the validation report.
+
+Usage (from the repository root)::
+
+    python -m sweep.paper [--quick] [-n RANKS] [-o RESULTS_DIR] [--only NAME ...]
+
+Each job file of :data:`PAPER_JOBS` (``jobs/<name>.toml``, at the paper's parameters and
+full resolution) runs as ``mpiexec -n RANKS python -m mpi4py -m sweep run``, its figures
+go to ``RESULTS_DIR/figures/<name>/`` and, at the end, ``docs/validation.md`` is
+regenerated from the results.  ``--quick`` caps every ``num`` of a job file (grid ranges,
+lattices, amplitude targets) at :data:`QUICK_NUM` for a laptop run; the full resolution
+is meant for a cluster.  Runs resume: an interrupted ``python -m sweep.paper`` started
+again computes only what is missing.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+#: Job files (``jobs/<name>.toml``) that reproduce the paper's tables and figures.
+PAPER_JOBS = (
+    "table1", "table1-app1", "table1-app2", "table2",
+    "fig02-03-static", "fig04-06-frequencies",
+    "fig09-modes", "fig10-11-backbone", "fig12-inner-radius",
+    "fig13-resonance", "fig14-bifurcation-omega", "fig15-bifurcation-p0",
+    "fig16-17-damping", "fig18-damping-resonance",
+    "fig19-basins", "erosion-profile",
+)
+QUICK_NUM = 41
+
+
+def quick_text(text: str, cap: int = QUICK_NUM) -> str:
+    """The job text with every ``num = N`` capped at ``cap``."""
+    return re.sub(r"(\bnum\s*=\s*)(\d+)", lambda m: m.group(1) + str(min(int(m.group(2)), cap)), text)
+
+
+def _mpiexec() -> str:
+    local = Path(sys.executable).with_name("mpiexec")
+    found = str(local) if local.exists() else shutil.which("mpiexec")
+    if not found:
+        raise SystemExit("mpiexec not found: install the project (pip install -e .) into this environment")
+    return found
+
+
+def run_job(job: Path, out: Path, ranks: int) -> int:
+    """Run one job under ``mpiexec`` with resume, then draw its figures; returns the exit code."""
+    cmd = [_mpiexec(), "-n", str(ranks), sys.executable, "-m", "mpi4py", "-m", "sweep", "run",
+           str(job), "-o", str(out), "--resume"]
+    print("+", " ".join(cmd), flush=True)
+    code = subprocess.call(cmd)
+    if code == 0:
+        code = subprocess.call([sys.executable, "-m", "sweep", "figures", str(out),
+                                "-o", str(out.parent / "figures" / out.stem)])
+    return code
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m sweep.paper", description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help=f"cap every num at {QUICK_NUM}")
+    parser.add_argument("-n", "--ranks", type=int, default=2, help="MPI ranks (default 2)")
+    parser.add_argument("-o", "--output", type=Path, default=Path("results"), help="results directory")
+    parser.add_argument("--only", nargs="+", choices=PAPER_JOBS, help="run only these jobs")
+    parser.add_argument("--report", type=Path, default=Path("docs/validation.md"), help="validation report path")
+    args = parser.parse_args(argv)
+    args.output.mkdir(parents=True, exist_ok=True)
+    failed = []
+    for name in args.only or PAPER_JOBS:
+        job = Path("jobs") / f"{name}.toml"
+        if args.quick:
+            quick = args.output / "jobs" / job.name
+            quick.parent.mkdir(parents=True, exist_ok=True)
+            quick.write_text(quick_text(job.read_text()))
+            job = quick
+        if run_job(job, args.output / f"{name}.nc", args.ranks) != 0:
+            failed.append(name)
+    subprocess.call([sys.executable, "-m", "sweep.validation", str(args.output), "-o", str(args.report)])
+    if failed:
+        print(f"failed jobs: {', '.join(failed)}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
