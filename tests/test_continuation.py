@@ -143,3 +143,18 @@ def test_cusp_extrapolation_of_a_square_root_merger():
     value[-1] = amp[-1] = np.nan
     cc, cv = _cusp_1d(c, value, amp)
     assert cc == pytest.approx(2.0, rel=1e-12) and cv == pytest.approx(1.0, rel=1e-12)
+
+
+@pytest.mark.slow
+def test_omega_branch_bends_right_with_two_folds(rom):
+    # Fig. 14a: P0 = 1, c = 0.05; the resonant branch leans past the linear frequency
+    # (32.52 rad/s) and a multiplier crosses +1 exactly at each fold.
+    br = continue_orbits(rom, PAPER, "Omega", 28.0, 50.0, ds_max=0.3, max_points=1000)
+    folds = br.special(FOLD)
+    assert br.complete and folds.size == 2
+    assert br.value[folds[0]] > br.value[folds[1]] > 32.52
+    for i in folds:
+        assert abs(br.multipliers[i, 0] - 1) < 1e-8 and br.stable[i - 1] != br.stable[i + 1]
+    regular = br.kind == REGULAR
+    between = regular & (np.arange(br.value.size) > folds[0]) & (np.arange(br.value.size) < folds[1])
+    assert not br.stable[between].any() and br.stable[regular & ~between].all()

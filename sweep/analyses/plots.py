@@ -94,4 +94,36 @@ def linear_figures(ds, outdir) -> list[Path]:
         ax.set(xlabel="radial index m", ylabel=r"$\omega_{mn}$ (rad/s)", title="Frequency spectrum")
         ax.legend()
         paths.append(_save(fig, outdir, "fig04_spectrum.png"))
-    return paths
+    return paths + mode_figure(ds, outdir)
+
+
+def mode_figure(ds, outdir) -> list[Path]:
+    """Fig. 7: the three lowest vibration modes (Eq. 26) on the undeformed annulus."""
+    import numpy as np
+
+    from model.modes import bessel_roots, mode_shape
+
+    plt = _pyplot()
+    sel = next(_points(ds, ("delta",)))
+    first = {k: v for k, v in sel.items() if k != "delta_o"}
+    omega = ds.omega.sel(first).isel(delta=0) if "delta" in ds.dims else ds.omega.sel(first)
+    delta_o = float(sel.get("delta_o", ds.attrs.get("delta_o", 0.2)))
+    if "delta_o" in ds.dims:
+        omega = omega.sel(delta_o=delta_o)
+    order = np.argsort(omega.values)[:3]
+    rho = np.linspace(delta_o, 1.0, 60)
+    theta = np.linspace(0, 2 * np.pi, 121)
+    fig, axes = plt.subplots(1, len(order), figsize=(3.6 * len(order), 3.4),
+                             subplot_kw={"projection": "polar"}, squeeze=False)
+    for ax, k in zip(axes[0], order):
+        m, n = int(ds.m[k]), int(ds.n[k])
+        phi = mode_shape(rho, bessel_roots(n, delta_o, m)[-1], n, 1.0, delta_o)[0]
+        w = np.outer(np.cos(n * theta), phi)
+        ax.pcolormesh(theta, rho, w.T / np.abs(w).max(), cmap="RdBu_r", vmin=-1, vmax=1, shading="auto")
+        ax.set_ylim(0, 1)
+        ax.set_yticklabels([])
+        ax.set_xticklabels([])
+        ax.set_title(f"m={m}, n={n}: {float(omega[k]):.2f} rad/s", fontsize=9)
+    delta = float(ds.delta[0]) if "delta" in ds.dims else float("nan")
+    fig.suptitle(rf"Vibration modes, $\delta_o$ = {delta_o:g}, $\delta$ = {delta:g} (normalised $w$)", y=1.04)
+    return [_save(fig, outdir, "fig07_modes.png")]
