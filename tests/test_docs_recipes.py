@@ -1,0 +1,50 @@
+"""Execute every Python recipe of docs/analysis.md on small runs of the jobs it names."""
+
+import os
+import re
+from pathlib import Path
+
+import pytest
+
+from sweep import cli
+
+ROOT = Path(__file__).resolve().parents[1]
+DOC = ROOT / "docs" / "analysis.md"
+#: Result files the recipes open -> (job file, text replacements that shrink it).
+RESULTS = {
+    "table1.nc": ("table1", {}),
+    "table1-app1.nc": ("table1-app1", {}),
+    "table1-app2.nc": ("table1-app2", {}),
+    "table2.nc": ("table2", {}),
+    "fig02-03-static.nc": ("fig02-03-static", {"num = 161": "num = 17"}),
+}
+
+
+def recipes():
+    return re.findall(r"```python\n(.*?)```", DOC.read_text(), flags=re.S)
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    base = tmp_path_factory.mktemp("recipes")
+    needed = {name for code in recipes() for name in re.findall(r'"([\w.-]+\.nc)"', code)}
+    missing = needed - set(RESULTS)
+    assert not missing, f"docs/analysis.md opens {sorted(missing)}: add them to RESULTS"
+    for name in sorted(needed):
+        job, replace = RESULTS[name]
+        text = (ROOT / "jobs" / f"{job}.toml").read_text()
+        for old, new in replace.items():
+            text = text.replace(old, new)
+        (base / f"{job}.toml").write_text(text)
+        assert cli.main(["run", str(base / f"{job}.toml"), "-o", str(base / name)]) == 0
+    return base
+
+
+@pytest.mark.parametrize("index", range(len(recipes())))
+def test_recipe(results, index, capsys):
+    cwd = os.getcwd()
+    os.chdir(results)
+    try:
+        exec(compile(recipes()[index], f"docs/analysis.md recipe {index + 1}", "exec"), {})
+    finally:
+        os.chdir(cwd)
