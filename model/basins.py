@@ -116,6 +116,10 @@ class Settings:
         Capture radius around attractor points, scaled norm (fraction of the lattice).
     consecutive : int
         Consecutive hits of cells of one label needed to adopt it (one mode only).
+    guard : int
+        A cell counts as a hit only if every cell within ``guard`` cells of it (a
+        ``(2 guard + 1)^2`` block) has the same known label: trajectories are classified
+        by cells only deep inside a basin, not near its boundary.
     max_period : int
         Largest period (in forcing periods) of the periodic attractors searched for.
     trigger : float
@@ -130,6 +134,7 @@ class Settings:
     max_periods: int = 20000
     radius: float = 0.01
     consecutive: int = 8
+    guard: int = 1
     max_period: int = 4
     trigger: float = 0.02
     cooldown: int = 50
@@ -221,7 +226,7 @@ def classify_lattice(states, lattice: Lattice, tab, c_damp: float, p_load: float
     ints[5] = len(atts)
     cooldown = s.cooldown if discover else s.max_periods + 1
     while True:
-        code = _classify_kernel(states, labels, periods, cellmap, cells, geo, lattice.ix,
+        code = _classify_kernel(states, labels, periods, cellmap, cells, s.guard, geo, lattice.ix,
                                 lattice.iy, att_pts, att_per, scale, s.radius**2,
                                 s.consecutive, s.trigger**2, cooldown, s.max_period,
                                 s.max_periods, tab, c_damp, p_load, omega, s.steps, y, ring,
@@ -369,7 +374,23 @@ def _cell(y, geo, ix, iy, nx, ny):
 
 
 @nb.njit(cache=True)
-def _classify_kernel(states, labels, periods, cellmap, cells, geo, ix, iy, att_pts,
+def _clean_label(flat, c, nx, ny, guard):
+    # The label of cell c if every cell within ``guard`` cells of it has that label,
+    # else -1: the cell lies deep inside a basin at the lattice's resolution.
+    lab = flat[c]
+    if lab < 0:
+        return -1
+    cx = c // ny
+    cy = c - cx * ny
+    for i in range(max(cx - guard, 0), min(cx + guard + 1, nx)):
+        for j in range(max(cy - guard, 0), min(cy + guard + 1, ny)):
+            if flat[i * ny + j] != lab:
+                return -1
+    return lab
+
+
+@nb.njit(cache=True)
+def _classify_kernel(states, labels, periods, cellmap, cells, guard, geo, ix, iy, att_pts,
                      att_per, scale, r2, consecutive, trig2, cooldown, kmax, max_periods,
                      tab, c_damp, p_load, omega, steps, y, ring, trail, ints):
     # Returns 0 when every state is labelled, 1 to ask the caller for a Newton search
@@ -415,7 +436,7 @@ def _classify_kernel(states, labels, periods, cellmap, cells, geo, ix, iy, att_p
                 if c >= 0 and ints[3] < trail.size:
                     trail[ints[3]] = c
                     ints[3] += 1
-                    lab = flat[c]
+                    lab = _clean_label(flat, c, nx, ny, guard)
                     if lab >= 0:
                         if lab == run_label:
                             run += 1

@@ -75,13 +75,30 @@ def _backbone_states(dof):
 
 
 @pytest.mark.parametrize("kind", ["axi", "mixed"])
-def test_doubling_the_default_quadrature_changes_nothing(prestretch, roms, kind):
-    rom = roms[kind]
-    fine = build_rom(prestretch, rom.modes, radial_points=2 * rom.radial_points,
+def test_doubling_the_default_quadrature_changes_nothing(roms, kind):
+    # The closed-form pre-stretch: the Chebyshev series of the numeric one is exact only to
+    # ~1e-12, which would show up as a quadrature-independent floor at this tolerance.
+    analytic = solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "analytic")
+    rom = build_rom(analytic, roms[kind].modes)
+    fine = build_rom(analytic, rom.modes, radial_points=2 * rom.radial_points,
                      theta_points=2 * rom.theta_points)
     for q in _backbone_states(rom.dof):
         g, g_fine = _force(rom, q), _force(fine, q)
-        assert np.abs(g - g_fine).max() <= 1e-12 * np.abs(g_fine).max()
+        assert np.abs(g - g_fine).max() <= 1e-12 * _force_scale(fine, q)
+
+
+def _force_scale(rom, q):
+    """Round-off scale of the force: the quadrature sum of the integrands' magnitudes.
+
+    A higher mode's force under a large first mode is a small difference of large
+    contributions (|g_3| is ~1e-4 of this sum at |w| = 0.4 m), so its digits below
+    ~1e-16 of this sum are noise whatever the rule."""
+    t = rom.tables
+    a, b = q @ t.b_rho, q @ t.b_theta
+    D = t.dr2 * t.r2 + t.dr2 * b * b + t.r2 * a * a
+    ia = np.abs(2 * a * (1 - t.rho2 * t.r2 / D**2)) * t.weight
+    ib = np.abs(2 * b * (1 / t.rho2 - t.rho2 * t.dr2 / D**2)) * t.weight
+    return float((np.abs(t.b_rho) @ ia + np.abs(t.b_theta) @ ib).max())
 
 
 def test_small_amplitude_frequencies_equal_linear_galerkin(prestretch, roms):

@@ -118,10 +118,10 @@ class BackboneAnalysis(Analysis):
 
     def figures(self, ds, outdir):
         """Backbone curves (Figs. 10-12) and modal amplitudes (Fig. 9)."""
-        from .plots import _points, _pyplot, _save
+        from .plots import grid_points, pyplot, save_figure
 
-        plt = _pyplot()
-        sels = list(_points(ds, ()))
+        plt = pyplot()
+        sels = list(grid_points(ds, ()))
         swept = [d for d in ("delta", "delta_o", "Omega", "P0", "c") if ds.sizes.get(d, 1) > 1]
 
         def label(sel):
@@ -141,7 +141,7 @@ class BackboneAnalysis(Analysis):
         ax.set(xlabel=r"frequency $\omega$ (rad/s)", ylabel=r"amplitude max $|w(0.5, 0)|$ (m)",
                title="Frequency-amplitude relation", ylim=(0, None))
         ax.legend(loc="upper left")
-        paths.append(_save(fig, outdir, "backbone.png"))
+        paths.append(save_figure(fig, outdir, "backbone.png"))
 
         K = ds.sizes["mode"]
         fig, axes = plt.subplots(1, K, figsize=(4.0 * K, 3.6), squeeze=False)
@@ -152,7 +152,7 @@ class BackboneAnalysis(Analysis):
             ax.set(xlabel=r"frequency $\omega$ (rad/s)", ylabel=f"$A_{{{m}{n}}}$ (m)",
                    title=f"modal amplitude $A_{{{m}{n}}}$")
         axes[0, 0].legend()
-        paths.append(_save(fig, outdir, "modal_amplitudes.png"))
+        paths.append(save_figure(fig, outdir, "modal_amplitudes.png"))
         return paths
 
 

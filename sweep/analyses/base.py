@@ -153,10 +153,3 @@ class Analysis(ABC):
         nothing, and the command line says that this analysis has no figures.
         """
         return []
-
-    def figures(self, ds, outdir) -> list:
-        """Draw the standard figures of a published Dataset into ``outdir``.
-
-        Returns the list of written PNG paths (empty if the analysis draws none).
-        """
-        return []

@@ -267,12 +267,12 @@ def continuation_figures(ds, outdir) -> list:
     overlaid.  Stable responses solid, unstable dashed, saddle-nodes circles (period
     doubling squares, Neimark-Sacker diamonds).
     """
-    from .plots import _points, _pyplot, _save
+    from .plots import grid_points, pyplot, save_figure
 
-    plt = _pyplot()
+    plt = pyplot()
     par = ds.attrs.get("continued_parameter", "P0" if "P0" in ds.data_vars else "Omega")
     xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
-    panels = list(_points(ds, ("c", "point", "fold", "multiplier")))
+    panels = list(grid_points(ds, ("c", "point", "fold", "multiplier")))
     cs = ds.c.values if "c" in ds.dims else [None]
     fig, axes = _panel_axes(plt, len(panels))
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
@@ -288,7 +288,7 @@ def continuation_figures(ds, outdir) -> list:
             ax.legend(fontsize=6, ncol=2 if len(cs) > 6 else 1)
     fig.suptitle("Periodic responses: stable solid, unstable dashed, saddle-nodes o")
     fig.tight_layout()
-    paths = [_save(fig, outdir, f"bifurcation_{par}.png")]
+    paths = [save_figure(fig, outdir, f"bifurcation_{par}.png")]
     if par == "P0" and ds.sizes.get("c", 0) >= 3:
         fig, axes = _panel_axes(plt, len(panels))
         for ax, sel in zip(axes, panels):
@@ -302,5 +302,5 @@ def continuation_figures(ds, outdir) -> list:
             ax.legend()
         fig.suptitle("Saddle-node loci versus damping")
         fig.tight_layout()
-        paths.append(_save(fig, outdir, "fold_loci_damping.png"))
+        paths.append(save_figure(fig, outdir, "fold_loci_damping.png"))
     return paths

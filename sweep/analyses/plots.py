@@ -1,4 +1,4 @@
-"""Standard figures of the ``static`` and ``linear`` analyses (paper Figs. 2-6).
+"""Figure helpers shared by the analyses, and the ``static``/``linear`` figures (Figs. 2-7).
 
 Every function takes the published Dataset and an output directory and returns the list
 of PNG paths it wrote.  matplotlib is imported lazily (Agg backend).
@@ -10,7 +10,8 @@ import itertools
 from pathlib import Path
 
 
-def _pyplot():
+def pyplot():
+    """matplotlib.pyplot with the Agg backend and the house style."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -21,7 +22,8 @@ def _pyplot():
     return plt
 
 
-def _save(fig, outdir, name) -> Path:
+def save_figure(fig, outdir, name) -> Path:
+    """Save ``fig`` as ``outdir/name`` (directories created), close it, return the path."""
     path = Path(outdir) / name
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path)
@@ -35,7 +37,7 @@ def _label(ds, **sel) -> str:
     return ", ".join(f"{k} = {float(v):g}" for k, v in sel.items())
 
 
-def _points(ds, exclude):
+def grid_points(ds, exclude):
     """Iterate over the grid points of ``ds`` other than the dims in ``exclude``."""
     dims = [d for d in ("delta", "delta_o", "Omega", "P0", "c") if d in ds.dims and d not in exclude]
     for values in itertools.product(*(ds[d].values for d in dims)):
@@ -44,36 +46,36 @@ def _points(ds, exclude):
 
 def static_figures(ds, outdir) -> list[Path]:
     """Fig. 2 (deformed radius) and Fig. 3 (principal stresses) versus ``rho``."""
-    plt = _pyplot()
+    plt = pyplot()
     paths = []
     fig, ax = plt.subplots(figsize=(5, 4))
-    for sel in _points(ds, ("rho",)):
+    for sel in grid_points(ds, ("rho",)):
         ax.plot(ds.rho, ds.r_o.sel(sel), label=_label(ds, **sel))
     ax.set(xlabel=r"undeformed radius $\rho$ (m)", ylabel=r"deformed radius $r_o$ (m)",
            title=f"Pre-stretch ({ds.attrs.get('prestretch', '')})".replace(" ()", ""))
     ax.legend()
-    paths.append(_save(fig, outdir, "fig02_radius.png"))
+    paths.append(save_figure(fig, outdir, "fig02_radius.png"))
     fig, axes = plt.subplots(1, 2, figsize=(9, 4), sharex=True)
-    for sel in _points(ds, ("rho",)):
+    for sel in grid_points(ds, ("rho",)):
         for ax, var in zip(axes, ("sigma_1", "sigma_2")):
             ax.plot(ds.rho, ds[var].sel(sel) / 1e6, label=_label(ds, **sel))
     for ax, sym in zip(axes, ("1", "2")):
         ax.set(xlabel=r"undeformed radius $\rho$ (m)", ylabel=rf"$\sigma_{sym}$ (MPa)")
     axes[0].legend()
-    paths.append(_save(fig, outdir, "fig03_stresses.png"))
+    paths.append(save_figure(fig, outdir, "fig03_stresses.png"))
     return paths
 
 
 def linear_figures(ds, outdir) -> list[Path]:
     """Frequency spectra (Fig. 4) and frequencies versus delta (Fig. 5) and delta_o (Fig. 6)."""
-    plt = _pyplot()
+    plt = pyplot()
     paths = []
     modes = list(zip(ds.m.values.tolist(), ds.n.values.tolist()))
     for dim, name, xlabel in (("delta", "fig05_frequency_vs_delta.png", r"stretch ratio $\delta$"),
                               ("delta_o", "fig06_frequency_vs_delta_o.png", r"inner radius ratio $\delta_o$")):
         if ds.sizes.get(dim, 1) < 2:
             continue
-        panels = list(itertools.islice(_points(ds, (dim,)), 4))
+        panels = list(itertools.islice(grid_points(ds, (dim,)), 4))
         fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4), sharey=True, squeeze=False)
         for ax, sel in zip(axes[0], panels):
             for k, (m, n) in enumerate(modes):
@@ -82,18 +84,18 @@ def linear_figures(ds, outdir) -> list[Path]:
             ax.set(xlabel=xlabel, title=_label(ds, **sel))
         axes[0, 0].set_ylabel(r"$\omega_{mn}$ (rad/s)")
         axes[0, -1].legend(loc="center left", bbox_to_anchor=(1.02, 0.5), title="dashed: Eq. 29")
-        paths.append(_save(fig, outdir, name))
+        paths.append(save_figure(fig, outdir, name))
     ns = sorted(set(n for _, n in modes))
     if len(modes) > 1:
         fig, ax = plt.subplots(figsize=(5, 4))
-        for sel in itertools.islice(_points(ds, ()), 4):
+        for sel in itertools.islice(grid_points(ds, ()), 4):
             for n in ns:
                 idx = [k for k, (_, nn) in enumerate(modes) if nn == n]
                 ax.plot([modes[k][0] for k in idx], ds.omega.sel(sel).isel(mode=idx), marker="o",
                         label=f"n={n}, {_label(ds, **sel)}")
         ax.set(xlabel="radial index m", ylabel=r"$\omega_{mn}$ (rad/s)", title="Frequency spectrum")
         ax.legend()
-        paths.append(_save(fig, outdir, "fig04_spectrum.png"))
+        paths.append(save_figure(fig, outdir, "fig04_spectrum.png"))
     return paths + mode_figure(ds, outdir)
 
 
@@ -103,8 +105,8 @@ def mode_figure(ds, outdir) -> list[Path]:
 
     from model.modes import bessel_roots, mode_shape
 
-    plt = _pyplot()
-    sel = next(_points(ds, ("delta",)))
+    plt = pyplot()
+    sel = next(grid_points(ds, ("delta",)))
     first = {k: v for k, v in sel.items() if k != "delta_o"}
     omega = ds.omega.sel(first).isel(delta=0) if "delta" in ds.dims else ds.omega.sel(first)
     delta_o = float(sel.get("delta_o", ds.attrs.get("delta_o", 0.2)))
@@ -126,4 +128,4 @@ def mode_figure(ds, outdir) -> list[Path]:
         ax.set_title(f"m={m}, n={n}: {float(omega[k]):.2f} rad/s", fontsize=9)
     delta = float(ds.delta[0]) if "delta" in ds.dims else float("nan")
     fig.suptitle(rf"Vibration modes, $\delta_o$ = {delta_o:g}, $\delta$ = {delta:g} (normalised $w$)", y=1.04)
-    return [_save(fig, outdir, "fig07_modes.png")]
+    return [save_figure(fig, outdir, "fig07_modes.png")]

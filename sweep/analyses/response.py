@@ -140,14 +140,14 @@ def response_figures(ds, outdir) -> list:
     Up sweeps solid with upward triangles, down sweeps dashed with downward triangles,
     values that did not settle crossed.
     """
-    from .plots import _points, _pyplot, _save
+    from .plots import grid_points, pyplot, save_figure
 
-    plt = _pyplot()
+    plt = pyplot()
     par = ds.attrs["swept_parameter"]
     xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
     fig, ax = plt.subplots(figsize=(6, 4.2))
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for j, sel in enumerate(_points(ds, (par, "direction"))):
+    for j, sel in enumerate(grid_points(ds, (par, "direction"))):
         b = ds.sel(sel)
         color = colors[j % len(colors)]
         label = ", ".join(f"{k} = {float(v):g}" for k, v in sel.items() if ds.sizes.get(k, 1) > 1)
@@ -160,4 +160,4 @@ def response_figures(ds, outdir) -> list:
     ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)",
            title="Steady states, stepped up and down (brute force)")
     ax.legend(ncol=2)
-    return [_save(fig, outdir, f"response_{par}.png")]
+    return [save_figure(fig, outdir, f"response_{par}.png")]
