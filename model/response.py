@@ -149,3 +149,66 @@ def stepped_sweep(rom: Rom, loading: Loading, parameter: str, values, steps: int
             states[d, i] = y
             amp[d, i] = _period_amplitude(y.copy(), steps, rom.tables, cd, ld.P0, ld.Omega, work)
     return SweepResult(vals, amp, states, conv, periods)
+
+
+def refine_jumps(rom: Rom, loading: Loading, parameter: str, sweep: SweepResult, max_jumps: int = 2,
+                 jump_fraction: float = 0.3, rtol: float = 1e-3, steps: int = DEFAULT_STEPS,
+                 tol: float = 1e-6, consecutive: int = 20, max_periods: int = 30000,
+                 atol: float = 1e-12) -> np.ndarray:
+    """Locate the jumps of a stepped sweep with an adaptive step, still by brute force.
+
+    A coarse step may kick the state out of a shrinking basin before the branch ends, so a
+    jump of the coarse sweep (a step whose amplitude changes by more than
+    ``jump_fraction`` of the larger amplitude) is only a hint.  From the last state before
+    it, the parameter is marched on with half the coarse step: a value whose steady state
+    (integrated from the previous one) stays within ``jump_fraction`` of the coarse jump
+    height of the previous amplitude is accepted and the march goes on, possibly past the
+    coarse jump; otherwise the step is halved.  Along a branch the amplitude changes
+    continuously (like ``sqrt`` of the distance at a fold) while a jump keeps its height,
+    so the march ends at the branch's end, to ``rtol`` relative.  A march that reaches the
+    end of the sweep found no jump.
+
+    Returns
+    -------
+    (2, max_jumps) array
+        Jump locations (the last accepted value plus half the last step) per direction
+        (0 up, 1 down), in sweep order, NaN padded.
+    """
+    out = np.full((2, max_jumps), np.nan)
+    vals, amp = sweep.values, sweep.amplitude
+    n = 2 * rom.dof
+    work = np.empty((6, n))
+    prev = np.empty(n)
+    cd = damping_rate(rom, loading)
+
+    def settle(y, value):
+        ld = replace(loading, **{parameter: float(value)})
+        _settle(y, steps, rom.tables, cd, ld.P0, ld.Omega, state_scale(rom.dof, ld.Omega), tol, atol,
+                consecutive, consecutive, max_periods, work, prev)
+        return _period_amplitude(y.copy(), steps, rom.tables, cd, ld.P0, ld.Omega, work)
+
+    for d in range(2):
+        order = np.arange(vals.size) if d == 0 else np.arange(vals.size)[::-1]
+        end = vals[order[-1]]
+        found = 0
+        resume_after = None
+        for i, j in zip(order[:-1], order[1:]):
+            if resume_after is not None and (vals[i] - resume_after) * (1 if d == 0 else -1) <= 0:
+                continue
+            a_lo, a_hi = amp[d, i], amp[d, j]
+            if found == max_jumps or not abs(a_hi - a_lo) > jump_fraction * max(a_lo, a_hi):
+                continue
+            height = abs(a_hi - a_lo)
+            lo, y_lo, step = vals[i], sweep.state[d, i].copy(), 0.5 * (vals[j] - vals[i])
+            while abs(step) > rtol * abs(lo + step) and (end - lo - step) * np.sign(step) >= 0:
+                y = y_lo.copy()
+                a = settle(y, lo + step)
+                if abs(a - a_lo) < jump_fraction * height:
+                    lo, y_lo, a_lo = lo + step, y, a
+                else:
+                    step *= 0.5
+            if abs(step) <= rtol * abs(lo + step):
+                out[d, found] = lo + 0.5 * step
+                found += 1
+                resume_after = lo + step
+    return out

@@ -6,7 +6,7 @@ import pytest
 from model.continuation import FOLD, continue_orbits
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
-from model.response import stepped_sweep
+from model.response import refine_jumps, stepped_sweep
 from model.rom import build_rom, force_jacobian
 from sweep.analyses.base import JobError
 from sweep.analyses.response import RESPONSE
@@ -48,6 +48,31 @@ def test_jumps_land_at_the_folds_of_the_continuation(rom):
     # off the hysteresis loop both directions agree
     outside = (values < lo) | (values > hi)
     assert res.amplitude[0, outside] == pytest.approx(res.amplitude[1, outside], rel=1e-3)
+
+
+def _folds(rom, ld):
+    br = continue_orbits(rom, ld, "P0", 0.0, 4.0, ds_max=0.3)
+    return sorted(br.value[br.special(FOLD)])
+
+
+def test_refined_jumps_land_at_the_folds_from_a_coarse_sweep(rom):
+    ld = Loading(Omega=33.5, P0=1.0, c=1.0)
+    lo, hi = _folds(rom, ld)
+    res = stepped_sweep(rom, ld, "P0", np.linspace(0.0, 4.0, 9))
+    jumps = refine_jumps(rom, ld, "P0", res)
+    assert jumps[0, 0] == pytest.approx(hi, rel=2e-3) and jumps[1, 0] == pytest.approx(lo, rel=2e-3)
+    assert np.isnan(jumps[:, 1]).all()
+
+
+@pytest.mark.slow
+def test_refined_jumps_at_the_papers_damping(rom):
+    # Fig. 15a: c = 0.05 (transients of thousands of periods); the coarse up-sweep jumps
+    # early (a 0.5 Pa step leaves the shrinking basin), the adaptive march does not.
+    ld = Loading(Omega=33.5, P0=1.0, c=0.05)
+    lo, hi = _folds(rom, ld)
+    res = stepped_sweep(rom, ld, "P0", np.linspace(0.0, 4.0, 9))
+    jumps = refine_jumps(rom, ld, "P0", res)
+    assert jumps[0, 0] == pytest.approx(hi, rel=2e-2) and jumps[1, 0] == pytest.approx(lo, rel=2e-2)
 
 
 def test_max_periods_gives_not_converged(rom):

@@ -46,6 +46,14 @@ def number(table, section: str, key: str, default=None, *, low=None, high=None,
     return int(v) if integer else float(v)
 
 
+def flag(table, section: str, key: str, default: bool) -> bool:
+    """A boolean option."""
+    v = table.get(key, default)
+    if not isinstance(v, bool):
+        raise JobError(f"{section}.{key}", v, "must be true or false")
+    return v
+
+
 def choice(table, section: str, key: str, allowed, default=None) -> str:
     """A string option from a fixed set."""
     v = table.get(key, default)

@@ -16,10 +16,14 @@ Option table ``[response]``:
 ``steps`` (128), ``tol`` (1e-6), ``consecutive`` (20), ``max_periods`` (30000)
     RK4 steps per period and the convergence criterion: relative stroboscopic residual
     below ``tol`` for ``consecutive`` periods in a row, at most ``max_periods`` periods.
+``refine_jumps`` (false)
+    Locate each jump to 0.1 % by an adaptive brute-force march
+    (:func:`model.response.refine_jumps`): the cross-check of the continuation's folds.
 
 Outputs over (``<parameter>``, ``direction`` = up, down): ``amplitude`` (m, max over one
 period of ``|w(0.5 Re, 0, t)|``), ``converged`` (int8 1/0) and ``periods`` (integrated per
-value).  The task status is ``not_converged`` if any value did not settle.
+value); ``jump_value`` over (``direction``, ``jump``): the located jumps, NaN padded (all NaN
+unless ``refine_jumps``).  The task status is ``not_converged`` if any value did not settle.
 """
 
 from __future__ import annotations
@@ -30,7 +34,7 @@ import numpy as np
 
 from model.params import Loading
 from model.prestretch import solve_prestretch
-from model.response import PARAMETERS, stepped_sweep
+from model.response import PARAMETERS, refine_jumps, stepped_sweep
 from model.rom import build_rom
 from model.shooting import DEFAULT_STEPS
 
@@ -48,11 +52,16 @@ class ResponseOptions:
     tol: float
     consecutive: int
     max_periods: int
+    refine_jumps: bool
 
     @property
     def grid(self) -> np.ndarray:
         """The swept values in increasing order."""
         return np.sort(np.linspace(*self.values))
+
+
+#: Jumps located per sweep direction.
+MAX_JUMPS = 2
 
 
 def _other_keys(parameter: str) -> tuple[str, ...]:
@@ -67,7 +76,7 @@ class ResponseAnalysis(Analysis):
     def parse_options(self, table, grid, membrane):
         s = self.name
         opt.check_keys(table, s, {"parameter", "values", "modes", "prestretch", "steps", "tol",
-                                  "consecutive", "max_periods"})
+                                  "consecutive", "max_periods", "refine_jumps"})
         parameter = table.get("parameter", MISSING)
         if parameter not in PARAMETERS:
             raise JobError(f"{s}.parameter", parameter, f"must be one of {', '.join(PARAMETERS)}")
@@ -84,7 +93,8 @@ class ResponseAnalysis(Analysis):
             opt.number(table, s, "steps", DEFAULT_STEPS, low=16, high=4096, integer=True),
             opt.number(table, s, "tol", 1e-6, low=0.0, low_open=True, high=1e-2),
             opt.number(table, s, "consecutive", 20, low=1, high=10_000, integer=True),
-            opt.number(table, s, "max_periods", 30_000, low=1, high=10_000_000, integer=True))
+            opt.number(table, s, "max_periods", 30_000, low=1, high=10_000_000, integer=True),
+            opt.flag(table, s, "refine_jumps", False))
 
     def variables(self, options):
         dims = (options.parameter, "direction")
@@ -94,6 +104,8 @@ class ResponseAnalysis(Analysis):
                      "steady-state max over one period of |w(0.5 Re, 0, t)|"),
             Variable("converged", dims, shape, "i1", "1", "1 if the steady-state criterion was met", -1),
             Variable("periods", dims, shape, "i4", "1", "forcing periods integrated at this value", -1),
+            Variable("jump_value", ("direction", "jump"), (2, MAX_JUMPS), "f8", GRID_KEYS[options.parameter][0],
+                     f"{options.parameter} at which the sweep jumps to another branch (adaptive brute force)"),
         ]
 
     def coords(self, options):
@@ -112,8 +124,13 @@ class ResponseAnalysis(Analysis):
                             tol=options.tol, consecutive=options.consecutive, max_periods=options.max_periods,
                             min_periods=min(options.consecutive, options.max_periods))
         conv = res.converged.T
+        jumps = np.full((2, MAX_JUMPS), np.nan)
+        if options.refine_jumps:
+            jumps = refine_jumps(rom, Loading(**fixed), options.parameter, res, max_jumps=MAX_JUMPS,
+                                 steps=options.steps, tol=options.tol, consecutive=options.consecutive,
+                                 max_periods=options.max_periods)
         return {"amplitude": res.amplitude.T.copy(), "converged": conv.astype(np.int8),
-                "periods": res.periods.T.astype(np.int32),
+                "periods": res.periods.T.astype(np.int32), "jump_value": jumps,
                 "status": STATUS_OK if conv.all() else STATUS_NOT_CONVERGED}
 
     def warmup(self, options):

@@ -1,0 +1,424 @@
+"""Analysis ``basins``: basins of attraction and dynamic integrity (the paper's Fig. 19).
+
+A lattice of initial conditions ``(q_j, dq_j/dt)`` at ``t = 0`` (mode ``j`` of the ROM,
+the other state components zero) is classified by the attractor of the stroboscopic map
+each trajectory ends on (:mod:`model.basins`).  The lattice is cut into tiles of whole
+``ic_x`` rows, one subtask each; the tile layout depends on the options only (``tiles``),
+never on the rank count.  Every tile finds its attractors itself (Newton on recurrences);
+:meth:`Basins.assemble` merges them across tiles by matching their Poincare points,
+numbers them by decreasing amplitude (attractor 0 is the largest, the resonant one in
+Fig. 19), relabels the lattice and computes the integrity measures of
+:mod:`model.integrity` (``basin_fraction`` is the global integrity measure).
+
+Options (table ``[basins]``):
+
+=================  =======================================================================
+``modes``          ``[[m, n], ...]`` modes of the ROM (default ``[[1, 0]]``)
+``prestretch``     ``analytic`` | ``numeric`` (default) | ``fit``
+``lattice_mode``   1-based index in ``modes`` of the lattice coordinates (default 1)
+``ic_x``           ``{start, stop, num}`` displacement ``q_j`` (m), default -0.3..0.3, 100
+``ic_y``           ``{start, stop, num}`` velocity ``dq_j/dt`` (m s-1), default -10..10, 100
+``method``         ``fast`` (cells + proximity, default) | ``brute`` (proximity only)
+``tiles``          number of tiles (default 8, at most ``ic_x.num``)
+``steps``          RK4 steps per forcing period (default 48)
+``max_periods``    periods before a trajectory is unclassified, label -1 (default 20000)
+``radius``         capture radius around attractor points, fraction of the lattice (0.01)
+``consecutive``    consecutive clean-cell hits to adopt a cell's label (default 8)
+``guard``          half-width of the block of equal labels around a clean cell (default 1)
+``max_period``     largest period of the attractors searched, in forcing periods (4)
+``max_attractors`` attractors stored per grid point (default 6)
+``cases``          optional list of tables, e.g. ``[{delta = 1.1, Omega = 33.5}]``: only the
+                   grid points matching one of them are computed (Fig. 19 pairs delta with
+                   Omega); the others are stored with label -2 and NaN measures
+=================  =======================================================================
+
+Labels: ``0..n-1`` attractor index, ``-1`` unclassified (no periodic attractor of period
+``<= max_period`` reached within ``max_periods``: a non-periodic attractor or a very long
+transient), ``-2`` not computed (outside ``cases``).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from model import basins as mb
+from model.integrity import global_integrity_measure, integrity_factor
+from model.prestretch import solve_prestretch
+from model.rom import build_rom
+
+from . import options as opt
+from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable
+
+_SECTION = "basins"
+_KEYS = ("modes", "prestretch", "lattice_mode", "ic_x", "ic_y", "method", "tiles", "steps",
+         "max_periods", "radius", "consecutive", "guard", "max_period", "max_attractors",
+         "cases")
+NOT_COMPUTED = -2
+
+
+@dataclass(frozen=True)
+class BasinsOptions:
+    """Validated options of the ``basins`` analysis (see the module docstring)."""
+
+    modes: tuple[tuple[int, int], ...]
+    prestretch: str
+    lattice_mode: int
+    ic_x: tuple[float, float, int]
+    ic_y: tuple[float, float, int]
+    method: str
+    tiles: int
+    settings: mb.Settings
+    max_attractors: int
+    cases: tuple[tuple[tuple[str, float], ...], ...]
+
+    @property
+    def rows(self) -> int:
+        """``ic_x`` rows per tile."""
+        return math.ceil(self.ic_x[2] / self.tiles)
+
+    @property
+    def n_state(self) -> int:
+        """State dimension ``2K``."""
+        return 2 * len(self.modes)
+
+    def lattice(self) -> mb.Lattice:
+        """The lattice of initial conditions."""
+        K = len(self.modes)
+        return mb.Lattice(np.linspace(*self.ic_x), np.linspace(*self.ic_y),
+                          self.lattice_mode - 1, K + self.lattice_mode - 1)
+
+
+@functools.lru_cache(maxsize=8)
+def _rom(delta, delta_o, C1, h, Gamma, Re, modes, prestretch):
+    point = dict(delta=delta, delta_o=delta_o, C1=C1, h=h, Gamma=Gamma, Re=Re)
+    return build_rom(solve_prestretch(opt.membrane_from_point(point), prestretch), modes)
+
+
+def _cases(value, grid) -> tuple:
+    key = f"{_SECTION}.cases"
+    if not isinstance(value, list) or not value:
+        raise JobError(key, value, "must be a non-empty list of tables {grid key = value}")
+    out = []
+    for case in value:
+        if not isinstance(case, Mapping) or not case:
+            raise JobError(key, case, "each case must be a non-empty table {grid key = value}")
+        for k, v in case.items():
+            if k not in grid:
+                raise JobError(key, case, f"case keys must be grid keys of this job "
+                                          f"({', '.join(grid)}); {k!r} is not")
+            if isinstance(v, bool) or not isinstance(v, (int, float)) \
+                    or not np.any(np.isclose(grid[k], v, rtol=1e-12, atol=0.0)):
+                raise JobError(key, case, f"{k} = {v!r} is not a value of grid.{k}")
+        out.append(tuple(sorted((k, float(v)) for k, v in case.items())))
+    return tuple(out)
+
+
+class Basins(Analysis):
+    """Basins of attraction on a lattice of initial conditions (Fig. 19)."""
+
+    name = "basins"
+    required_grid = ("delta", "delta_o", "Omega", "P0", "c")
+
+    def parse_options(self, table, grid, membrane) -> BasinsOptions:
+        opt.check_keys(table, _SECTION, _KEYS)
+        modes = opt.modes(table, _SECTION)
+        lm = opt.number(table, _SECTION, "lattice_mode", 1, low=1, high=len(modes),
+                        integer=True)
+        ic_x = opt.linspace(table, _SECTION, "ic_x", {"start": -0.3, "stop": 0.3, "num": 100})
+        ic_y = opt.linspace(table, _SECTION, "ic_y", {"start": -10.0, "stop": 10.0, "num": 100})
+        for key, (a, b, num) in (("ic_x", ic_x), ("ic_y", ic_y)):
+            if num < 2 or not b > a:
+                raise JobError(f"{_SECTION}.{key}", table.get(key),
+                               "needs stop > start and num >= 2")
+        method = opt.choice(table, _SECTION, "method", ("fast", "brute"), "fast")
+        settings = mb.Settings(
+            steps=opt.number(table, _SECTION, "steps", 48, low=8, integer=True),
+            max_periods=opt.number(table, _SECTION, "max_periods", 20000, low=1, integer=True),
+            radius=opt.number(table, _SECTION, "radius", 0.01, low=0.0, low_open=True, high=0.5),
+            consecutive=opt.number(table, _SECTION, "consecutive", 8, low=1, integer=True),
+            guard=opt.number(table, _SECTION, "guard", 1, low=0, integer=True),
+            max_period=opt.number(table, _SECTION, "max_period", 4, low=1, high=64,
+                                  integer=True))
+        return BasinsOptions(
+            modes=modes, prestretch=opt.prestretch(table, _SECTION), lattice_mode=lm,
+            ic_x=ic_x, ic_y=ic_y, method=method,
+            tiles=min(opt.number(table, _SECTION, "tiles", 8, low=1, integer=True), ic_x[2]),
+            settings=settings,
+            max_attractors=opt.number(table, _SECTION, "max_attractors", 6, low=1, high=1000,
+                                      integer=True),
+            cases=_cases(table["cases"], grid) if "cases" in table else ())
+
+    def n_subtasks(self, options: BasinsOptions) -> int:
+        return math.ceil(options.ic_x[2] / options.rows)
+
+    def variables(self, options: BasinsOptions) -> list[Variable]:
+        R, ny, A = options.rows, options.ic_y[2], options.max_attractors
+        P, S = options.settings.max_period, options.n_state
+        return [
+            Variable("tile_label", ("tile_row", "ic_y"), (R, ny), "i4", "1",
+                     "attractor index within the tile (-1 unclassified)", NOT_COMPUTED),
+            Variable("tile_periods", ("tile_row", "ic_y"), (R, ny), "i4", "1",
+                     "forcing periods integrated per initial condition", 0),
+            Variable("tile_attractor_point", ("tile_attractor", "phase", "state"), (A, P, S),
+                     "f8", "1", "Poincare points of the tile's attractors (SI)", np.nan),
+            Variable("tile_attractor_period", ("tile_attractor",), (A,), "i4", "1",
+                     "period of the tile's attractors in forcing periods (0: none)", 0),
+            Variable("tile_attractor_amplitude", ("tile_attractor",), (A,), "f8", "m",
+                     "max |w(0.5 Re, 0, t)| on the tile's attractors", np.nan),
+            Variable("tile_attractor_multiplier", ("tile_attractor",), (A,), "f8", "1",
+                     "largest Floquet multiplier modulus of the tile's attractors", np.nan),
+        ]
+
+    def coords(self, options: BasinsOptions):
+        return {"ic_y": (("ic_y",), np.linspace(*options.ic_y),
+                         {"units": "m s-1", "long_name": "initial modal velocity"})}
+
+    def _skipped(self, point, options) -> bool:
+        return bool(options.cases) and not any(
+            all(math.isclose(point[k], v, rel_tol=1e-12) for k, v in case)
+            for case in options.cases)
+
+    def compute(self, point, options: BasinsOptions, subtask: int):
+        R, ny, A = options.rows, options.ic_y[2], options.max_attractors
+        P, S = options.settings.max_period, options.n_state
+        out = {"tile_label": np.full((R, ny), NOT_COMPUTED, np.int32),
+               "tile_periods": np.zeros((R, ny), np.int32),
+               "tile_attractor_point": np.full((A, P, S), np.nan),
+               "tile_attractor_period": np.zeros(A, np.int32),
+               "tile_attractor_amplitude": np.full(A, np.nan),
+               "tile_attractor_multiplier": np.full(A, np.nan),
+               "status": STATUS_OK}
+        if self._skipped(point, options):
+            return out
+        rom = _rom(point["delta"], point["delta_o"], point["C1"], point["h"], point["Gamma"],
+                   point["Re"], options.modes, options.prestretch)
+        c_damp = point["c"] / (point["Gamma"] * point["h"])
+        lattice = options.lattice()
+        rows = slice(subtask * R, min((subtask + 1) * R, options.ic_x[2]))
+        states = mb.lattice_states(lattice, rows, S)
+        one_mode = S == 2
+        labels, atts, periods = mb.classify_lattice(
+            states, lattice, rom.tables, c_damp, point["P0"], point["Omega"], options.settings,
+            cells=one_mode and options.method == "fast")
+        labels = np.where(labels >= A, -1, labels)
+        n = rows.stop - rows.start
+        out["tile_label"][:n] = labels.reshape(n, ny)
+        out["tile_periods"][:n] = periods.reshape(n, ny)
+        for a, att in enumerate(atts[:A]):
+            out["tile_attractor_point"][a, :att.period] = att.points
+            out["tile_attractor_period"][a] = att.period
+            out["tile_attractor_amplitude"][a] = mb.orbit_amplitude(
+                att, rom.tables, c_damp, point["P0"], point["Omega"], options.settings.steps)
+            out["tile_attractor_multiplier"][a] = np.max(np.abs(att.multipliers))
+        if len(atts) > A or np.any(labels < 0):
+            out["status"] = STATUS_NOT_CONVERGED
+        return out
+
+    def warmup(self, options: BasinsOptions) -> None:
+        point = {"delta": 1.1, "delta_o": 0.2, "C1": 0.17e6, "h": 1e-3, "Gamma": 2200.0,
+                 "Re": 1.0, "Omega": 33.5, "P0": 1.0, "c": 0.05}
+        rom = _rom(*(point[k] for k in ("delta", "delta_o", "C1", "h", "Gamma", "Re")),
+                   options.modes, options.prestretch)
+        lattice = mb.Lattice(np.array([0.0, 0.01]), np.array([0.0, 0.1]),
+                             0, len(options.modes))
+        settings = mb.Settings(steps=options.settings.steps, max_periods=2)
+        mb.classify_lattice(mb.lattice_states(lattice, slice(None), options.n_state)[:1],
+                            lattice, rom.tables, 0.0227, 1.0, 33.5, settings,
+                            cells=len(options.modes) == 1)
+        att = mb.Attractor(np.zeros((1, options.n_state)), np.zeros(options.n_state))
+        mb.orbit_amplitude(att, rom.tables, 0.0227, 1.0, 33.5, 8)
+        mb.find_periodic_orbit(np.zeros(options.n_state), 1, 0.19, rom.tables, 0.0227, 1.0,
+                               33.5, 8, np.ones(options.n_state), 1e-8, max_iter=1)
+
+    def assemble(self, raw, options: BasinsOptions):
+        import xarray as xr
+
+        grid_dims = [d for d in raw["tile_label"].dims if d in GRID_KEYS]
+        gshape = tuple(raw.sizes[d] for d in grid_dims)
+        nx, ny, A = options.ic_x[2], options.ic_y[2], options.max_attractors
+        P, S, R = options.settings.max_period, options.n_state, options.rows
+        lattice = options.lattice()
+        scale = mb._scale(lattice, S)
+        label = np.full((*gshape, nx, ny), NOT_COMPUTED, np.int32)
+        points = np.full((*gshape, A, P, S), np.nan)
+        period = np.zeros((*gshape, A), np.int32)
+        amp = np.full((*gshape, A), np.nan)
+        mult = np.full((*gshape, A), np.nan)
+        frac = np.full((*gshape, A), np.nan)
+        intf = np.full((*gshape, A), np.nan)
+        n_att = np.zeros(gshape, np.int32)
+        uncl = np.full(gshape, np.nan)
+        order = [*grid_dims, "subtask"]
+        tl = raw["tile_label"].transpose(*order, "tile_row", "ic_y").values
+        tp = raw["tile_attractor_point"].transpose(*order, ...).values
+        tper = raw["tile_attractor_period"].transpose(*order, ...).values
+        tamp = raw["tile_attractor_amplitude"].transpose(*order, ...).values
+        tmul = raw["tile_attractor_multiplier"].transpose(*order, ...).values
+        for g in np.ndindex(*gshape):
+            if np.all(tl[g] == NOT_COMPUTED):
+                continue
+            merged, where = [], {}
+            for t in range(tl[g].shape[0]):
+                for a in range(A):
+                    k = int(tper[g][t, a])
+                    if k == 0:
+                        continue
+                    att = mb.Attractor(tp[g][t, a, :k], np.array([tmul[g][t, a]]))
+                    j = mb.match_attractor(att, [m[0] for m in merged], scale,
+                                           options.settings.radius)
+                    if j < 0:
+                        merged.append((att, tamp[g][t, a]))
+                        j = len(merged) - 1
+                    where[(t, a)] = j
+            rank = sorted(range(len(merged)),
+                          key=lambda j: (-merged[j][1], tuple(merged[j][0].points[0])))
+            new = {j: r for r, j in enumerate(rank)}
+            lab = np.full((nx, ny), -1, np.int32)
+            for t in range(tl[g].shape[0]):
+                rows = slice(t * R, min((t + 1) * R, nx))
+                tile = tl[g][t, :rows.stop - rows.start]
+                lut = np.full(A + 1, -1, np.int32)
+                for a in range(A):
+                    if (t, a) in where and new[where[(t, a)]] < A:
+                        lut[a] = new[where[(t, a)]]
+                lab[rows] = np.where(tile >= 0, lut[np.clip(tile, 0, A)], -1)
+            label[g] = lab
+            n_att[g] = min(len(merged), A)
+            uncl[g] = float(np.mean(lab < 0))
+            for j, r in new.items():
+                if r >= A:
+                    continue
+                att, a_amp = merged[j]
+                k = att.period
+                points[g][r, :k] = att.points
+                period[g][r] = k
+                amp[g][r] = a_amp
+                mult[g][r] = att.multipliers[0]
+                frac[g][r] = global_integrity_measure(lab, r)
+                proj = att.points[:, [lattice.ix, lattice.iy]]
+                intf[g][r] = integrity_factor(lab, lattice.x, lattice.y, proj, r)
+        status = raw["status"].max("subtask").values if "status" in raw else None
+        G = tuple(grid_dims)
+        K = len(options.modes)
+        data = {
+            "label": (G + ("ic_x", "ic_y"), label, {
+                "units": "1", "long_name": "attractor index of the initial condition",
+                "flag_values": np.array([-2, -1], np.int32),
+                "flag_meanings": "not_computed unclassified",
+                "lattice_state": np.array([lattice.ix, lattice.iy], np.int32)}),
+            "basin_fraction": (G + ("attractor",), frac, {
+                "units": "1", "long_name": "global integrity measure: basin area fraction of "
+                "the lattice window (Soliman and Thompson 1989)"}),
+            "integrity_factor": (G + ("attractor",), intf, {
+                "units": "1", "long_name": "integrity factor: radius of the largest disc "
+                "centred at the attractor inside its basin, window scaled to the unit square, "
+                "over 1/2 (Lenci and Rega 2003)"}),
+            "attractor_amplitude": (G + ("attractor",), amp, {
+                "units": "m", "long_name": "max |w(0.5 Re, 0, t)| on the attractor"}),
+            "attractor_period": (G + ("attractor",), period, {
+                "units": "1", "long_name": "attractor period in forcing periods (0: none)"}),
+            "attractor_multiplier": (G + ("attractor",), mult, {
+                "units": "1", "long_name": "largest Floquet multiplier modulus"}),
+            "attractor_point": (G + ("attractor", "phase", "state"), points, {
+                "units": "1", "long_name": "Poincare points (q in m, dq/dt in m s-1)"}),
+            "n_attractors": (G, n_att, {"units": "1", "long_name": "attractors found"}),
+            "unclassified_fraction": (G, uncl, {
+                "units": "1", "long_name": "fraction of the lattice with label -1"}),
+        }
+        if status is not None:
+            data["status"] = (G, status, raw["status"].attrs)
+        coords = {d: raw[d] for d in grid_dims if d in raw.coords}
+        coords.update({
+            "ic_x": ("ic_x", lattice.x, {"units": "m", "long_name":
+                                         f"initial displacement of mode {self._mode(options)}"}),
+            "ic_y": ("ic_y", lattice.y, {"units": "m s-1", "long_name":
+                                         f"initial velocity of mode {self._mode(options)}"}),
+            "attractor": ("attractor", np.arange(A, dtype=np.int32), {
+                "units": "1", "long_name": "attractor index, by decreasing amplitude"}),
+            "state": ("state", np.array([f"{p}{m}_{n}" for p in ("q", "dq")
+                                         for m, n in options.modes][:2 * K]),
+                      {"units": "1",
+                       "long_name": "state component: q (m) or dq/dt (m s-1) of mode (m, n)"}),
+        })
+        return xr.Dataset({k: xr.Variable(*v) for k, v in data.items()}, coords=coords,
+                          attrs=dict(raw.attrs))
+
+    @staticmethod
+    def _mode(options) -> str:
+        m, n = options.modes[options.lattice_mode - 1]
+        return f"({m}, {n})"
+
+    def figures(self, ds, outdir) -> list:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from matplotlib.colors import ListedColormap
+
+        written = []
+        grid_dims = [d for d in ds["label"].dims if d not in ("ic_x", "ic_y")]
+        colours = ["#555555", "#c8c8c8", "#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd"]
+        cmap = ListedColormap(["#ffffff", "#d62728"] + colours)
+        x, y = ds["ic_x"].values, ds["ic_y"].values
+        for g in np.ndindex(*(ds.sizes[d] for d in grid_dims)):
+            sel = dict(zip(grid_dims, g))
+            lab = ds["label"].isel(sel).values
+            if np.all(lab == NOT_COMPUTED):
+                continue
+            fig, ax = plt.subplots(figsize=(5.2, 4.4))
+            ax.pcolormesh(x, y, np.clip(lab, -2, len(colours) - 1).T + 2, cmap=cmap, vmin=0,
+                          vmax=len(colours) + 1, shading="nearest", rasterized=True)
+            jx, jy = (int(v) for v in ds["label"].attrs["lattice_state"])
+            for a in range(ds["n_attractors"].isel(sel).values.item()):
+                at = {**sel, "attractor": a}
+                k = ds["attractor_period"].isel(at).values.item()
+                pts = ds["attractor_point"].isel({**sel, "attractor": a}).values[:k]
+                ax.plot(pts[:, jx], pts[:, jy], "kx", ms=9, mew=2,
+                        label=f"attractor {a}: amplitude "
+                              f"{ds['attractor_amplitude'].isel(at).values.item():.3g} m, "
+                              f"basin {ds['basin_fraction'].isel(at).values.item():.2f}")
+            ax.set_xlabel(f"{ds['ic_x'].attrs.get('long_name', 'ic_x')} (m)")
+            ax.set_ylabel(f"{ds['ic_y'].attrs.get('long_name', 'ic_y')} (m/s)")
+            title = ", ".join(f"{d} = {float(ds[d].values[i]):g}" for d, i in sel.items())
+            ax.set_title(title, fontsize=9)
+            ax.legend(fontsize=7, loc="upper right", framealpha=0.9)
+            fig.tight_layout()
+            name = "basins_" + "_".join(f"{d}{float(ds[d].values[i]):g}" for d, i in sel.items())
+            path = outdir / f"{name}.png"
+            fig.savefig(path, dpi=150)
+            plt.close(fig)
+            written.append(path)
+        swept = [d for d in grid_dims if ds.sizes[d] > 1]
+        if len(swept) == 1 and not np.all(ds["label"].values == NOT_COMPUTED):
+            d = swept[0]
+            other = {o: 0 for o in grid_dims if o != d}
+            fig, axes = plt.subplots(1, 2, figsize=(9, 3.8))
+            for a in range(ds.sizes["attractor"]):
+                gim = ds["basin_fraction"].isel({**other, "attractor": a})
+                if np.all(np.isnan(gim)):
+                    continue
+                axes[0].plot(ds[d], gim, "o-", color=colours[a], label=f"attractor {a}")
+                axes[1].plot(ds[d], ds["integrity_factor"].isel({**other, "attractor": a}), "o-",
+                             color=colours[a], label=f"attractor {a}")
+            unit = ds[d].attrs.get("units", "")
+            for ax, ylab in zip(axes, ("global integrity measure (basin fraction)",
+                                       "integrity factor")):
+                ax.set_xlabel(f"{d} ({unit})")
+                ax.set_ylabel(ylab)
+                ax.set_ylim(-0.02, 1.02)
+                ax.legend(fontsize=8)
+            axes[0].set_title("attractor 0: largest amplitude", fontsize=9)
+            fig.tight_layout()
+            path = outdir / f"erosion_{d}.png"
+            fig.savefig(path, dpi=150)
+            plt.close(fig)
+            written.append(path)
+        return written
+
+
+BASINS = Basins()

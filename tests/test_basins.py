@@ -1,0 +1,140 @@
+"""Basins of attraction (model/basins.py, sweep/analyses/basins.py) at small sizes.
+
+Reference values: the linear forced response (closed form) for the Newton search, the
+Floquet multiplier modulus ``exp(-c T / 2)`` of a linear damped oscillator, and
+brute-force long integration for the fast lattice classification.
+"""
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from model import basins as mb
+from model.linear import galerkin_frequencies
+from model.params import Membrane
+from model.prestretch import solve_prestretch
+from model.rom import build_rom
+from sweep.analyses.base import JobError
+from sweep.analyses.basins import BASINS
+
+GRID = {k: np.array([v]) for k, v in
+        dict(delta=1.1, delta_o=0.2, Omega=33.5, P0=1.0, c=0.05).items()}
+MEMBRANE = {"C1": 0.17e6, "h": 1e-3, "Gamma": 2200.0, "Re": 1.0}
+POINT = {**{k: float(v[0]) for k, v in GRID.items()}, **MEMBRANE}
+C_DAMP = 0.05 / (2200.0 * 1e-3)
+
+
+@pytest.fixture(scope="module")
+def rom():
+    return build_rom(solve_prestretch(Membrane(1.1, 0.2), "numeric"), [(1, 0)])
+
+
+def test_newton_finds_the_linear_forced_response(rom):
+    """At tiny forcing the periodic orbit is q = A cos(Omega t) + B sin(Omega t)."""
+    ps = solve_prestretch(Membrane(1.1, 0.2), "numeric")
+    w0 = galerkin_frequencies(ps, 0, 1, basis=1)[0][0]
+    p0, om = 1e-4, 33.5
+    F = p0 * rom.tables.load[0]
+    D = (w0**2 - om**2) ** 2 + (C_DAMP * om) ** 2
+    A, B = F * (w0**2 - om**2) / D, F * C_DAMP * om / D
+    scale = np.array([1 / 0.6, 1 / 20.0])
+    att = mb.find_periodic_orbit(np.zeros(2), 1, 2 * np.pi / om, rom.tables, C_DAMP, p0, om,
+                                 96, scale, 1e-13)
+    assert att is not None and att.period == 1
+    np.testing.assert_allclose(att.points[0], [A, B * om], rtol=2e-3)
+    np.testing.assert_allclose(np.abs(att.multipliers), math.exp(-C_DAMP * np.pi / om),
+                               rtol=1e-6)
+
+
+def test_fast_labels_agree_with_brute_force(rom):
+    lat = mb.Lattice(np.linspace(-0.2, 0.2, 20), np.linspace(-6.7, 6.7, 20))
+    states = mb.lattice_states(lat, slice(None), 2)
+    labels, atts, _ = mb.classify_lattice(states, lat, rom.tables, C_DAMP, 1.0, 33.5,
+                                          mb.Settings(guard=2))
+    assert len(atts) == 2 and all(a.period == 1 for a in atts)
+    assert np.all(labels >= 0)
+    sample = np.random.default_rng(1).choice(labels.size, 12, replace=False)
+    brute, atts2, periods = mb.classify_lattice(states[sample], lat, rom.tables, C_DAMP, 1.0,
+                                                33.5, mb.Settings(), atts, cells=False,
+                                                discover=False)
+    assert len(atts2) == 2
+    assert periods.mean() > 200  # brute force really integrates the long transient
+    # Measured: 11 of these 12 agree on a 20 x 20 lattice (thin basin bands are below
+    # the lattice resolution here); 100 of 100 on a 100 x 100 lattice (see the report).
+    assert np.mean(brute == labels[sample]) >= 0.9
+
+
+def test_unreached_attractor_gives_label_minus_one(rom):
+    lat = mb.Lattice(np.linspace(-0.2, 0.2, 3), np.linspace(-6.7, 6.7, 3))
+    states = mb.lattice_states(lat, slice(None), 2)
+    labels, atts, periods = mb.classify_lattice(states, lat, rom.tables, C_DAMP, 1.0, 33.5,
+                                                mb.Settings(max_periods=5), cells=False,
+                                                discover=False)
+    assert atts == [] and np.all(labels == mb.UNCLASSIFIED) and np.all(periods == 5)
+
+
+def test_cells_need_one_mode(rom):
+    lat = mb.Lattice(np.linspace(-0.2, 0.2, 3), np.linspace(-6.7, 6.7, 3))
+    with pytest.raises(ValueError, match="cells = True is invalid for 2 modes"):
+        mb.classify_lattice(np.zeros((1, 4)), lat, rom.tables, C_DAMP, 1.0, 33.5, mb.Settings())
+
+
+def _raw(options, subtasks):
+    """The runner's raw Dataset from compute() results (dims grid, subtask, ...)."""
+    variables = BASINS.variables(options)
+    results = [BASINS.compute(POINT, options, s) for s in subtasks]
+    order = np.argsort(subtasks)
+    data = {}
+    for v in variables:
+        arr = np.stack([results[i][v.name] for i in order])
+        data[v.name] = ((*GRID, "subtask", *v.dims), arr.reshape((1,) * 5 + arr.shape))
+    status = np.array([results[i]["status"] for i in order], np.int8)
+    data["status"] = ((*GRID, "subtask"), status.reshape((1,) * 5 + status.shape))
+    return xr.Dataset(data, coords={k: v for k, v in GRID.items()})
+
+
+def test_assemble_merges_tiles_whatever_their_order(tmp_path):
+    table = {"ic_x": {"start": -0.2, "stop": 0.2, "num": 12},
+             "ic_y": {"start": -6.7, "stop": 6.7, "num": 10}, "tiles": 3}
+    options = BASINS.parse_options(table, GRID, MEMBRANE)
+    assert BASINS.n_subtasks(options) == 3
+    a = BASINS.assemble(_raw(options, [0, 1, 2]), options)
+    b = BASINS.assemble(_raw(options, [2, 0, 1]), options)
+    xr.testing.assert_identical(a, b)
+    lab = a["label"].squeeze().values
+    assert lab.shape == (12, 10) and a["n_attractors"].values.item() == 2
+    amp = a["attractor_amplitude"].squeeze().values
+    assert amp[0] > amp[1] > 0  # attractor 0 is the resonant one
+    frac = a["basin_fraction"].squeeze().values
+    assert frac[0] > 0.5 and frac[0] + frac[1] == pytest.approx(1.0)
+    assert np.all((a["integrity_factor"].squeeze().values[:2] > 0))
+    paths = BASINS.figures(a, tmp_path)
+    assert len(paths) == 1 and paths[0].exists()
+
+
+def test_cases_skip_other_grid_points():
+    grid = dict(GRID, delta=np.array([1.1, 1.5]))
+    options = BASINS.parse_options({"cases": [{"delta": 1.5}], "ic_x": {"start": -0.2,
+                                    "stop": 0.2, "num": 4}}, grid, MEMBRANE)
+    out = BASINS.compute(POINT, options, 0)
+    assert np.all(out["tile_label"] == -2) and out["status"] == 0
+
+
+@pytest.mark.parametrize("table, message", [
+    ({"method": "slow"}, "basins.method = 'slow' is invalid: must be one of fast, brute"),
+    ({"ic_x": {"start": 1.0, "stop": 0.0, "num": 5}}, "basins.ic_x = {'start': 1.0, "
+     "'stop': 0.0, 'num': 5} is invalid: needs stop > start and num >= 2"),
+    ({"ic_y": {"start": 0.0, "stop": 1.0, "num": 1}}, "needs stop > start and num >= 2"),
+    ({"radius": 0.0}, "basins.radius = 0.0 is invalid: must be > 0.0"),
+    ({"lattice_mode": 2}, "basins.lattice_mode = 2 is invalid: must be <= 1"),
+    ({"cases": [{"P1": 1.0}]}, "case keys must be grid keys of this job"),
+    ({"cases": [{"delta": 1.2}]}, "delta = 1.2 is not a value of grid.delta"),
+    ({"cases": []}, "must be a non-empty list of tables"),
+    ({"colour": 1}, "basins.colour = 1 is invalid: unknown option"),
+])
+def test_bad_options_are_rejected_with_a_message(table, message):
+    with pytest.raises(JobError) as err:
+        BASINS.parse_options(table, GRID, MEMBRANE)
+    assert message in str(err.value)
