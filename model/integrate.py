@@ -9,6 +9,11 @@ the monodromy matrix of the stroboscopic map (shooting, Floquet multipliers).
 
 All kernels take the :class:`model.rom.RomTables` and scalars only: ``c_damp = c/(Gamma h)``
 (s-1), ``p_load = P0`` (Pa), ``omega = Omega`` (rad s-1).
+
+One-mode ROMs carry a force table (:func:`model.rom.build_rom`); for them the kernels run
+a scalar loop that reads the table (about five times faster than the general loop, whose
+calls pass the whole table set), and hand over to the general loop for the rest of the
+period if the state leaves the table's range.
 """
 
 from __future__ import annotations
@@ -16,15 +21,63 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from .rom import force_jacobian, rhs
+from .rom import force_jacobian, rhs, table_eval
+
+
+@nb.njit(cache=True, fastmath=True, inline="always")
+def _accel(t, q, v, coef, q_max, k_force, load, c_damp, p_load, omega):
+    # One-mode acceleration q'' from the force table (|q| < q_max).
+    return -c_damp * v - k_force * q * table_eval(coef, q_max, abs(q)) + p_load * np.cos(omega * t) * load
+
+
+@nb.njit(cache=True, fastmath=True)
+def _rk4_one_mode(y, t0, h, steps, coef, q_max, k_force, load, c_damp, p_load, omega):
+    # RK4 steps of the one-mode ROM from the force table; returns the steps done (fewer
+    # than ``steps`` when a stage would leave the table's range: y is then the last state).
+    # The range is tested before each evaluation (no NaN sentinel: fastmath assumes none).
+    q = y[0]
+    v = y[1]
+    for i in range(steps):
+        t = t0 + i * h
+        if abs(q) >= q_max:
+            break
+        a1 = _accel(t, q, v, coef, q_max, k_force, load, c_damp, p_load, omega)
+        q2 = q + 0.5 * h * v
+        v2 = v + 0.5 * h * a1
+        if abs(q2) >= q_max:
+            break
+        a2 = _accel(t + 0.5 * h, q2, v2, coef, q_max, k_force, load, c_damp, p_load, omega)
+        q3 = q + 0.5 * h * v2
+        v3 = v + 0.5 * h * a2
+        if abs(q3) >= q_max:
+            break
+        a3 = _accel(t + 0.5 * h, q3, v3, coef, q_max, k_force, load, c_damp, p_load, omega)
+        q4 = q + h * v3
+        v4 = v + h * a3
+        if abs(q4) >= q_max:
+            break
+        a4 = _accel(t + h, q4, v4, coef, q_max, k_force, load, c_damp, p_load, omega)
+        q += h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
+        v += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
+    else:
+        i = steps
+    y[0] = q
+    y[1] = v
+    return i
 
 
 @nb.njit(cache=True)
 def rk4_period(y, t0, h, steps, tab, c_damp, p_load, omega, work):
     """Advance ``y`` (in place) by ``steps`` RK4 steps of size ``h`` from ``t0``.
 
-    ``work`` is a ``(6, 2K)`` scratch array (``K`` = number of modes).
+    ``work`` is a ``(6, 2K)`` scratch array (``K`` = number of modes).  Returns the time
+    reached.
     """
+    if tab.table_max > 0.0:
+        done = _rk4_one_mode(y, t0, h, steps, tab.stiffness_table, tab.table_max, tab.k_force[0],
+                             tab.load[0], c_damp, p_load, omega)
+        t0 = t0 + done * h
+        steps -= done
     n = y.size
     K = n // 2
     k1 = work[0]
@@ -95,6 +148,54 @@ def _aug_rhs(t, z, n, tab, c_damp, p_load, omega, g, jac, out):
             out[n + (K + i) * n + col] = acc
 
 
+@nb.njit(cache=True, fastmath=True)
+def _monodromy_one_mode(y0, t0, h, steps, coef, slope, q_max, k_force, load, c_damp, p_load, omega, phi):
+    # State and 2x2 variational matrix of the one-mode ROM from the force tables; returns
+    # (q, v, ok), ok False when a stage leaves the tables' range.
+    q = y0[0]
+    v = y0[1]
+    p00, p01, p10, p11 = 1.0, 0.0, 0.0, 1.0
+    for i in range(steps):
+        t = t0 + i * h
+        ks = np.empty(4)
+        kv = np.empty(4)
+        kp = np.empty((4, 4))
+        cq = q
+        cv = v
+        c00, c01, c10, c11 = p00, p01, p10, p11
+        for s in range(4):
+            ts = t + (0.0 if s == 0 else (h if s == 3 else 0.5 * h))
+            if abs(cq) >= q_max:
+                return q, v, False
+            a = -c_damp * cv - k_force * cq * table_eval(coef, q_max, abs(cq)) + p_load * np.cos(omega * ts) * load
+            kk = -k_force * table_eval(slope, q_max, abs(cq))
+            ks[s] = cv
+            kv[s] = a
+            kp[s, 0] = c10
+            kp[s, 1] = c11
+            kp[s, 2] = kk * c00 - c_damp * c10
+            kp[s, 3] = kk * c01 - c_damp * c11
+            if s < 3:
+                f = h if s == 2 else 0.5 * h
+                cq = q + f * ks[s]
+                cv = v + f * kv[s]
+                c00 = p00 + f * kp[s, 0]
+                c01 = p01 + f * kp[s, 1]
+                c10 = p10 + f * kp[s, 2]
+                c11 = p11 + f * kp[s, 3]
+        q += h / 6.0 * (ks[0] + 2.0 * ks[1] + 2.0 * ks[2] + ks[3])
+        v += h / 6.0 * (kv[0] + 2.0 * kv[1] + 2.0 * kv[2] + kv[3])
+        p00 += h / 6.0 * (kp[0, 0] + 2.0 * kp[1, 0] + 2.0 * kp[2, 0] + kp[3, 0])
+        p01 += h / 6.0 * (kp[0, 1] + 2.0 * kp[1, 1] + 2.0 * kp[2, 1] + kp[3, 1])
+        p10 += h / 6.0 * (kp[0, 2] + 2.0 * kp[1, 2] + 2.0 * kp[2, 2] + kp[3, 2])
+        p11 += h / 6.0 * (kp[0, 3] + 2.0 * kp[1, 3] + 2.0 * kp[2, 3] + kp[3, 3])
+    phi[0, 0] = p00
+    phi[0, 1] = p01
+    phi[1, 0] = p10
+    phi[1, 1] = p11
+    return q, v, True
+
+
 @nb.njit(cache=True)
 def monodromy(y0, t0, period, steps, tab, c_damp, p_load, omega):
     """State after one period and the monodromy matrix ``d y(t0+T) / d y(t0)``.
@@ -109,6 +210,12 @@ def monodromy(y0, t0, period, steps, tab, c_damp, p_load, omega):
     """
     n = y0.size
     K = n // 2
+    if tab.table_max > 0.0:
+        phi = np.empty((2, 2))
+        q, v, ok = _monodromy_one_mode(y0, t0, period / steps, steps, tab.stiffness_table, tab.slope_table,
+                                       tab.table_max, tab.k_force[0], tab.load[0], c_damp, p_load, omega, phi)
+        if ok:
+            return np.array([q, v]), phi
     m = n + n * n
     z = np.zeros(m)
     z[:n] = y0
