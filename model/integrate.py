@@ -25,40 +25,46 @@ from .rom import force_jacobian, rhs, table_eval
 
 
 @nb.njit(cache=True, fastmath=True, inline="always")
-def _accel(t, q, v, coef, q_max, k_force, load, c_damp, p_load, omega):
-    # One-mode acceleration q'' from the force table (|q| < q_max).
-    return -c_damp * v - k_force * q * table_eval(coef, q_max, abs(q)) + p_load * np.cos(omega * t) * load
+def _accel(q, v, cos_t, coef, q_max, k_force, load, c_damp, p_load):
+    # One-mode acceleration q'' from the force table (|q| < q_max); cos_t = cos(Omega t).
+    return -c_damp * v - k_force * q * table_eval(coef, q_max, abs(q)) + p_load * cos_t * load
 
 
 @nb.njit(cache=True, fastmath=True)
 def _rk4_one_mode(y, t0, h, steps, coef, q_max, k_force, load, c_damp, p_load, omega):
     # RK4 steps of the one-mode ROM from the force table; returns the steps done (fewer
     # than ``steps`` when a stage would leave the table's range: y is then the last state).
-    # The range is tested before each evaluation (no NaN sentinel: fastmath assumes none).
+    # The range is tested before each evaluation (no NaN sentinel: fastmath assumes none);
+    # the forcing is evaluated at two times per step, the last stage's reused as the next
+    # step's first.
     q = y[0]
     v = y[1]
+    c0 = np.cos(omega * t0)
     for i in range(steps):
         t = t0 + i * h
         if abs(q) >= q_max:
             break
-        a1 = _accel(t, q, v, coef, q_max, k_force, load, c_damp, p_load, omega)
+        c_half = np.cos(omega * (t + 0.5 * h))
+        c_end = np.cos(omega * (t + h))
+        a1 = _accel(q, v, c0, coef, q_max, k_force, load, c_damp, p_load)
         q2 = q + 0.5 * h * v
         v2 = v + 0.5 * h * a1
         if abs(q2) >= q_max:
             break
-        a2 = _accel(t + 0.5 * h, q2, v2, coef, q_max, k_force, load, c_damp, p_load, omega)
+        a2 = _accel(q2, v2, c_half, coef, q_max, k_force, load, c_damp, p_load)
         q3 = q + 0.5 * h * v2
         v3 = v + 0.5 * h * a2
         if abs(q3) >= q_max:
             break
-        a3 = _accel(t + 0.5 * h, q3, v3, coef, q_max, k_force, load, c_damp, p_load, omega)
+        a3 = _accel(q3, v3, c_half, coef, q_max, k_force, load, c_damp, p_load)
         q4 = q + h * v3
         v4 = v + h * a3
         if abs(q4) >= q_max:
             break
-        a4 = _accel(t + h, q4, v4, coef, q_max, k_force, load, c_damp, p_load, omega)
+        a4 = _accel(q4, v4, c_end, coef, q_max, k_force, load, c_damp, p_load)
         q += h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
         v += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
+        c0 = c_end
     else:
         i = steps
     y[0] = q

@@ -191,7 +191,7 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
 
 #: The one-mode force table covers ``max |w|`` up to this many times ``Re``.
 TABLE_MAX_W = 4.0
-_TABLE_DEGREE = 12
+_TABLE_DEGREE = 7
 #: Relative accuracy of the table against the quadrature it replaces.
 TABLE_TOL = 1e-13
 

@@ -2,8 +2,8 @@
 
 A lattice of initial conditions ``(q_j, dq_j/dt)`` at ``t = 0`` (mode ``j`` of the ROM,
 the other state components zero) is classified by the attractor of the stroboscopic map
-each trajectory ends on (:mod:`model.basins`).  The lattice is cut into tiles of whole
-``ic_x`` rows, one subtask each; the tile layout depends on the options only (``tiles``),
+each trajectory ends on (:mod:`model.basins`).  The lattice is cut into tiles of
+interleaved ``ic_x`` rows (tile ``t`` has rows ``t, t + tiles, ...``), one subtask each; the tile layout depends on the options only (``tiles``),
 never on the rank count.  Every tile finds its attractors itself (Newton on recurrences);
 :meth:`Basins.assemble` merges them across tiles by matching their Poincare points,
 numbers them by decreasing amplitude (attractor 0 is the largest, the resonant one in
@@ -20,11 +20,12 @@ Options (table ``[basins]``):
 ``ic_y``           ``{start, stop, num}`` velocity ``dq_j/dt`` (m s-1), default -10..10, 100
 ``method``         ``fast`` (cells + proximity, default) | ``brute`` (proximity only)
 ``tiles``          number of tiles (default 8, at most ``ic_x.num``)
-``steps``          RK4 steps per forcing period (default 48)
+``steps``          RK4 steps per forcing period (default 64)
 ``max_periods``    periods before a trajectory is unclassified, label -1 (default 20000)
 ``radius``         capture radius around attractor points, fraction of the lattice (0.01)
 ``consecutive``    consecutive clean-cell hits to adopt a cell's label (default 8)
-``guard``          half-width of the block of equal labels around a clean cell (default 1)
+``guard``          half-width of the block of equal labels around a clean cell (default 2)
+``cells``          cells per axis of the cell map (default 0: the lattice's own cells)
 ``max_period``     largest period of the attractors searched, in forcing periods (4)
 ``max_attractors`` attractors stored per grid point (default 6)
 ``cases``          optional list of tables, e.g. ``[{delta = 1.1, Omega = 33.5}]``: only the
@@ -57,7 +58,7 @@ from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError
 
 _SECTION = "basins"
 _KEYS = ("modes", "prestretch", "lattice_mode", "ic_x", "ic_y", "method", "tiles", "steps",
-         "max_periods", "radius", "consecutive", "guard", "max_period", "max_attractors",
+         "max_periods", "radius", "consecutive", "guard", "cells", "max_period", "max_attractors",
          "cases")
 NOT_COMPUTED = -2
 
@@ -79,8 +80,17 @@ class BasinsOptions:
 
     @property
     def rows(self) -> int:
-        """``ic_x`` rows per tile."""
+        """``ic_x`` rows per tile (at most)."""
         return math.ceil(self.ic_x[2] / self.tiles)
+
+    def tile_rows(self, tile: int) -> np.ndarray:
+        """The ``ic_x`` rows of ``tile``: every ``tiles``-th row from row ``tile``.
+
+        Interleaved rows give every tile a share of the whole window, so tiles cost about
+        the same (the transients from the window's edge are the longest) and each tile's
+        cell map learns the whole plane.
+        """
+        return np.arange(tile, self.ic_x[2], self.tiles)
 
     @property
     def n_state(self) -> int:
@@ -137,13 +147,15 @@ class Basins(Analysis):
                 raise JobError(f"{_SECTION}.{key}", table.get(key),
                                "needs stop > start and num >= 2")
         method = opt.choice(table, _SECTION, "method", ("fast", "brute"), "fast")
+        d = mb.Settings()
         settings = mb.Settings(
-            steps=opt.number(table, _SECTION, "steps", 48, low=8, integer=True),
-            max_periods=opt.number(table, _SECTION, "max_periods", 20000, low=1, integer=True),
-            radius=opt.number(table, _SECTION, "radius", 0.01, low=0.0, low_open=True, high=0.5),
-            consecutive=opt.number(table, _SECTION, "consecutive", 8, low=1, integer=True),
-            guard=opt.number(table, _SECTION, "guard", 1, low=0, integer=True),
-            max_period=opt.number(table, _SECTION, "max_period", 4, low=1, high=64,
+            steps=opt.number(table, _SECTION, "steps", d.steps, low=8, integer=True),
+            max_periods=opt.number(table, _SECTION, "max_periods", d.max_periods, low=1, integer=True),
+            radius=opt.number(table, _SECTION, "radius", d.radius, low=0.0, low_open=True, high=0.5),
+            consecutive=opt.number(table, _SECTION, "consecutive", d.consecutive, low=1, integer=True),
+            guard=opt.number(table, _SECTION, "guard", d.guard, low=0, integer=True),
+            cells=opt.number(table, _SECTION, "cells", d.cells, low=0, high=20_000, integer=True),
+            max_period=opt.number(table, _SECTION, "max_period", d.max_period, low=1, high=64,
                                   integer=True))
         return BasinsOptions(
             modes=modes, prestretch=opt.prestretch(table, _SECTION), lattice_mode=lm,
@@ -155,7 +167,7 @@ class Basins(Analysis):
             cases=_cases(table["cases"], grid) if "cases" in table else ())
 
     def n_subtasks(self, options: BasinsOptions) -> int:
-        return math.ceil(options.ic_x[2] / options.rows)
+        return options.tiles
 
     def variables(self, options: BasinsOptions) -> list[Variable]:
         R, ny, A = options.rows, options.ic_y[2], options.max_attractors
@@ -200,14 +212,14 @@ class Basins(Analysis):
                    point["Re"], options.modes, options.prestretch)
         c_damp = point["c"] / (point["Gamma"] * point["h"])
         lattice = options.lattice()
-        rows = slice(subtask * R, min((subtask + 1) * R, options.ic_x[2]))
+        rows = options.tile_rows(subtask)
         states = mb.lattice_states(lattice, rows, S)
         one_mode = S == 2
         labels, atts, periods = mb.classify_lattice(
             states, lattice, rom.tables, c_damp, point["P0"], point["Omega"], options.settings,
             cells=one_mode and options.method == "fast")
         labels = np.where(labels >= A, -1, labels)
-        n = rows.stop - rows.start
+        n = rows.size
         out["tile_label"][:n] = labels.reshape(n, ny)
         out["tile_periods"][:n] = periods.reshape(n, ny)
         for a, att in enumerate(atts[:A]):
@@ -281,8 +293,8 @@ class Basins(Analysis):
             new = {j: r for r, j in enumerate(rank)}
             lab = np.full((nx, ny), -1, np.int32)
             for t in range(tl[g].shape[0]):
-                rows = slice(t * R, min((t + 1) * R, nx))
-                tile = tl[g][t, :rows.stop - rows.start]
+                rows = options.tile_rows(t)
+                tile = tl[g][t, :rows.size]
                 lut = np.full(A + 1, -1, np.int32)
                 for a in range(A):
                     if (t, a) in where and new[where[(t, a)]] < A:
