@@ -103,7 +103,7 @@ MEMBRANE = {"C1": 0.17e6, "h": 1e-3, "Gamma": 2200.0, "Re": 1.0}
     ({"parameter": "P0", "values": {"start": 0.0, "stop": 2.0, "num": 3}}, GRID,
      "response.parameter = 'P0' is invalid: P0 is swept by the analysis"),
     ({"parameter": "Omega", "values": {"start": 30.0, "stop": 35.0, "num": 3}},
-     {k: v for k, v in GRID.items() if k != "P0"}, "grid.P0 = <missing> is invalid: a response in Omega needs P0"),
+     {k: v for k, v in GRID.items() if k != "P0"}, "grid.P0 = <missing> is invalid: response in Omega needs P0"),
     ({"parameter": "Omega", "values": {"start": 0.0, "stop": 35.0, "num": 3}}, GRID,
      "response.values.start = 0.0 is invalid: must be > 0.0"),
     ({"parameter": "Omega", "values": {"start": 30.0, "stop": 35.0, "num": 3}, "tol": -1.0}, GRID,

@@ -49,14 +49,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from model.continuation import FOLD, KIND_NAMES, PARAMETERS, continue_orbits
+from model.continuation import FOLD, KIND_NAMES, continue_orbits
 from model.params import Loading
 from model.prestretch import solve_prestretch
 from model.rom import build_rom
 from model.shooting import DEFAULT_STEPS
 
 from . import options as opt
-from .base import GRID_KEYS, MISSING, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable
+from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable
 
 #: Length of the ``fold`` dimension.
 MAX_FOLDS = 6
@@ -74,9 +74,6 @@ class ContinuationOptions:
     steps: int
 
 
-def _other_keys(parameter: str) -> tuple[str, ...]:
-    return ("P0", "c") if parameter == "Omega" else ("Omega", "c")
-
 
 class ContinuationAnalysis(Analysis):
     """Pseudo-arclength continuation of periodic responses in Omega or P0 (Figs. 14-17)."""
@@ -87,16 +84,7 @@ class ContinuationAnalysis(Analysis):
         s = self.name
         opt.check_keys(table, s, {"parameter", "start", "stop", "modes", "prestretch", "max_points",
                                   "ds_max", "steps"})
-        parameter = table.get("parameter", MISSING)
-        if parameter not in PARAMETERS:
-            raise JobError(f"{s}.parameter", parameter, f"must be one of {', '.join(PARAMETERS)}")
-        if parameter in grid:
-            raise JobError(f"{s}.parameter", parameter,
-                           f"{parameter} is continued, so it must not also be a [grid] key")
-        for key in _other_keys(parameter):
-            if key not in grid:
-                raise JobError(f"grid.{key}", MISSING,
-                               f"continuation in {parameter} needs {key} ({GRID_KEYS[key][0]}) in [grid]")
+        parameter = opt.forcing_parameter(table, s, grid, "is continued")
         low = 0.0
         start = opt.number(table, s, "start", low=low, low_open=parameter == "Omega")
         stop = opt.number(table, s, "stop", low=low, low_open=parameter == "Omega")
@@ -141,7 +129,7 @@ class ContinuationAnalysis(Analysis):
 
     def compute(self, point, options, subtask):
         rom = build_rom(solve_prestretch(opt.membrane_from_point(point), options.prestretch), options.modes)
-        fixed = {key: point[key] for key in _other_keys(options.parameter)}
+        fixed = {key: point[key] for key in opt.fixed_forcing_keys(options.parameter)}
         fixed[options.parameter] = options.start
         br = continue_orbits(rom, Loading(**fixed), options.parameter, options.start, options.stop,
                              steps=options.steps, ds_max=options.ds_max, max_points=options.max_points)

@@ -15,7 +15,10 @@ import numpy as np
 from model.params import Membrane
 from model.prestretch import KINDS
 
-from .base import JobError
+from .base import GRID_KEYS, MISSING, JobError
+
+#: Forcing parameters an analysis can vary itself (continuation, response).
+FORCING_PARAMETERS = ("Omega", "P0")
 
 
 def check_keys(table: Mapping[str, Any], section: str, allowed) -> None:
@@ -101,6 +104,30 @@ def linspace(table, section: str, key: str, default=None, *, low=None, low_open=
     stop = number(v, full, "stop", low=low, low_open=low_open)
     num = number(v, full, "num", integer=True, low=1, high=max_num)
     return start, stop, num
+
+
+def forcing_parameter(table, section: str, grid, role: str) -> str:
+    """The ``parameter`` option of a forced analysis: ``Omega`` or ``P0``, varied by the
+    analysis itself, so not a grid key; the other forcing keys must be grid keys.
+
+    ``role`` completes the messages, e.g. ``"is continued"``.
+    """
+    parameter = table.get("parameter", MISSING)
+    if parameter not in FORCING_PARAMETERS:
+        raise JobError(f"{section}.parameter", parameter, f"must be one of {', '.join(FORCING_PARAMETERS)}")
+    if parameter in grid:
+        raise JobError(f"{section}.parameter", parameter,
+                       f"{parameter} {role}, so it must not also be a [grid] key")
+    for key in fixed_forcing_keys(parameter):
+        if key not in grid:
+            raise JobError(f"grid.{key}", MISSING,
+                           f"{section} in {parameter} needs {key} ({GRID_KEYS[key][0]}) in [grid]")
+    return parameter
+
+
+def fixed_forcing_keys(parameter: str) -> tuple[str, str]:
+    """The grid keys that stay fixed while ``parameter`` (Omega or P0) varies."""
+    return ("P0", "c") if parameter == "Omega" else ("Omega", "c")
 
 
 def membrane_from_point(point: Mapping[str, float]) -> Membrane:

@@ -34,12 +34,12 @@ import numpy as np
 
 from model.params import Loading
 from model.prestretch import solve_prestretch
-from model.response import PARAMETERS, refine_jumps, stepped_sweep
+from model.response import refine_jumps, stepped_sweep
 from model.rom import build_rom
 from model.shooting import DEFAULT_STEPS
 
 from . import options as opt
-from .base import GRID_KEYS, MISSING, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable
+from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Variable
 
 
 @dataclass(frozen=True)
@@ -64,9 +64,6 @@ class ResponseOptions:
 MAX_JUMPS = 2
 
 
-def _other_keys(parameter: str) -> tuple[str, ...]:
-    return ("P0", "c") if parameter == "Omega" else ("Omega", "c")
-
 
 class ResponseAnalysis(Analysis):
     """Brute-force stepped sweeps of the forced ROM, up and down."""
@@ -77,16 +74,7 @@ class ResponseAnalysis(Analysis):
         s = self.name
         opt.check_keys(table, s, {"parameter", "values", "modes", "prestretch", "steps", "tol",
                                   "consecutive", "max_periods", "refine_jumps"})
-        parameter = table.get("parameter", MISSING)
-        if parameter not in PARAMETERS:
-            raise JobError(f"{s}.parameter", parameter, f"must be one of {', '.join(PARAMETERS)}")
-        if parameter in grid:
-            raise JobError(f"{s}.parameter", parameter,
-                           f"{parameter} is swept by the analysis, so it must not also be a [grid] key")
-        for key in _other_keys(parameter):
-            if key not in grid:
-                raise JobError(f"grid.{key}", MISSING,
-                               f"a response in {parameter} needs {key} ({GRID_KEYS[key][0]}) in [grid]")
+        parameter = opt.forcing_parameter(table, s, grid, "is swept by the analysis")
         values = opt.linspace(table, s, "values", low=0.0, low_open=parameter == "Omega", max_num=10_000)
         return ResponseOptions(
             parameter, values, opt.modes(table, s), opt.prestretch(table, s),
@@ -118,7 +106,7 @@ class ResponseAnalysis(Analysis):
 
     def compute(self, point, options, subtask):
         rom = build_rom(solve_prestretch(opt.membrane_from_point(point), options.prestretch), options.modes)
-        fixed = {key: point[key] for key in _other_keys(options.parameter)}
+        fixed = {key: point[key] for key in opt.fixed_forcing_keys(options.parameter)}
         fixed[options.parameter] = float(options.grid[0])
         res = stepped_sweep(rom, Loading(**fixed), options.parameter, options.grid, steps=options.steps,
                             tol=options.tol, consecutive=options.consecutive, max_periods=options.max_periods,
