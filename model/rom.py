@@ -42,7 +42,6 @@ class RomTables(NamedTuple):
     rho2 : (P,) ``rho^2`` (m2)
     r2 : (P,) ``r_o^2`` (m2)
     dr2 : (P,) ``r_o'^2`` (1)
-    base : (P,) ``r_o'^2 + r_o^2/rho^2`` (1), the ``w``-independent part of I1
     b_rho : (K, P) ``psi_k,rho`` (m-1)
     b_theta : (K, P) ``psi_k,theta`` (1)
     k_force : (K,) ``C1 / (Gamma M_k)`` (m2 s-2 per unit of ``g``)
@@ -59,7 +58,6 @@ class RomTables(NamedTuple):
     rho2: np.ndarray
     r2: np.ndarray
     dr2: np.ndarray
-    base: np.ndarray
     b_rho: np.ndarray
     b_theta: np.ndarray
     k_force: np.ndarray
@@ -180,7 +178,7 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
     forcing = (psi * (wq * r * dr)).sum(axis=1)
     probe = np.array([mode_shape(probe_rho, a, n, m.Re, m.delta_o)[0] for a, (_, n) in zip(alpha, modes)])
     tables = RomTables(
-        weight=wq * rr, rho2=rr**2, r2=r**2, dr2=dr**2, base=dr**2 + r**2 / rr**2,
+        weight=wq * rr, rho2=rr**2, r2=r**2, dr2=dr**2,
         b_rho=np.ascontiguousarray(b_rho), b_theta=np.ascontiguousarray(b_theta),
         k_force=m.C1 / (m.Gamma * mass), load=forcing / (m.Gamma * m.h * mass), probe=probe,
         axisymmetric=nt == 0, table_max=0.0, stiffness_table=np.zeros((0, 1)), slope_table=np.zeros((0, 1)))
@@ -309,6 +307,17 @@ def _quadrature_force(q, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, ou
         out[k] = acc
 
 
+@nb.njit(cache=True, inline="always")
+def _slopes(q, tab, p):
+    # (w_rho, w_theta) at quadrature point p.
+    a = 0.0
+    b = 0.0
+    for k in range(q.size):
+        a += q[k] * tab.b_rho[k, p]
+        b += q[k] * tab.b_theta[k, p]
+    return a, b
+
+
 @nb.njit(cache=True)
 def force_jacobian(q, tab, out):
     """``out[k, l] = d g_k / d q_l`` in closed form (the Hessian of U)."""
@@ -321,11 +330,7 @@ def force_jacobian(q, tab, out):
         for l in range(K):
             out[k, l] = 0.0
     for p in range(P):
-        a = 0.0
-        b = 0.0
-        for k in range(K):
-            a += q[k] * tab.b_rho[k, p]
-            b += q[k] * tab.b_theta[k, p]
+        a, b = _slopes(q, tab, p)
         r2 = tab.r2[p]
         dr2 = tab.dr2[p]
         rho2 = tab.rho2[p]
@@ -348,15 +353,10 @@ def force_jacobian(q, tab, out):
 @nb.njit(cache=True)
 def strain_energy(q, tab):
     """``U(q) - U(0) = int int (I1(q) - I1(0)) rho dtheta drho`` (m2); times ``C1 h`` in J."""
-    K = q.size
     P = tab.weight.size
     e = 0.0
     for p in range(P):
-        a = 0.0
-        b = 0.0
-        for k in range(K):
-            a += q[k] * tab.b_rho[k, p]
-            b += q[k] * tab.b_theta[k, p]
+        a, b = _slopes(q, tab, p)
         r2 = tab.r2[p]
         dr2 = tab.dr2[p]
         D = dr2 * r2 + dr2 * b * b + r2 * a * a

@@ -4,7 +4,7 @@ Usage::
 
     python -m sweep.validation RESULTS_DIR [-o docs/validation.md]
 
-``RESULTS_DIR`` holds the NetCDF files written by the paper jobs (``jobs/paper/run.py``
+``RESULTS_DIR`` holds the NetCDF files written by the paper jobs (``python -m sweep.paper``
 names them after the jobs: ``table1.nc``, ``table1-app1.nc``, ...).  A section whose
 result file is missing says which job to run.  The convergence section is computed on the
 spot from the model.  Nothing in the report is typed by hand.
@@ -35,7 +35,7 @@ def _rel(a, b) -> str:
 
 
 def _missing(name: str) -> list[str]:
-    return [f"*Not available: run `jobs/{name}.toml` (see `jobs/paper/run.py`).*", ""]
+    return [f"*Not available: run `jobs/{name}.toml` (see `jobs/paper/README.md`).*", ""]
 
 
 def section_table1(results: Path) -> list[str]:
@@ -104,7 +104,172 @@ def section_linear_convergence() -> list[str]:
     return out + [""]
 
 
-SECTIONS = (section_table1, section_table2)
+def _point(ds, **sel):
+    """``ds`` at one grid point, grid dims dropped (nearest values)."""
+    sel = {k: v for k, v in sel.items() if k in ds.dims}
+    return ds.sel(sel, method="nearest")
+
+
+def section_backbone_modes(results: Path) -> list[str]:
+    out = ["## Backbone: convergence with the number of modes (Fig. 9)", "",
+           "Free periodic orbits of the ROM with M = 1, 2, 3 axisymmetric modes (m = 1..M, n = 0),",
+           "delta = 1.1, delta_o = 0.2: frequency at a given amplitude max |w(0.5 Re, 0)| relative",
+           "to the three-mode ROM, and the largest |A_20| and |A_30| along the branch relative to",
+           "A_10 (the paper: A_20 and A_30 stay small against A_10).", ""]
+    ref = _open(results, "fig09-modes")
+    if ref is None:
+        return out + _missing("fig09-modes")
+    ref = _point(ref, delta=1.1, delta_o=0.2)
+    amp, w3 = ref.amplitude.values, ref.omega_nl.values
+    runs = {1: _open(results, "fig09-modes-1"), 2: _open(results, "fig09-modes-2")}
+    shown = [a for a in (0.01, 0.05, 0.1, 0.2, 0.3, 0.4) if amp.min() <= a <= amp.max()]
+    out += ["| max abs w(0.5, 0) (m) | omega, M = 3 (rad/s) | "
+            + " | ".join(f"M = {k}: omega (rad/s) | rel. diff." for k in runs if runs[k] is not None) + " |",
+            "|---|---|" + "---|---|" * sum(r is not None for r in runs.values())]
+    worst = {}
+    for a in shown:
+        row = f"| {a:g} | {np.interp(a, amp, w3):.4f} |"
+        for k, ds in runs.items():
+            if ds is None:
+                continue
+            b = _point(ds, delta=1.1, delta_o=0.2)
+            w = np.interp(a, b.amplitude.values, b.omega_nl.values)
+            row += f" {w:.4f} | {_rel(w, np.interp(a, amp, w3))} |"
+        out.append(row)
+    for k, ds in runs.items():
+        if ds is not None:
+            b = _point(ds, delta=1.1, delta_o=0.2)
+            w = np.interp(amp, b.amplitude.values, b.omega_nl.values)
+            worst[k] = np.nanmax(np.abs(w / w3 - 1))
+    out.append("")
+    for k in runs:
+        if runs[k] is None:
+            out += _missing(f"fig09-modes-{k}")
+        else:
+            out.append(f"Largest relative frequency difference M = {k} vs M = 3 over the branch: {worst[k]:.2%}.")
+    modal = np.abs(ref.modal_amplitude)
+    a10 = modal.isel(mode=0).values
+    for k in range(1, ref.sizes["mode"]):
+        ratio = modal.isel(mode=k).values / a10
+        i = int(np.nanargmax(ratio))
+        out.append(f"Largest |A_{int(ref.m[k])}{int(ref.n[k])}| / A_10 along the branch: {ratio[i]:.2%} "
+                   f"(at A_10 = {a10[i]:.3f} m).")
+    return out + [""]
+
+
+def section_backbone_limits(results: Path) -> list[str]:
+    out = ["## Backbone: small-amplitude limit and the Eq. 29 bound (Figs. 10-12)", "",
+           "First point of each backbone (smallest target amplitude) against the ROM's linearised",
+           "frequency and the converged linear Galerkin frequency of Table 1 (`table1.nc`, numeric",
+           "pre-stretch); the largest backbone frequency must stay below the Eq. 29 bound. rad/s.", ""]
+    lin = _open(results, "table1")
+    rows = []
+    for name in ("fig10-11-backbone", "fig12-inner-radius"):
+        ds = _open(results, name)
+        if ds is None:
+            out += _missing(name)
+            continue
+        for d in ds.delta.values:
+            for do in ds.delta_o.values:
+                b = ds.sel(delta=d, delta_o=do)
+                w0, a0 = float(b.omega_nl.isel(point=0)), float(b.amplitude.isel(point=0))
+                wl, wb = float(b.omega_linear), float(b.omega_bound)
+                conv = ""
+                if lin is not None and d in lin.delta.values and do in lin.delta_o.values:
+                    wg = float(lin.omega.sel(delta=d, delta_o=do).isel(mode=0))
+                    conv = f"{wg:.4f} | {_rel(w0, wg)}"
+                rows.append(f"| {name} | {d:g} | {do:g} | {a0:g} | {w0:.4f} | {wl:.4f} | {_rel(w0, wl)} | "
+                            f"{conv or '- | -'} | {float(b.omega_nl.max()):.3f} | {wb:.3f} |")
+    if rows:
+        out += ["| job | delta | delta_o | amplitude (m) | omega_nl | ROM linear | rel. diff. | "
+                "Galerkin (Table 1) | rel. diff. | max omega_nl | bound Eq. 29 |",
+                "|---|---|---|---|---|---|---|---|---|---|---|", *rows]
+    if lin is None:
+        out += ["", *_missing("table1")]
+    return out + [""]
+
+
+def _stable_amplitudes(branch_x, branch_a, stable, x):
+    """Amplitudes of the stable parts of a continued branch at parameter value ``x``."""
+    ok = np.isfinite(branch_x)
+    bx, ba, st = branch_x[ok], branch_a[ok], stable[ok]
+    found = []
+    for i in range(bx.size - 1):
+        if st[i] == 1 and st[i + 1] == 1 and (bx[i] - x) * (bx[i + 1] - x) <= 0 and bx[i] != bx[i + 1]:
+            found.append(ba[i] + (ba[i + 1] - ba[i]) * (x - bx[i]) / (bx[i + 1] - bx[i]))
+    return np.array(found)
+
+
+def section_continuation_bruteforce(results: Path) -> list[str]:
+    case = dict(delta=1.1, delta_o=0.2, Omega=33.5, c=0.05)
+    out = ["## Continuation against brute force (Fig. 15a)", "",
+           "delta = 1.1, delta_o = 0.2, Omega = 33.5 rad/s, c = 0.05 N s/m^3, one mode. Saddle-nodes",
+           "of the pseudo-arclength continuation in P0 (`fig15-bifurcation-p0`) against the jumps of",
+           "brute-force sweeps stepped up and down in P0 from the previous steady state, located by",
+           "an adaptive march (`fig15-bruteforce`, `refine_jumps = true`, 0.1 % resolution).", ""]
+    cont, bf = _open(results, "fig15-bifurcation-p0"), _open(results, "fig15-bruteforce")
+    if cont is None or bf is None:
+        return out + _missing("fig15-bifurcation-p0 and fig15-bruteforce")
+    c, b = _point(cont, **case), _point(bf, **case)
+    folds = c.fold_value.values[np.isfinite(c.fold_value.values)]
+    out += ["| sweep | jump at P0 (Pa) | nearest saddle-node P0 (Pa) | rel. diff. |", "|---|---|---|---|"]
+    worst = 0.0
+    for d in ("up", "down"):
+        for j in b.jump_value.sel(direction=d).values:
+            if not np.isfinite(j) or folds.size == 0:
+                continue
+            f = folds[np.argmin(np.abs(folds - j))]
+            worst = max(worst, abs(j / f - 1))
+            out.append(f"| {d} | {j:.4f} | {f:.4f} | {_rel(j, f)} |")
+    out += ["", f"Saddle-nodes of the continuation: {', '.join(f'{f:.4f}' for f in folds)} Pa; "
+            f"largest relative difference to the brute-force jumps: {worst:.3%}.", ""]
+    x, amp = c.P0.values, c.amplitude.values
+    worst_a, n = 0.0, 0
+    for d in ("up", "down"):
+        for p, a in zip(b.P0.values, b.amplitude.sel(direction=d).values):
+            cand = _stable_amplitudes(x, amp, c.stable.values, p)
+            if p > 0 and cand.size and np.isfinite(a):
+                worst_a, n = max(worst_a, np.min(np.abs(cand / a - 1))), n + 1
+    out += [f"Brute-force steady-state amplitudes at the {n} swept values P0 > 0 (both directions)",
+            f"against the nearest stable continued amplitude at the same P0: largest relative",
+            f"difference {worst_a:.2e}.", ""]
+    return out
+
+
+def section_basins(results: Path) -> list[str]:
+    out = ["## Basins of attraction (Fig. 19)", "",
+           "Basin fractions (global integrity measure: share of the lattice window) and amplitudes",
+           "max |w(0.5 Re, 0)| of the attractors of the one-mode ROM, c = 0.05 N s/m^3,",
+           "delta_o = 0.2, P0 = 1 Pa. The paper: two attractors at each case, the resonant (large)",
+           "one with the larger basin.", ""]
+    ds = _open(results, "fig19-basins")
+    if ds is None:
+        return out + _missing("fig19-basins")
+    grid = [d for d in ds.label.dims if d not in ("ic_x", "ic_y")]
+    out += [f"Lattice {ds.sizes['ic_x']} x {ds.sizes['ic_y']}: initial {ds.ic_x.attrs.get('long_name', 'ic_x')} "
+            f"in [{float(ds.ic_x.min()):g}, {float(ds.ic_x.max()):g}] m, "
+            f"{ds.ic_y.attrs.get('long_name', 'ic_y')} in [{float(ds.ic_y.min()):g}, {float(ds.ic_y.max()):g}] m/s.", "",
+            "| delta | Omega (rad/s) | attractors | amplitude 0 (m) | basin 0 | amplitude 1 (m) | basin 1 "
+            "| unclassified |", "|---|---|---|---|---|---|---|---|"]
+    for g in np.ndindex(*(ds.sizes[d] for d in grid)):
+        p = ds.isel(dict(zip(grid, g)))
+        if bool((p.label == -2).all()):
+            continue
+        n = int(p.n_attractors)
+        cells = []
+        for a in range(2):
+            if a < n:
+                cells += [f"{float(p.attractor_amplitude.isel(attractor=a)):.4f}",
+                          f"{float(p.basin_fraction.isel(attractor=a)):.3f}"]
+            else:
+                cells += ["-", "-"]
+        out.append(f"| {float(p.delta):g} | {float(p.Omega):g} | {n} | {' | '.join(cells)} | "
+                   f"{float(p.unclassified_fraction):.3f} |")
+    return out + [""]
+
+
+SECTIONS = (section_table1, section_table2, section_backbone_modes, section_backbone_limits,
+            section_continuation_bruteforce, section_basins)
 
 
 def build_report(results: Path) -> str:
