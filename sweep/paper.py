@@ -26,8 +26,8 @@ from pathlib import Path
 PAPER_JOBS = (
     "table1", "table1-app1", "table1-app2", "table2",
     "fig02-03-static", "fig04-06-frequencies",
-    "fig09-modes", "fig10-11-backbone", "fig12-inner-radius",
-    "fig13-resonance", "fig14-bifurcation-omega", "fig15-bifurcation-p0",
+    "fig09-modes", "fig09-modes-1", "fig09-modes-2", "fig10-11-backbone", "fig12-inner-radius",
+    "fig13-resonance", "fig14-bifurcation-omega", "fig15-bifurcation-p0", "fig15-bruteforce",
     "fig16-17-damping", "fig18-damping-resonance",
     "fig19-basins", "erosion-profile",
 )

@@ -34,8 +34,9 @@ def _rel(a, b) -> str:
     return f"{100 * (a / b - 1):+.3f} %"
 
 
-def _missing(name: str) -> list[str]:
-    return [f"*Not available: run `jobs/{name}.toml` (see `jobs/paper/README.md`).*", ""]
+def _missing(*names: str) -> list[str]:
+    jobs = ", ".join(f"`jobs/{name}.toml`" for name in names)
+    return [f"*Not available: run {jobs} (see `jobs/paper/README.md`).*", ""]
 
 
 def section_table1(results: Path) -> list[str]:
@@ -45,7 +46,7 @@ def section_table1(results: Path) -> list[str]:
            f"FEM {TOL_FEM:.1%}, AN {TOL_AN:.1%}. Frequencies in rad/s.", ""]
     num, fit, ana = (_open(results, n) for n in ("table1", "table1-app1", "table1-app2"))
     if num is None or fit is None or ana is None:
-        return out + _missing("table1, table1-app1 and table1-app2")
+        return out + _missing("table1", "table1-app1", "table1-app2")
     out += ["| delta | delta_o | FEM | numeric | err | App.1 | fit | err | App.2 | analytic | err | AN | Eq. 28 | err |",
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     worst = {"fem": 0.0, "app": 0.0, "an": 0.0}
@@ -123,9 +124,11 @@ def section_backbone_modes(results: Path) -> list[str]:
     amp, w3 = ref.amplitude.values, ref.omega_nl.values
     runs = {1: _open(results, "fig09-modes-1"), 2: _open(results, "fig09-modes-2")}
     shown = [a for a in (0.01, 0.05, 0.1, 0.2, 0.3, 0.4) if amp.min() <= a <= amp.max()]
-    out += ["| max abs w(0.5, 0) (m) | omega, M = 3 (rad/s) | "
-            + " | ".join(f"M = {k}: omega (rad/s) | rel. diff." for k in runs if runs[k] is not None) + " |",
-            "|---|---|" + "---|---|" * sum(r is not None for r in runs.values())]
+    head = ["max abs w(0.5, 0) (m)", "omega, M = 3 (rad/s)"]
+    for k in runs:
+        if runs[k] is not None:
+            head += [f"M = {k}: omega (rad/s)", "rel. diff."]
+    out += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     worst = {}
     for a in shown:
         row = f"| {a:g} | {np.interp(a, amp, w3):.4f} |"
@@ -209,7 +212,7 @@ def section_continuation_bruteforce(results: Path) -> list[str]:
            "an adaptive march (`fig15-bruteforce`, `refine_jumps = true`, 0.1 % resolution).", ""]
     cont, bf = _open(results, "fig15-bifurcation-p0"), _open(results, "fig15-bruteforce")
     if cont is None or bf is None:
-        return out + _missing("fig15-bifurcation-p0 and fig15-bruteforce")
+        return out + _missing("fig15-bifurcation-p0", "fig15-bruteforce")
     c, b = _point(cont, **case), _point(bf, **case)
     folds = c.fold_value.values[np.isfinite(c.fold_value.values)]
     out += ["| sweep | jump at P0 (Pa) | nearest saddle-node P0 (Pa) | rel. diff. |", "|---|---|---|---|"]
