@@ -130,7 +130,7 @@ def agreement(path: Path, samples: int) -> None:
     same = brute == lab[ii, jj]
     print(f"(c) brute force at {BRUTE_STEPS} steps/period: {seconds:.1f} s for {samples} points, "
           f"mean {periods.mean():.0f} periods, unclassified {np.count_nonzero(brute < 0)}")
-    for n in (400, samples):
+    for n in sorted({min(400, samples), samples}):
         print(f"    agreement on {n} random points: {same[:n].mean():.4f} "
               f"({np.count_nonzero(~same[:n])} differ; target >= 0.99)")
     fractions = [float(np.mean(lab == a)) for a in range(len(atts))]

@@ -122,19 +122,22 @@ def strobe_many(y0, periods, steps, tab, c_damp, p_load, omega, out):
         Number of forcing periods.
     steps : int
         RK4 steps per period.
+    c_damp, p_load, omega : (N,) arrays
+        Parameters of each trajectory (s-1, Pa, rad s-1): a batch may mix initial
+        conditions and parameter sets.
     out : (N, periods + 1, 2K) array
-        Receives the states at ``t = j 2 pi / Omega``, ``j = 0..periods``.
+        Receives the states at ``t = j 2 pi / Omega_i``, ``j = 0..periods``.
     """
     N, n = y0.shape
-    period = 2.0 * np.pi / omega
-    h = period / steps
     work = np.empty((6, n))
     y = np.empty(n)
     for i in range(N):
+        period = 2.0 * np.pi / omega[i]
+        h = period / steps
         y[:] = y0[i]
         out[i, 0] = y
         for j in range(periods):
-            rk4_period(y, j * period, h, steps, tab, c_damp, p_load, omega, work)
+            rk4_period(y, j * period, h, steps, tab, c_damp[i], p_load[i], omega[i], work)
             out[i, j + 1] = y
 
 

@@ -48,22 +48,35 @@ def test_newton_finds_the_linear_forced_response(rom):
                                rtol=1e-6)
 
 
-def test_fast_labels_agree_with_brute_force(rom):
-    lat = mb.Lattice(np.linspace(-0.2, 0.2, 20), np.linspace(-6.7, 6.7, 20))
+def _converged(atts, rom, lattice, steps=192):
+    """The attractors again by Newton at ``steps`` RK4 steps per period."""
+    scale = mb._scale(lattice, 2)
+    return [mb.find_periodic_orbit(a.points[0], a.period, 2 * np.pi / 33.5, rom.tables, C_DAMP,
+                                   1.0, 33.5, steps, scale, 1e-11) for a in atts]
+
+
+def test_fast_labels_agree_with_converged_brute_force(rom):
+    """The issue's bar: >= 99 % of 400 random lattice points, Fig. 19a case, 50 x 50.
+
+    The reference is brute force (long integration to the capture disc, no cells) at 192
+    RK4 steps per period, where the labels are converged (96 and 192 steps agree on 100 %
+    of a sample of the 200 x 200 lattice; 48 steps only on 97.75 %), not the fast
+    method's own 64 steps.
+    """
+    lat = mb.Lattice(np.linspace(-0.3, 0.3, 50), np.linspace(-10.0, 10.0, 50))
     states = mb.lattice_states(lat, slice(None), 2)
     labels, atts, _ = mb.classify_lattice(states, lat, rom.tables, C_DAMP, 1.0, 33.5,
-                                          mb.Settings(guard=2))
+                                          mb.Settings())
     assert len(atts) == 2 and all(a.period == 1 for a in atts)
     assert np.all(labels >= 0)
-    sample = np.random.default_rng(1).choice(labels.size, 12, replace=False)
+    sample = np.random.default_rng(0).choice(labels.size, 400, replace=False)
     brute, atts2, periods = mb.classify_lattice(states[sample], lat, rom.tables, C_DAMP, 1.0,
-                                                33.5, mb.Settings(), atts, cells=False,
+                                                33.5, mb.Settings(steps=192),
+                                                _converged(atts, rom, lat), cells=False,
                                                 discover=False)
-    assert len(atts2) == 2
+    assert len(atts2) == 2 and np.all(brute >= 0)
     assert periods.mean() > 200  # brute force really integrates the long transient
-    # Measured: 11 of these 12 agree on a 20 x 20 lattice (thin basin bands are below
-    # the lattice resolution here); 100 of 100 on a 100 x 100 lattice (see the report).
-    assert np.mean(brute == labels[sample]) >= 0.9
+    assert np.mean(brute == labels[sample]) >= 0.99
 
 
 def test_unreached_attractor_gives_label_minus_one(rom):

@@ -163,10 +163,11 @@ def test_batches_equal_one_by_one(roms):
         e1 = dopri.extrema(rom, y0[i], 0.5, 6, c=c[i], P0=p0[i], Omega=om[i])
         assert np.array_equal(e1.times[0], ext.times[i], equal_nan=True)
     out = np.empty((4, 3, 6))
-    strobe_many(y0, 2, 50, rom.tables, 0.05 / 2.2, 1.0, 33.5, out)
+    c_damp, p_load, omega = np.full(4, 0.05 / 2.2), np.array([1.0, 0.5, 2.0, 1.0]), np.array([33.5, 30.0, 33.5, 40.0])
+    strobe_many(y0, 2, 50, rom.tables, c_damp, p_load, omega, out)
     for i in range(4):
         one = np.empty((1, 3, 6))
-        strobe_many(y0[i:i + 1].copy(), 2, 50, rom.tables, 0.05 / 2.2, 1.0, 33.5, one)
+        strobe_many(y0[i:i + 1].copy(), 2, 50, rom.tables, c_damp[i:i + 1], p_load[i:i + 1], omega[i:i + 1], one)
         assert np.array_equal(one[0], out[i])
 
 

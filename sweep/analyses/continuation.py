@@ -242,18 +242,42 @@ def _title(sel) -> str:
 def _panel_axes(plt, n):
     cols = min(n, 3)
     rows = -(-n // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.6 * rows), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(max(4.2 * cols, 6.0), 3.6 * rows + 0.4), squeeze=False)
     for ax in axes.ravel()[n:]:
         ax.set_visible(False)
     return fig, axes.ravel()[:n]
+
+
+def _zoom_omega(ax, x, amp):
+    """Limit an Omega axis to the resonance: where the amplitude exceeds 5 % of its maximum,
+    widened on each side by half that range and at least 2 rad/s."""
+    ok = np.isfinite(x) & np.isfinite(amp)
+    if not ok.any():
+        return
+    x, amp = x[ok], amp[ok]
+    peak = x[amp >= 0.05 * amp.max()]
+    pad = max(0.5 * (peak.max() - peak.min()), 2.0)
+    ax.set_xlim(max(x.min(), peak.min() - pad), min(x.max(), peak.max() + pad))
+
+
+def _style_legend(ax):
+    """Legend of the line styles (black): stable, unstable, bifurcation points present."""
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color="k", ls="-", label="stable"),
+               Line2D([], [], color="k", ls="--", label="unstable"),
+               Line2D([], [], color="k", ls="none", marker="o", mfc="white", label="saddle-node")]
+    return ax.legend(handles=handles, loc="upper left", fontsize=7)
 
 
 def continuation_figures(ds, outdir) -> list:
     """Bifurcation diagrams (Figs. 14-16) and, with a ``c`` grid in P0, fold loci (Fig. 17).
 
     One panel per combination of the grid keys other than ``c``; the ``c`` values are
-    overlaid.  Stable responses solid, unstable dashed, saddle-nodes circles (period
-    doubling squares, Neimark-Sacker diamonds).
+    overlaid (a colour bar when there are more than four).  Stable responses solid,
+    unstable dashed, saddle-nodes circles (period doubling squares, Neimark-Sacker
+    diamonds).  Continuations in Omega are zoomed on the resonance (:func:`_zoom_omega`).
+    The fold-loci figure skips the panels without saddle-nodes.
     """
     from .plots import grid_points, pyplot, save_figure
 
@@ -263,32 +287,51 @@ def continuation_figures(ds, outdir) -> list:
     panels = list(grid_points(ds, ("c", "point", "fold", "multiplier")))
     cs = ds.c.values if "c" in ds.dims else [None]
     fig, axes = _panel_axes(plt, len(panels))
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    many = len(cs) > 4
+    if many:
+        import matplotlib as mpl
+
+        norm = mpl.colors.Normalize(float(min(cs)), float(max(cs)))
+        colors = [plt.cm.viridis(norm(float(c))) for c in cs]
+    else:
+        cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+        colors = [cycle[j % len(cycle)] for j in range(len(cs))]
     for ax, sel in zip(axes, panels):
         for j, c in enumerate(cs):
             s = dict(sel, **({} if c is None else {"c": c}))
             b = ds.sel(s)
             _draw_branch(ax, b[par].values, b.amplitude.values, b.stable.values, b.point_type.values,
-                         colors[j % len(colors)], None if c is None else f"c = {float(c):g} N s/m$^3$")
+                         colors[j], None if c is None or many else f"c = {float(c):g} N s/m$^3$")
+        if par == "Omega":
+            b = ds.sel(sel)
+            _zoom_omega(ax, b[par].values.ravel(), b.amplitude.values.ravel())
         ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)")
         ax.set_title(_title(sel), fontsize=9)
-        if len(cs) > 1:
-            ax.legend(fontsize=6, ncol=2 if len(cs) > 6 else 1)
-    fig.suptitle("Periodic responses: stable solid, unstable dashed, saddle-nodes o")
+        if len(cs) > 1 and not many:
+            ax.add_artist(_style_legend(ax))
+            ax.legend(fontsize=7, loc="lower right")
+    if len(cs) <= 1 or many:
+        _style_legend(axes[0])
+    fig.suptitle("Periodic responses (stroboscopic map)", fontsize=11)
     fig.tight_layout()
+    if many:
+        fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=list(axes),
+                     label=r"damping $c$ (N s/m$^3$)", shrink=0.8)
     paths = [save_figure(fig, outdir, f"bifurcation_{par}.png")]
     if par == "P0" and ds.sizes.get("c", 0) >= 3:
-        fig, axes = _panel_axes(plt, len(panels))
-        for ax, sel in zip(axes, panels):
-            b = ds.sel(sel)
-            for f in range(2):
-                ax.plot(b.c, b.fold_value.isel(fold=f), marker=".", label=f"saddle-node {f + 1}")
-            if "cusp_c" in b and np.isfinite(b.cusp_c):
-                ax.plot(b.cusp_c, b.cusp_value, marker="*", ms=10, ls="none", color="k", label="cusp")
-            ax.set(xlabel=r"damping $c$ (N s/m$^3$)", ylabel=r"$P_0$ at saddle-node (Pa)")
-            ax.set_title(_title(sel), fontsize=9)
-            ax.legend()
-        fig.suptitle("Saddle-node loci versus damping")
-        fig.tight_layout()
-        paths.append(save_figure(fig, outdir, "fold_loci_damping.png"))
+        with_folds = [sel for sel in panels if np.isfinite(ds.fold_value.sel(sel).values).any()]
+        if with_folds:
+            fig, axes = _panel_axes(plt, len(with_folds))
+            for ax, sel in zip(axes, with_folds):
+                b = ds.sel(sel)
+                for f in range(2):
+                    ax.plot(b.c, b.fold_value.isel(fold=f), marker=".", label=f"saddle-node {f + 1}")
+                if "cusp_c" in b and np.isfinite(b.cusp_c):
+                    ax.plot(b.cusp_c, b.cusp_value, marker="*", ms=10, ls="none", color="k", label="cusp")
+                ax.set(xlabel=r"damping $c$ (N s/m$^3$)", ylabel=r"$P_0$ at saddle-node (Pa)")
+                ax.set_title(_title(sel), fontsize=9)
+                ax.legend()
+            fig.suptitle("Saddle-node loci versus damping", fontsize=11)
+            fig.tight_layout()
+            paths.append(save_figure(fig, outdir, "fold_loci_damping.png"))
     return paths

@@ -101,7 +101,7 @@ class ResponseAnalysis(Analysis):
         return {
             options.parameter: ((options.parameter,), options.grid, {"units": units, "long_name": what}),
             "direction": (("direction",), np.array(["up", "down"]),
-                          {"long_name": "sweep direction of the parameter"}),
+                          {"units": "1", "long_name": "sweep direction of the parameter"}),
         }
 
     def compute(self, point, options, subtask):
