@@ -124,10 +124,13 @@ class Settings:
         by cells only deep inside a basin, not near its boundary.
     cells : int
         Resolution of the cell map: about this many cells per lattice axis (the lattice
-        refined by an integer factor, never coarser than it).  Cells are labelled by the
-        stroboscopic points of trajectories of known fate, which are dense enough to
-        label a map much finer than the lattice; fine cells resolve the thin, interleaved
-        basins of the lightly damped membrane, so a clean cell is trustworthy.
+        refined by an integer factor, never coarser than it; 0: the lattice's own cells).
+        Cells are labelled by the stroboscopic points of trajectories of known fate, which
+        are dense enough to label a map much finer than the lattice; fine cells resolve
+        the thin, interleaved basins of the lightly damped membrane, so a clean cell is
+        trustworthy.  Measured on the Fig. 19a window against converged brute force (400
+        random points): a 30 x 30 lattice agrees on 84 % with its own 29 cells per axis,
+        on 99 % with 174 (``cells = 200``) or 377 (``cells = 400``); 50 x 50: 99.75 %.
     max_period : int
         Largest period (in forcing periods) of the periodic attractors searched for.
     trigger : float
@@ -143,7 +146,7 @@ class Settings:
     radius: float = 0.01
     consecutive: int = 8
     guard: int = 2
-    cells: int = 0
+    cells: int = 200
     max_period: int = 4
     trigger: float = 0.02
     cooldown: int = 50

@@ -234,7 +234,8 @@ def section_continuation_bruteforce(results: Path) -> list[str]:
             if p > 0 and cand.size and np.isfinite(a):
                 worst_a, n = max(worst_a, np.min(np.abs(cand / a - 1))), n + 1
     out += [f"Brute-force steady-state amplitudes at the {n} swept values P0 > 0 (both directions)",
-            f"against the nearest stable continued amplitude at the same P0: largest relative",
+            f"against the nearest stable continued amplitude at the same P0 (linear interpolation",
+            f"between branch points): largest relative",
             f"difference {worst_a:.2e}.", ""]
     return out
 
@@ -249,7 +250,7 @@ def section_basins(results: Path) -> list[str]:
     if ds is None:
         return out + _missing("fig19-basins")
     grid = [d for d in ds.label.dims if d not in ("ic_x", "ic_y")]
-    out += [f"Lattice {ds.sizes['ic_x']} x {ds.sizes['ic_y']}: initial {ds.ic_x.attrs.get('long_name', 'ic_x')} "
+    out += [f"Lattice {ds.sizes['ic_x']} x {ds.sizes['ic_y']}: {ds.ic_x.attrs.get('long_name', 'ic_x')} "
             f"in [{float(ds.ic_x.min()):g}, {float(ds.ic_x.max()):g}] m, "
             f"{ds.ic_y.attrs.get('long_name', 'ic_y')} in [{float(ds.ic_y.min()):g}, {float(ds.ic_y.max()):g}] m/s.", "",
             "| delta | Omega (rad/s) | attractors | amplitude 0 (m) | basin 0 | amplitude 1 (m) | basin 1 "
@@ -283,7 +284,28 @@ def build_report(results: Path) -> str:
     for section in SECTIONS:
         lines += section(results)
     lines += section_linear_convergence()
+    lines += section_provenance(results)
     return "\n".join(lines) + "\n"
+
+
+def section_provenance(results: Path) -> list[str]:
+    """Which result files the report read, and whether each ran its job file as committed."""
+    import xarray as xr
+
+    out = ["## Result files", "",
+           "\"as committed\": the job text stored in the file equals `jobs/<name>.toml`; \"modified\"",
+           "otherwise (e.g. `python -m sweep.paper --quick`, which caps every `num`).", "",
+           "| file | job file | tasks | software |", "|---|---|---|---|"]
+    root = Path(__file__).resolve().parents[1] / "jobs"
+    for path in sorted(results.glob("*.nc")):
+        with xr.open_dataset(path) as ds:
+            attrs = dict(ds.attrs)
+        job = root / path.with_suffix(".toml").name
+        same = job.exists() and job.read_text() == attrs.get("job_file")
+        out.append(f"| `{path.name}` | {'as committed' if same else 'modified'} | "
+                   f"{attrs.get('tasks_completed', '?')} / {attrs.get('tasks_total', '?')} | "
+                   f"{attrs.get('software_version', '?')} |")
+    return out + [""]
 
 
 def main(argv=None) -> int:

@@ -79,6 +79,25 @@ def test_fast_labels_agree_with_converged_brute_force(rom):
     assert np.mean(brute == labels[sample]) >= 0.99
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("delta, omega", [(1.1, 33.5), (1.5, 46.1), (2.0, 47.35)])
+def test_fig19_cases_have_two_attractors_and_a_larger_resonant_basin(delta, omega):
+    """Fig. 19 (paper section 4.3): two stable period-1 attractors; the resonant one's
+    basin covers most of the window (the paper: "most initial conditions lead to the
+    large amplitude resonant response").  Window of jobs/fig19-basins.toml, 30 x 30.
+    """
+    rom = build_rom(solve_prestretch(Membrane(delta, 0.2), "numeric"), [(1, 0)])
+    lat = mb.Lattice(np.linspace(-2.0, 2.0, 30), np.linspace(-50.0, 50.0, 30))
+    labels, atts, _ = mb.classify_lattice(mb.lattice_states(lat, slice(None), 2), lat,
+                                          rom.tables, C_DAMP, 1.0, omega, mb.Settings())
+    assert [a.period for a in atts] == [1, 1]
+    assert all(np.max(np.abs(a.multipliers)) < 1.0 for a in atts)
+    assert np.all(labels >= 0)
+    amp = [mb.orbit_amplitude(a, rom.tables, C_DAMP, 1.0, omega, 64) for a in atts]
+    resonant = int(np.argmax(amp))
+    assert np.mean(labels == resonant) > 0.5
+
+
 def test_unreached_attractor_gives_label_minus_one(rom):
     lat = mb.Lattice(np.linspace(-0.2, 0.2, 3), np.linspace(-6.7, 6.7, 3))
     states = mb.lattice_states(lat, slice(None), 2)

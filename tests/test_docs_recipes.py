@@ -17,6 +17,11 @@ RESULTS = {
     "table1-app2.nc": ("table1-app2", {}),
     "table2.nc": ("table2", {}),
     "fig02-03-static.nc": ("fig02-03-static", {"num = 161": "num = 17"}),
+    "fig14-bifurcation-omega.nc": ("fig14-bifurcation-omega", {"delta = [1.1, 1.5, 2.0]": "delta = [1.1]",
+                                                               "ds_max = 0.3": "ds_max = 0.5"}),
+    "fig10-11-backbone.nc": ("fig10-11-backbone", {"delta = [1.1, 1.2, 1.5, 2.0]": "delta = [1.1, 2.0]",
+                                                   "num = 40": "num = 6"}),
+    "erosion-profile.nc": ("erosion-profile", {"num = 8": "num = 2", "num = 60": "num = 12"}),
 }
 
 
@@ -34,6 +39,7 @@ def results(tmp_path_factory):
         job, replace = RESULTS[name]
         text = (ROOT / "jobs" / f"{job}.toml").read_text()
         for old, new in replace.items():
+            assert old in text, f"jobs/{job}.toml no longer contains {old!r}: update RESULTS"
             text = text.replace(old, new)
         (base / f"{job}.toml").write_text(text)
         assert cli.main(["run", str(base / f"{job}.toml"), "-o", str(base / name)]) == 0

@@ -140,11 +140,11 @@ class BackboneAnalysis(Analysis):
         ax.plot([], [], "k--", lw=1.0, label="bound, Eq. 29")
         ax.set(xlabel=r"frequency $\omega$ (rad/s)", ylabel=r"amplitude max $|w(0.5, 0)|$ (m)",
                title="Frequency-amplitude relation", ylim=(0, None))
-        ax.legend(loc="upper left")
+        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0))
         paths.append(save_figure(fig, outdir, "backbone.png"))
 
         K = ds.sizes["mode"]
-        fig, axes = plt.subplots(1, K, figsize=(4.0 * K, 3.6), squeeze=False)
+        fig, axes = plt.subplots(1, K, figsize=(4.2 * K, 3.6), squeeze=False, layout="constrained")
         for k, ax in enumerate(axes[0]):
             m, n = int(ds.m[k]), int(ds.n[k])
             for sel in sels:
@@ -152,6 +152,7 @@ class BackboneAnalysis(Analysis):
             ax.set(xlabel=r"frequency $\omega$ (rad/s)", ylabel=f"$A_{{{m}{n}}}$ (m)",
                    title=f"modal amplitude $A_{{{m}{n}}}$")
         axes[0, 0].legend()
+        fig.suptitle("Modal amplitudes along the backbone (Eq. 31 normalisation)")
         paths.append(save_figure(fig, outdir, "modal_amplitudes.png"))
         return paths
 

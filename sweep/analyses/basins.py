@@ -25,7 +25,7 @@ Options (table ``[basins]``):
 ``radius``         capture radius around attractor points, fraction of the lattice (0.01)
 ``consecutive``    consecutive clean-cell hits to adopt a cell's label (default 8)
 ``guard``          half-width of the block of equal labels around a clean cell (default 2)
-``cells``          cells per axis of the cell map (default 0: the lattice's own cells)
+``cells``          about this many cells per axis in the cell map (default 200; 0: the lattice's)
 ``max_period``     largest period of the attractors searched, in forcing periods (4)
 ``max_attractors`` attractors stored per grid point (default 6)
 ``cases``          optional list of tables, e.g. ``[{delta = 1.1, Omega = 33.5}]``: only the
@@ -410,13 +410,18 @@ class Basins(Analysis):
             d = swept[0]
             other = {o: 0 for o in grid_dims if o != d}
             fig, axes = plt.subplots(1, 2, figsize=(9, 3.8))
+            # Basin greys are too light for lines: black, mid grey, then colours.
+            lines = ["#000000", "#808080", *colours[2:]]
+            markers = "osd^v<"
             for a in range(ds.sizes["attractor"]):
                 gim = ds["basin_fraction"].isel({**other, "attractor": a})
                 if np.all(np.isnan(gim)):
                     continue
-                axes[0].plot(ds[d], gim, "o-", color=colours[a], label=f"attractor {a}")
-                axes[1].plot(ds[d], ds["integrity_factor"].isel({**other, "attractor": a}), "o-",
-                             color=colours[a], label=f"attractor {a}")
+                style = dict(color=lines[a % len(lines)], marker=markers[a % len(markers)],
+                             label=f"attractor {a}")
+                axes[0].plot(ds[d], gim, **style)
+                axes[1].plot(ds[d], ds["integrity_factor"].isel({**other, "attractor": a}),
+                             **style)
             unit = ds[d].attrs.get("units", "")
             for ax, ylab in zip(axes, ("global integrity measure (basin fraction)",
                                        "integrity factor")):

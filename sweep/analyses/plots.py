@@ -71,32 +71,95 @@ def linear_figures(ds, outdir) -> list[Path]:
     plt = pyplot()
     paths = []
     modes = list(zip(ds.m.values.tolist(), ds.n.values.tolist()))
-    for dim, name, xlabel in (("delta", "fig05_frequency_vs_delta.png", r"stretch ratio $\delta$"),
-                              ("delta_o", "fig06_frequency_vs_delta_o.png", r"inner radius ratio $\delta_o$")):
-        if ds.sizes.get(dim, 1) < 2:
-            continue
-        panels = list(itertools.islice(grid_points(ds, (dim,)), 4))
+    if ds.sizes.get("delta", 1) >= 2:
+        panels = list(itertools.islice(grid_points(ds, ("delta",)), 4))
         fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4), sharey=True, squeeze=False)
         for ax, sel in zip(axes[0], panels):
             for k, (m, n) in enumerate(modes):
-                line, = ax.plot(ds[dim], ds.omega.sel(sel).isel(mode=k), marker=".", label=f"m={m}, n={n}")
-                ax.plot(ds[dim], ds.omega_bound.sel(sel).isel(mode=k), ls="--", color=line.get_color(), lw=0.8)
-            ax.set(xlabel=xlabel, title=_label(ds, **sel))
+                line, = ax.plot(ds.delta, ds.omega.sel(sel).isel(mode=k), marker=".", label=f"m={m}, n={n}")
+                ax.plot(ds.delta, ds.omega_bound.sel(sel).isel(mode=k), ls="--", color=line.get_color(), lw=0.8)
+            ax.set(xlabel=r"stretch ratio $\delta$", title=_symbols(sel))
         axes[0, 0].set_ylabel(r"$\omega_{mn}$ (rad/s)")
         axes[0, -1].legend(loc="center left", bbox_to_anchor=(1.02, 0.5), title="dashed: Eq. 29")
-        paths.append(save_figure(fig, outdir, name))
-    ns = sorted(set(n for _, n in modes))
+        paths.append(save_figure(fig, outdir, "fig05_frequency_vs_delta.png"))
+    if ds.sizes.get("delta_o", 1) >= 2 and (1, 0) in modes:
+        paths.append(_fig06(ds, outdir, modes.index((1, 0))))
     if len(modes) > 1:
-        fig, ax = plt.subplots(figsize=(5, 4))
-        for sel in itertools.islice(grid_points(ds, ()), 4):
-            for n in ns:
-                idx = [k for k, (_, nn) in enumerate(modes) if nn == n]
-                ax.plot([modes[k][0] for k in idx], ds.omega.sel(sel).isel(mode=idx), marker="o",
-                        label=f"n={n}, {_label(ds, **sel)}")
-        ax.set(xlabel="radial index m", ylabel=r"$\omega_{mn}$ (rad/s)", title="Frequency spectrum")
-        ax.legend()
-        paths.append(save_figure(fig, outdir, "fig04_spectrum.png"))
+        paths.append(_spectrum(ds, outdir, modes))
     return paths + mode_figure(ds, outdir)
+
+
+def _symbols(sel) -> str:
+    names = {"delta": r"$\delta$", "delta_o": r"$\delta_o$"}
+    return ", ".join(f"{names.get(k, k)} = {float(v):g}" for k, v in sel.items())
+
+
+def _fig06(ds, outdir, k) -> Path:
+    """Fig. 6: omega_10 versus delta for each delta_o (a) and the Eq. 29 bound versus delta_o (b).
+
+    The bound depends on delta_o only (through alpha_10), so panel (b) draws it as a curve
+    from Eq. 27/29 and marks the values stored in the result.
+    """
+    import numpy as np
+
+    from model.linear import frequency_bound
+    from model.modes import bessel_roots
+    from model.params import Membrane
+
+    plt = pyplot()
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9.5, 4))
+    other = {d: ds[d].values[0] for d in ("Omega", "P0", "c") if d in ds.dims}
+    for do in ds.delta_o.values:
+        sel = dict(other, delta_o=do)
+        if "delta" in ds.dims and ds.sizes["delta"] >= 2:
+            line, = ax.plot(ds.delta, ds.omega.sel(sel).isel(mode=k), marker=".", label=rf"$\delta_o$ = {do:g}")
+            ax.axhline(float(ds.omega_bound.sel(sel).isel(mode=k).max()), ls="--", lw=0.8, color=line.get_color())
+    ax.set(xlabel=r"stretch ratio $\delta$", ylabel=r"$\omega_{10}$ (rad/s)", title="(a) m = 1, n = 0; dashed: Eq. 29")
+    if ax.lines:
+        ax.legend()
+    import tomllib
+
+    table = tomllib.loads(ds.attrs.get("job_file", "")).get("membrane", {})
+    mem = Membrane(**{key: float(v) for key, v in table.items() if key in ("C1", "h", "Gamma", "Re")})
+    fine = np.linspace(0.05, 0.9, 60)
+    bx.plot(fine, [frequency_bound(mem, bessel_roots(0, d, 1)[0]) for d in fine], "k-", lw=1.2, label="Eq. 29")
+    bound = ds.omega_bound.isel(mode=k)
+    bound = bound.max([d for d in bound.dims if d != "delta_o"]) if bound.ndim > 1 else bound
+    bx.plot(ds.delta_o, bound, "o", mfc="white", label="this run")
+    bx.set(xlabel=r"inner radius ratio $\delta_o$", ylabel=r"upper bound of $\omega_{10}$ (rad/s)",
+           title="(b) Eq. 29 bound versus inner radius")
+    bx.legend()
+    fig.tight_layout()
+    return save_figure(fig, outdir, "fig06_frequency_vs_delta_o.png")
+
+
+def _spectrum(ds, outdir, modes) -> Path:
+    """Fig. 4: omega_mn versus m, one line per n, at two stretch ratios (the grid's delta values
+    nearest 1.1 and 2.0, solid and dashed) and the first delta_o (0.2 if present)."""
+    import numpy as np
+
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    sel = {d: ds[d].values[0] for d in ("Omega", "P0", "c") if d in ds.dims}
+    if "delta_o" in ds.dims:
+        values = ds.delta_o.values
+        sel["delta_o"] = values[np.argmin(np.abs(values - 0.2))]
+    deltas = [None]
+    if "delta" in ds.dims:
+        deltas = list(dict.fromkeys(float(ds.delta.sel(delta=d, method="nearest")) for d in (1.1, 2.0)))
+    cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for j, d in enumerate(deltas):
+        s = dict(sel, **({} if d is None else {"delta": d}))
+        for i, n in enumerate(sorted(set(n for _, n in modes))):
+            idx = [k for k, (_, nn) in enumerate(modes) if nn == n]
+            ax.plot([modes[k][0] for k in idx], ds.omega.sel(s).isel(mode=idx), marker="o",
+                    ls="-" if j == 0 else "--", color=cycle[i % len(cycle)],
+                    label=f"n = {n}" + ("" if d is None else rf", $\delta$ = {d:g}"))
+    ax.set(xlabel="radial wave number m", ylabel=r"$\omega_{mn}$ (rad/s)",
+           title="Frequency spectrum" + (rf", $\delta_o$ = {float(sel['delta_o']):g}" if "delta_o" in sel else ""))
+    ax.xaxis.get_major_locator().set_params(integer=True)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    return save_figure(fig, outdir, "fig04_spectrum.png")
 
 
 def mode_figure(ds, outdir) -> list[Path]:

@@ -162,7 +162,18 @@ def response_figures(ds, outdir) -> list:
                     label=f"{label} {d}".strip())
             bad = b.converged.sel(direction=d) == 0
             ax.plot(b[par].values[bad.values], a.values[bad.values] * 1e3, "x", color="k")
-    ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)",
-           title="Steady states, stepped up and down (brute force)")
+            for x in b.jump_value.sel(direction=d).values:
+                if np.isfinite(x):
+                    ax.axvline(x, ls=ls, lw=0.8, color=color, alpha=0.6)
+                    ax.annotate(f"{x:.4g}", (x, 1.0), xycoords=("data", "axes fraction"), fontsize=7,
+                                ha="center", va="bottom", color=color)
+    if np.isfinite(ds.jump_value.values).any():
+        ax.plot([], [], color="grey", lw=0.8, label="located jumps (thin lines)")
+    fixed = {k: float(ds[k][0]) for k in ("delta", "delta_o", "Omega", "P0", "c")
+             if k != par and ds.sizes.get(k, 0) == 1}
+    symbols = {"delta": r"$\delta$", "delta_o": r"$\delta_o$", "Omega": r"$\Omega$", "P0": "$P_0$", "c": "$c$"}
+    ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)")
+    ax.set_title("Steady states stepped up and down (brute force)\n"
+                 + ", ".join(f"{symbols[k]} = {v:g}" for k, v in fixed.items()), fontsize=10, pad=14)
     ax.legend(ncol=2)
     return [save_figure(fig, outdir, f"response_{par}.png")]
