@@ -172,10 +172,9 @@ def main() -> None:
                   f"{wall:.1f} s, compute {compute:.1f} s (medians of {args.repeats}"
                   f"{'' if ranks == 1 else '; target wall < 60 s'})")
         print(f"    2 ranks, warm cache: wall {warm[0]:.1f} s, compute {warm[1]:.1f} s (one run)")
-        print(f"    speed-up 2 ranks / 1 rank: wall "
-              f"{statistics.median(r[0] for r in runs[1]) / statistics.median(r[0] for r in runs[2]):.2f}"
-              f", compute "
-              f"{statistics.median(r[1] for r in runs[1]) / statistics.median(r[1] for r in runs[2]):.2f}")
+        ratio = [statistics.median(r[i] for r in runs[1]) / statistics.median(r[i] for r in runs[2])
+                 for i in (0, 1)]
+        print(f"    speed-up 2 ranks / 1 rank: wall {ratio[0]:.2f}, compute {ratio[1]:.2f}")
         identical = all(np.array_equal(arrays[0], a) for a in arrays[1:])
         print(f"    label arrays of all {len(arrays)} runs (1 and 2 ranks) identical: {identical}")
         agreement(work / "out-2-0.nc", args.samples)
