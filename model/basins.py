@@ -16,7 +16,9 @@ Algorithm (one tile; everything is deterministic and depends only on the tile's 
   plane itself; Nusse and Yorke's ``Ncheck``, Attractors.jl's ``consecutive_basin_steps``):
   the tile keeps a map of the lattice cells whose fate is known (cells visited by a
   trajectory of known fate, and the lattice initial conditions already classified); a
-  trajectory that falls ``consecutive`` times in a row in cells of one label adopts it.
+  cell reached by trajectories of two fates is marked mixed for good.  A trajectory
+  that falls ``consecutive`` times in a row in "clean" cells of one label (cells whose
+  ``guard`` neighbourhood carries that label only) adopts it.
 * **Discovery**: when a trajectory recurs (``|P^k(y) - y|_s < trigger`` for some
   ``k <= max_period``) and no known attractor is near, a Newton iteration on
   ``P^k(y) - y = 0`` (with the exact derivative of the discrete map,
@@ -46,6 +48,7 @@ from .integrate import monodromy, rk4_period
 UNCLASSIFIED = -1
 _PENDING = -2
 _UNKNOWN_CELL = -2
+_MIXED_CELL = -3
 
 
 @dataclass(frozen=True)
@@ -392,6 +395,16 @@ def _cell(y, geo, ix, iy, nx, ny):
 
 
 @nb.njit(cache=True)
+def _mark(flat, c, label):
+    # A cell visited by trajectories of two fates straddles a basin boundary: it is
+    # marked mixed for good and never counts as clean.
+    if flat[c] == _UNKNOWN_CELL:
+        flat[c] = label
+    elif flat[c] != label:
+        flat[c] = _MIXED_CELL
+
+
+@nb.njit(cache=True)
 def _clean_label(flat, c, nx, ny, guard):
     # The label of cell c if every cell within ``guard`` cells of it has that label,
     # else -1: the cell lies deep inside a basin at the lattice's resolution.
@@ -479,11 +492,10 @@ def _classify_kernel(states, labels, periods, cellmap, cells, guard, geo, ix, iy
         periods[i] = ints[1]
         if cells and label >= 0:
             for j in range(ints[3]):
-                if flat[trail[j]] < 0:
-                    flat[trail[j]] = label
+                _mark(flat, trail[j], label)
             c = _cell(states[i], geo, ix, iy, nx, ny)
             if c >= 0:
-                flat[c] = label
+                _mark(flat, c, label)
         ints[0] = i + 1
         ints[1] = -1
     return 0
