@@ -47,9 +47,13 @@ def _run(args: argparse.Namespace) -> int:
                 _error(exc.message, exc.details)
             sys.stderr.flush()
         code = EXIT_INVALID if isinstance(exc, JobError) else EXIT_FAILED
-    # Every rank reaches this point with the same outcome.  Under ``python -m mpi4py`` a
-    # non-zero exit calls MPI_Abort, which must not kill rank 0 before it has printed.
+    # Every rank reaches this point with the same outcome, after rank 0 has printed.
     comm.Barrier()
+    if code and comm.size > 1:
+        # Under ``python -m mpi4py`` a non-zero exit calls MPI_Abort, which tears the job
+        # down while rank 0's message may still be in the launcher's output pipes; the
+        # failure is agreed, so finalize cleanly and keep the exit status.
+        MPI.Finalize()
     return code
 
 
