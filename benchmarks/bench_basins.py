@@ -27,7 +27,6 @@ from __future__ import annotations
 import argparse
 import os
 import re
-import shutil
 import statistics
 import subprocess
 import sys
@@ -44,6 +43,7 @@ from model import basins as mb  # noqa: E402
 from model.params import Membrane  # noqa: E402
 from model.prestretch import solve_prestretch  # noqa: E402
 from model.rom import build_rom  # noqa: E402
+from sweep.launch import find_mpiexec  # noqa: E402
 
 TIMEOUT = 1800  # seconds per sweep
 CASE = dict(delta=1.1, delta_o=0.2, Omega=33.5, P0=1.0, c=0.05)
@@ -70,8 +70,7 @@ ic_y = {{start = -10.0, stop = 10.0, num = {n}}}
 
 
 def mpiexec() -> str:
-    found = Path(sys.executable).with_name("mpiexec")
-    path = str(found) if found.exists() else shutil.which("mpiexec")
+    path = find_mpiexec()
     if path is None:
         sys.exit("mpiexec not found next to the Python executable nor on PATH")
     return path

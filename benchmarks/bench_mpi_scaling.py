@@ -21,13 +21,14 @@ import math
 import os
 import re
 import resource
-import shutil
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+
+from sweep.launch import find_mpiexec
 
 TIMEOUT = 900  # seconds per sweep
 
@@ -47,8 +48,7 @@ prestretch = "numeric"
 
 
 def mpiexec() -> str:
-    found = Path(sys.executable).with_name("mpiexec")
-    path = str(found) if found.exists() else shutil.which("mpiexec")
+    path = find_mpiexec()
     if path is None:
         sys.exit("mpiexec not found next to the Python executable nor on PATH")
     return path

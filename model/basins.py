@@ -168,7 +168,9 @@ def lattice_states(lattice: Lattice, rows, n_state: int) -> np.ndarray:
     return out
 
 
-def _scale(lattice: Lattice, n_state: int) -> np.ndarray:
+def lattice_scale(lattice: Lattice, n_state: int) -> np.ndarray:
+    """Inverse lattice extents per state component (displacements, then velocities): the
+    weights of the scaled norm in which capture radii and recurrences are measured."""
     lx, ly = lattice.extent()
     K = n_state // 2
     return np.concatenate([np.full(K, 1.0 / lx), np.full(K, 1.0 / ly)])
@@ -218,7 +220,7 @@ def classify_lattice(states, lattice: Lattice, tab, c_damp: float, p_load: float
         raise ValueError(f"cells = True is invalid for {n // 2} modes: the cell recurrence "
                          "needs the one-mode ROM (the lattice plane is its whole state space)")
     s = settings
-    scale = _scale(lattice, n)
+    scale = lattice_scale(lattice, n)
     period = 2.0 * np.pi / omega
     atts = list(attractors)
     cap = max(len(atts), 1) + 8

@@ -17,10 +17,11 @@ from __future__ import annotations
 
 import argparse
 import re
-import shutil
 import subprocess
 import sys
 from pathlib import Path
+
+from .launch import find_mpiexec
 
 #: Job files (``jobs/<name>.toml``) that reproduce the paper's tables and figures.
 PAPER_JOBS = (
@@ -40,8 +41,7 @@ def quick_text(text: str, cap: int = QUICK_NUM) -> str:
 
 
 def _mpiexec() -> str:
-    local = Path(sys.executable).with_name("mpiexec")
-    found = str(local) if local.exists() else shutil.which("mpiexec")
+    found = find_mpiexec()
     if not found:
         raise SystemExit("mpiexec not found: install the project (pip install -e .) into this environment")
     return found

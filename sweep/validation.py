@@ -73,7 +73,7 @@ def section_table1(results: Path) -> list[str]:
 def section_table2(results: Path) -> list[str]:
     out = ["## Table 2: higher natural frequencies (m = 1, n = 1, 2)", "",
            "Galerkin (numeric pre-stretch) against FEM, Eq. (28) against AN. rad/s.", ""]
-    ds, ana = _open(results, "table2"), None
+    ds = _open(results, "table2")
     if ds is None:
         return out + _missing("table2")
     out += ["| delta_o | n | delta | FEM | Galerkin | err | AN | Eq. 28 | err |", "|---|---|---|---|---|---|---|---|---|"]
@@ -234,8 +234,8 @@ def section_continuation_bruteforce(results: Path) -> list[str]:
             if p > 0 and cand.size and np.isfinite(a):
                 worst_a, n = max(worst_a, np.min(np.abs(cand / a - 1))), n + 1
     out += [f"Brute-force steady-state amplitudes at the {n} swept values P0 > 0 (both directions)",
-            f"against the nearest stable continued amplitude at the same P0 (linear interpolation",
-            f"between branch points): largest relative",
+            "against the nearest stable continued amplitude at the same P0 (linear interpolation",
+            "between branch points): largest relative",
             f"difference {worst_a:.2e}.", ""]
     return out
 

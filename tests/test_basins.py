@@ -50,7 +50,7 @@ def test_newton_finds_the_linear_forced_response(rom):
 
 def _converged(atts, rom, lattice, steps=192):
     """The attractors again by Newton at ``steps`` RK4 steps per period."""
-    scale = mb._scale(lattice, 2)
+    scale = mb.lattice_scale(lattice, 2)
     return [mb.find_periodic_orbit(a.points[0], a.period, 2 * np.pi / 33.5, rom.tables, C_DAMP,
                                    1.0, 33.5, steps, scale, 1e-11) for a in atts]
 

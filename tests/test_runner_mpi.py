@@ -5,7 +5,6 @@ Every test here launches real MPI jobs (marker ``mpi``); they run in CI.  A miss
 """
 
 import os
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -16,6 +15,7 @@ import xarray as xr
 
 from sweep import analyses
 from sweep.jobspec import parse_job
+from sweep.launch import find_mpiexec
 from test_jobspec import BAD, EXTRA, job_text
 
 TESTS = Path(__file__).parent
@@ -47,8 +47,7 @@ def fake_registered(monkeypatch):
 
 
 def mpiexec() -> str:
-    found = Path(sys.executable).with_name("mpiexec")
-    path = str(found) if found.exists() else shutil.which("mpiexec")
+    path = find_mpiexec()
     if path is None:
         pytest.fail("mpiexec not found next to the Python executable nor on PATH")
     return path

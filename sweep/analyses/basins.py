@@ -44,7 +44,6 @@ import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -254,9 +253,9 @@ class Basins(Analysis):
         grid_dims = [d for d in raw["tile_label"].dims if d in GRID_KEYS]
         gshape = tuple(raw.sizes[d] for d in grid_dims)
         nx, ny, A = options.ic_x[2], options.ic_y[2], options.max_attractors
-        P, S, R = options.settings.max_period, options.n_state, options.rows
+        P, S = options.settings.max_period, options.n_state
         lattice = options.lattice()
-        scale = mb._scale(lattice, S)
+        scale = mb.lattice_scale(lattice, S)
         label = np.full((*gshape, nx, ny), NOT_COMPUTED, np.int32)
         points = np.full((*gshape, A, P, S), np.nan)
         period = np.zeros((*gshape, A), np.int32)
