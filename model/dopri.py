@@ -108,23 +108,30 @@ def _new_size(h, err):
 
 
 @nb.njit(cache=True)
+def _workspace(n):
+    # Stage derivatives, a stage state, the force, and the current / proposed state and
+    # derivative of one trajectory.
+    return (np.empty((_NS + 1, n)), np.empty(n), np.empty(n // 2), np.empty(n), np.empty(n),
+            np.empty(n), np.empty(n))
+
+
+@nb.njit(cache=True)
+def _start(y, y0, t0, tab, c_damp, p_load, omega, g, f, rtol, atol):
+    # Load a trajectory's initial state, evaluate F there, return the first step size.
+    y[:] = y0
+    rhs(t0, y, tab, c_damp, p_load, omega, g, f)
+    return _initial_step(y, f, rtol, atol)
+
+
+@nb.njit(cache=True)
 def _solve_kernel(y0, t0, t_eval, tab, c_damp, p_load, omega, rtol, atol,
                   A, B, C, E3, E5, out, nfev):
     N, n = y0.shape
-    K = n // 2
-    kst = np.empty((_NS + 1, n))
-    tmp = np.empty(n)
-    g = np.empty(K)
-    y = np.empty(n)
-    f = np.empty(n)
-    y_new = np.empty(n)
-    f_new = np.empty(n)
+    kst, tmp, g, y, f, y_new, f_new = _workspace(n)
     for i in range(N):
-        y[:] = y0[i]
         t = t0
-        rhs(t, y, tab, c_damp[i], p_load[i], omega[i], g, f)
+        h = _start(y, y0[i], t0, tab, c_damp[i], p_load[i], omega[i], g, f, rtol, atol)
         evals = 1
-        h = _initial_step(y, f, rtol, atol)
         attempts = 0
         for j in range(t_eval.size):
             while t < t_eval[j] and attempts < MAX_STEPS:
@@ -164,21 +171,13 @@ def _extrema_kernel(y0, t0, t_end, w_stop, tab, c_damp, p_load, omega, rtol, ato
     K = n // 2
     cap = times.shape[1]
     probe = tab.probe
-    kst = np.empty((_NS + 1, n))
-    tmp = np.empty(n)
-    g = np.empty(K)
-    y = np.empty(n)
-    f = np.empty(n)
-    y_new = np.empty(n)
-    f_new = np.empty(n)
+    kst, tmp, g, y, f, y_new, f_new = _workspace(n)
     y_s = np.empty(n)
     f_s = np.empty(n)
     for i in range(N):
-        y[:] = y0[i]
         t = t0
-        rhs(t, y, tab, c_damp[i], p_load[i], omega[i], g, f)
+        h = _start(y, y0[i], t0, tab, c_damp[i], p_load[i], omega[i], g, f, rtol, atol)
         evals = 1
-        h = _initial_step(y, f, rtol, atol)
         found = 0
         attempts = 0
         v_old = _probe_rate(y, probe)
