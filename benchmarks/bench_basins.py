@@ -40,7 +40,8 @@ import xarray as xr
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from model import basins as mb  # noqa: E402
-from model.params import Membrane  # noqa: E402
+from model.forced import ForcedMap  # noqa: E402
+from model.params import Loading, Membrane  # noqa: E402
 from model.prestretch import solve_prestretch  # noqa: E402
 from model.rom import build_rom  # noqa: E402
 from sweep.launch import find_mpiexec  # noqa: E402
@@ -108,13 +109,11 @@ def agreement(path: Path, samples: int) -> None:
         pts = ds["attractor_point"].squeeze().values
     rom = build_rom(solve_prestretch(Membrane(CASE["delta"], CASE["delta_o"]), "numeric"),
                     [(1, 0)])
-    c_damp = CASE["c"] / (2200.0 * 1e-3)
+    fmap = ForcedMap.from_loading(rom, Loading(CASE["Omega"], CASE["P0"], CASE["c"]), BRUTE_STEPS)
     lattice = mb.Lattice(x, y)
-    scale = mb._scale(lattice, 2)
-    omega = CASE["Omega"]
+    scale = mb.lattice_scale(lattice, 2)
     # The attractors again, at the brute-force step count (Newton from the stored points).
-    atts = [mb.find_periodic_orbit(pts[a, 0], int(per[a]), 2 * np.pi / omega, rom.tables,
-                                   c_damp, CASE["P0"], omega, BRUTE_STEPS, scale, 1e-11)
+    atts = [mb.find_periodic_orbit(pts[a, 0], int(per[a]), fmap, scale, 1e-11)
             for a in range(per.size) if per[a] > 0]
     rng = np.random.default_rng(0)
     idx = rng.choice(lab.size, samples, replace=False)
@@ -122,9 +121,8 @@ def agreement(path: Path, samples: int) -> None:
     states = np.zeros((samples, 2))
     states[:, 0], states[:, 1] = x[ii], y[jj]
     start = time.perf_counter()
-    brute, _, periods = mb.classify_lattice(
-        states, lattice, rom.tables, c_damp, CASE["P0"], omega,
-        mb.Settings(steps=BRUTE_STEPS), atts, cells=False, discover=False)
+    brute, _, periods = mb.classify_lattice(states, lattice, fmap, mb.Settings(), atts, use_cells=False,
+                                            discover=False)
     seconds = time.perf_counter() - start
     same = brute == lab[ii, jj]
     print(f"(c) brute force at {BRUTE_STEPS} steps/period: {seconds:.1f} s for {samples} points, "

@@ -20,6 +20,7 @@ import time
 import numpy as np
 
 from model.continuation import FOLD, continue_orbits
+from model.forced import ForcedMap
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
 from model.response import stepped_sweep
@@ -35,12 +36,13 @@ def main() -> None:
     ps = solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric")
     ld = Loading(Omega=33.5, P0=1.0, c=0.05)
     rom = build_rom(ps, [(1, 0)])
-    shoot(rom, ld, np.zeros(2), steps=16)
-    stepped_sweep(rom, ld, "P0", [0.1], steps=16, max_periods=2, min_periods=1)
+    fmap = ForcedMap.from_loading(rom, ld)
+    shoot(ForcedMap.from_loading(rom, ld, steps=16), np.zeros(2))
+    stepped_sweep(ForcedMap.from_loading(rom, ld, steps=16), "P0", [0.1], max_periods=2, min_periods=1)
     times = []
     for _ in range(args.repeats):
         t0 = time.perf_counter()
-        br = continue_orbits(rom, ld, "P0", 0.0, 3.0, ds_max=0.3)
+        br = continue_orbits(fmap, "P0", 0.0, 3.0, ds_max=0.3)
         times.append(time.perf_counter() - t0)
     t_cont = statistics.median(times)
     folds = np.sort(br.value[br.special(FOLD)])
@@ -48,13 +50,12 @@ def main() -> None:
     stable = np.flatnonzero(br.stable)
     bad = 0
     for i in stable:
-        ldi = Loading(33.5, float(br.value[i]), 0.05)
-        res = stepped_sweep(rom, ldi, "P0", [br.value[i]], initial=br.state[i], max_periods=200, min_periods=200)
+        res = stepped_sweep(fmap, "P0", [br.value[i]], initial=br.state[i], max_periods=200, min_periods=200)
         bad += abs(res.amplitude[0, 0] - br.amplitude[i]) > 1e-6 * br.amplitude[i]
     print(f"stable points reproduced by 200 periods of time integration from them: {stable.size - bad}/{stable.size}")
     values = np.linspace(0.0, 3.0, args.num)
     t0 = time.perf_counter()
-    res = stepped_sweep(rom, ld, "P0", values)
+    res = stepped_sweep(fmap, "P0", values)
     t_brute = time.perf_counter() - t0
     up = np.argmax(np.diff(res.amplitude[0]))
     down = np.argmax(np.diff(res.amplitude[1]))
@@ -69,7 +70,7 @@ def main() -> None:
     for modes in ([(1, 0)], [(1, 0), (2, 0)], [(1, 0), (2, 0), (3, 0)]):
         r = build_rom(ps, modes)
         t0 = time.perf_counter()
-        b = continue_orbits(r, ld, "P0", 0.0, 3.0, ds_max=0.3)
+        b = continue_orbits(ForcedMap.from_loading(r, ld), "P0", 0.0, 3.0, ds_max=0.3)
         f = np.sort(b.value[b.special(FOLD)])
         ref = f if ref is None else ref
         print(f"modes {modes}: folds P0 = {f} ({100 * (f / ref - 1)} % vs 1 mode), "

@@ -31,7 +31,7 @@ C, P0, OMEGA = 0.05, 1.0, 33.5
 def numpy_rhs(rom):
     """``y' = F(t, y)`` of the ROM in plain numpy."""
     t, K = rom.tables, rom.dof
-    c_damp = C / (rom.membrane.Gamma * rom.membrane.h)
+    c_damp = rom.membrane.damping_rate(C)
 
     def f(time_, y):
         q, v = y[:K], y[K:]

@@ -10,7 +10,7 @@ Two independent methods on the ROM of :mod:`model.rom` (Figs. 9-12):
   ``omega = 2 pi / (T2 - T1)`` and ``A = |w(Tm) - (w(T1) + w(T2))/2| / 2`` (the paper
   prints ``omega = 1/(T1 - T2)``, a frequency in Hz with the sign lost; we report rad/s).
   The samples, one per half cycle, are then interpolated at the requested amplitudes.
-* :func:`shooting` -- continuation in amplitude of the free periodic orbits of the
+* :func:`continue_free_orbits` -- continuation in amplitude of the free periodic orbits of the
   conservative system (``c = 0``).  The potential is even in ``q`` and the system
   reversible, so the fundamental orbit that starts at rest, ``q'(0) = 0``, satisfies
   ``q(t + T/2) = -q(t)`` and hence ``q(T/4) = 0``: Newton on ``(q(0), T/4)`` with
@@ -32,7 +32,10 @@ import numpy as np
 
 from . import dopri
 from .integrate import monodromy
-from .rom import Rom, force_jacobian
+from .rom import Forcing, Rom, force_jacobian
+
+#: The forcing of the free vibration: no damping, no pressure (Omega is irrelevant).
+_FREE = Forcing(0.0, 0.0, 1.0)
 
 
 class Backbone(NamedTuple):
@@ -123,7 +126,7 @@ def free_orbit(rom: Rom, amplitude: float, q_guess, quarter_guess: float, steps:
         if not (np.all(np.isfinite(q0)) and np.isfinite(tau) and tau > 0.0):
             break
         y0[:K] = q0
-        yq, phi = monodromy(y0, 0.0, tau, steps, tab, 0.0, 0.0, 1.0)
+        yq, phi = monodromy(y0, 0.0, tau, steps, tab, _FREE)
         res[:K] = yq[:K]
         res[K] = probe @ q0 + amplitude
         jac[:K, :K] = phi[:K, :K]
@@ -140,7 +143,7 @@ def free_orbit(rom: Rom, amplitude: float, q_guess, quarter_guess: float, steps:
     return q0, 4.0 * tau, False
 
 
-def shooting(rom: Rom, amplitudes, steps: int = 256, max_halvings: int = 6) -> Backbone:
+def continue_free_orbits(rom: Rom, amplitudes, steps: int = 256, max_halvings: int = 6) -> Backbone:
     """Backbone by continuation of free periodic orbits (``c = 0``, ``P0 = 0``).
 
     Natural-parameter continuation in the amplitude, from the linear mode at the smallest
@@ -195,22 +198,6 @@ def shooting(rom: Rom, amplitudes, steps: int = 256, max_halvings: int = 6) -> B
     return Backbone(amps, omega, modal, done)
 
 
-def nonlinear_mode(rom: Rom, amplitude: float, steps: int = 256, levels: int = 12):
-    """Turning point ``q(0)`` of the first nonlinear normal mode at ``w(0) = -amplitude``.
-
-    Continued by :func:`shooting` along ``levels`` geometrically spaced amplitudes from
-    1 % of ``amplitude``; for one mode it is the linear shape itself.
-    """
-    w_lin, v = linear_mode(rom)
-    if rom.dof == 1:
-        return v * amplitude
-    bb = shooting(rom, np.geomspace(0.01 * amplitude, amplitude, levels), steps)
-    if not bb.converged[-1]:
-        raise RuntimeError(f"no free periodic orbit found at amplitude {amplitude!r} m for modes "
-                           f"{list(rom.modes)}")
-    return bb.modal[-1]
-
-
 def decay_samples(times, states, probe):
     """Peak-to-peak samples of one free decay from its successive extrema of ``w``.
 
@@ -253,7 +240,7 @@ def peak_to_peak(rom: Rom, amplitudes, c: float = 0.05, cycles: int = 8, rtol: f
 
     One decay per target amplitude, all integrated in one batched call
     (:func:`model.dopri.extrema`): each starts at rest on the first nonlinear mode
-    (the turning point of the free periodic orbit, :func:`shooting`; the linear shape for
+    (the turning point of the free periodic orbit, :func:`continue_free_orbits`; the linear shape for
     one mode) slightly above its target, so that its ``cycles`` cycles straddle the
     target; the samples of :func:`decay_samples` are interpolated linearly in amplitude
     at the target.  Short decays rather than one long one: for several modes the free
@@ -293,13 +280,13 @@ def peak_to_peak(rom: Rom, amplitudes, c: float = 0.05, cycles: int = 8, rtol: f
     m = rom.membrane
     K = rom.dof
     w_lin, v = linear_mode(rom)
-    rate = c / (m.Gamma * m.h)
+    rate = m.damping_rate(c)
     # Start so that the target is reached about half-way through the recorded cycles.
     start = amps * np.exp(0.5 * rate * 0.5 * cycles * 2.0 * np.pi / w_lin)
     if K == 1:
         q0, ok = v[None, :] * start[:, None], np.ones(amps.size, dtype=bool)
     else:
-        orbits = shooting(rom, start, steps)
+        orbits = continue_free_orbits(rom, start, steps)
         q0, ok = orbits.modal, orbits.converged
     y0 = np.zeros((amps.size, 2 * K))
     y0[:, :K] = np.where(ok[:, None], q0, 0.0)

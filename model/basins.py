@@ -6,8 +6,8 @@ Fig. 19 of the paper shows, for the one-mode ROM, which initial conditions
 
 Algorithm (one tile; everything is deterministic and depends only on the tile's inputs):
 
-* The stroboscopic map ``P`` advances a state by one forcing period ``T = 2 pi / Omega``
-  with ``steps`` RK4 steps (:func:`model.integrate.rk4_period`, always from ``t = 0``).
+* The stroboscopic map ``P`` of a :class:`model.forced.ForcedMap` advances a state by one
+  forcing period ``T = 2 pi / Omega`` with its RK4 steps (always from ``t = 0``).
 * **Proximity** (Attractors.jl's ``AttractorsViaProximity``): a trajectory whose
   stroboscopic point comes within ``radius`` of a point of a known attractor, in the
   scaled norm ``|dy|_s^2 = sum_i (dy_i / L_i)^2`` (``L`` = lattice extent of the
@@ -22,7 +22,7 @@ Algorithm (one tile; everything is deterministic and depends only on the tile's 
 * **Discovery**: when a trajectory recurs (``|P^k(y) - y|_s < trigger`` for some
   ``k <= max_period``) and no known attractor is near, a Newton iteration on
   ``P^k(y) - y = 0`` (with the exact derivative of the discrete map,
-  :func:`model.integrate.monodromy`) locates the periodic orbit; if all its Floquet
+  :meth:`model.forced.ForcedMap.monodromy`) locates the periodic orbit; if all its Floquet
   multipliers lie inside the unit circle it becomes a new attractor, given by its ``k``
   Poincare points.  Light damping makes waiting for convergence cost thousands of
   periods; Newton needs a few monodromy evaluations.
@@ -30,25 +30,32 @@ Algorithm (one tile; everything is deterministic and depends only on the tile's 
   the label ``-1`` (unclassified: a non-periodic attractor, a periodic one of period
   above ``max_period``, or a transient longer than ``max_periods``).
 
-:func:`classify_lattice` with ``cells=False`` and ``discover=False`` is the brute-force
-reference: plain long integration until the trajectory converges into the capture disc of
-an attractor.
+:func:`classify_lattice` with ``use_cells=False`` and ``discover=False`` is the
+brute-force reference: plain long integration until the trajectory converges into the
+capture disc of an attractor.  :func:`merge_attractors` identifies the attractors that
+independently classified tiles of one lattice found.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numba as nb
 import numpy as np
 
-from .integrate import monodromy, rk4_period
+from .forced import ForcedMap
+from .integrate import rk4_steps
 
 #: Label of an initial condition that could not be classified.
 UNCLASSIFIED = -1
 _PENDING = -2
 _UNKNOWN_CELL = -2
 _MIXED_CELL = -3
+#: RK4 steps per forcing period of the basins' map: with 64 the labels of the Fig. 19a
+#: lattice agree with converged integration (192 steps) on 99.75 % of a random sample;
+#: with 48 steps on 97.75 %.
+DEFAULT_STEPS = 64
 
 
 @dataclass(frozen=True)
@@ -111,10 +118,6 @@ class Settings:
 
     Parameters
     ----------
-    steps : int
-        RK4 steps per forcing period (64: the labels of the Fig. 19a lattice then agree
-        with converged integration, 192 steps, on 99.75 % of a random sample; 48 steps:
-        97.75 %).
     max_periods : int
         Forcing periods after which a trajectory is declared unclassified.
     radius : float
@@ -125,7 +128,7 @@ class Settings:
         A cell counts as a hit only if every cell within ``guard`` cells of it (a
         ``(2 guard + 1)^2`` block) has the same known label: trajectories are classified
         by cells only deep inside a basin, not near its boundary.
-    cells : int
+    cell_resolution : int
         Resolution of the cell map: about this many cells per lattice axis (the lattice
         refined by an integer factor, never coarser than it; 0: the lattice's own cells).
         Cells are labelled by the stroboscopic points of trajectories of known fate, which
@@ -133,7 +136,7 @@ class Settings:
         the thin, interleaved basins of the lightly damped membrane, so a clean cell is
         trustworthy.  Measured on the Fig. 19a window against converged brute force (400
         random points): a 30 x 30 lattice agrees on 84 % with its own 29 cells per axis,
-        on 99 % with 174 (``cells = 200``) or 377 (``cells = 400``); 50 x 50: 99.75 %.
+        on 99 % with 174 (``cell_resolution = 200``) or 377 (``400``); 50 x 50: 99.75 %.
     max_period : int
         Largest period (in forcing periods) of the periodic attractors searched for.
     trigger : float
@@ -144,12 +147,11 @@ class Settings:
         Newton tolerance on ``|P^k(y) - y|_s``.
     """
 
-    steps: int = 64
     max_periods: int = 20000
     radius: float = 0.01
     consecutive: int = 8
     guard: int = 2
-    cells: int = 200
+    cell_resolution: int = 200
     max_period: int = 4
     trigger: float = 0.02
     cooldown: int = 50
@@ -176,9 +178,50 @@ def lattice_scale(lattice: Lattice, n_state: int) -> np.ndarray:
     return np.concatenate([np.full(K, 1.0 / lx), np.full(K, 1.0 / ly)])
 
 
-def classify_lattice(states, lattice: Lattice, tab, c_damp: float, p_load: float,
-                     omega: float, settings: Settings, attractors=(), *, cells: bool = True,
-                     discover: bool = True):
+class _CellMap(NamedTuple):
+    # The refined cell map of the lattice plane and where it lies (kernel argument).
+    labels: np.ndarray   # (cx, cy) int8: a label, _UNKNOWN_CELL or _MIXED_CELL
+    x0: float            # centre of cell (0, 0) on the two lattice coordinates
+    dx: float            # cell sizes
+    y0: float
+    dy: float
+    ix: int              # state indices of the two lattice coordinates
+    iy: int
+    guard: int
+    enabled: bool
+
+
+class _Criteria(NamedTuple):
+    # The classification criteria of Settings, in the kernel's terms.
+    scale: np.ndarray    # (2K,) weights of the scaled norm
+    capture2: float      # squared capture radius
+    consecutive: int
+    trigger2: float      # squared recurrence distance of a Newton search
+    cooldown: int
+    max_period: int
+    max_periods: int
+
+
+class _Trajectory(NamedTuple):
+    # The trajectory in progress, kept across the kernel's returns for a Newton search.
+    y: np.ndarray        # (2K,) current state
+    ring: np.ndarray     # (max_period, 2K) its last stroboscopic points
+    trail: np.ndarray    # cells visited
+    cursor: np.ndarray   # int64 slots, indexed by the _AT_* constants below
+
+
+# Slots of _Trajectory.cursor.
+_AT_STATE = 0        # index of the initial state being classified
+_AT_PERIODS = 1      # periods integrated so far (-1: not started)
+_AT_LAST_SEARCH = 2  # period of the last Newton search
+_AT_TRAIL = 3        # cells recorded in trail
+_AT_SEARCH_K = 4     # period of the requested Newton search
+_AT_KNOWN = 5        # attractors known to the kernel
+_CURSOR_SLOTS = 6
+
+
+def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settings, attractors=(), *,
+                     use_cells: bool = True, discover: bool = True):
     """Label initial states by the attractor their trajectory ends on.
 
     Parameters
@@ -186,19 +229,13 @@ def classify_lattice(states, lattice: Lattice, tab, c_damp: float, p_load: float
     states : (N, 2K) array
         Initial states at ``t = 0``, processed in this order.
     lattice : Lattice
-        The lattice (distance scaling; cell map when ``cells`` is set).
-    tab : RomTables
-        ROM tables (:func:`model.rom.build_rom`).
-    c_damp : float
-        ``c / (Gamma h)`` (s-1).
-    p_load : float
-        ``P0`` (Pa).
-    omega : float
-        ``Omega`` (rad s-1).
+        The lattice (distance scaling; cell map when ``use_cells`` is set).
+    fmap : ForcedMap
+        The stroboscopic map (ROM, forcing, RK4 steps per period).
     settings : Settings
     attractors : sequence of Attractor
         Attractors known beforehand (kept first, in this order).
-    cells : bool
+    use_cells : bool
         Use the cell-recurrence shortcut.  Only valid for one mode (``2K = 2``), where
         the lattice plane is the whole state space.
     discover : bool
@@ -216,12 +253,11 @@ def classify_lattice(states, lattice: Lattice, tab, c_damp: float, p_load: float
     """
     states = np.ascontiguousarray(states, dtype=np.float64)
     N, n = states.shape
-    if cells and n != 2:
-        raise ValueError(f"cells = True is invalid for {n // 2} modes: the cell recurrence "
+    if use_cells and n != 2:
+        raise ValueError(f"use_cells = True is invalid for {n // 2} modes: the cell recurrence "
                          "needs the one-mode ROM (the lattice plane is its whole state space)")
     s = settings
     scale = lattice_scale(lattice, n)
-    period = 2.0 * np.pi / omega
     atts = list(attractors)
     cap = max(len(atts), 1) + 8
     att_pts = np.zeros((cap, s.max_period, n))
@@ -232,32 +268,27 @@ def classify_lattice(states, lattice: Lattice, tab, c_damp: float, p_load: float
     labels = np.full(N, _PENDING, np.int32)
     periods = np.zeros(N, np.int32)
     nx, ny = lattice.shape
-    # The cell map refines the lattice r-fold (about s.cells cells per axis): lattice
-    # point (i, j) is the centre of cell (i r, j r).
-    r = max(1, s.cells // max(nx - 1, ny - 1, 1))
-    cellmap = np.full(((nx - 1) * r + 1, (ny - 1) * r + 1) if cells else (1, 1), _UNKNOWN_CELL, np.int8)
+    # The cell map refines the lattice r-fold (about s.cell_resolution cells per axis):
+    # lattice point (i, j) is the centre of cell (i r, j r).
+    r = max(1, s.cell_resolution // max(nx - 1, ny - 1, 1))
     dx = (lattice.x[-1] - lattice.x[0]) / (nx - 1) if nx > 1 else 1.0
     dy = (lattice.y[-1] - lattice.y[0]) / (ny - 1) if ny > 1 else 1.0
-    geo = np.array([lattice.x[0], dx / r, lattice.y[0], dy / r])
-    # Trajectory state kept across the kernel's returns for a Newton search.
-    y = np.empty(n)
-    ring = np.zeros((s.max_period, n))
-    trail = np.zeros(s.max_periods + 1, np.int64)
-    ints = np.zeros(6, np.int64)  # i, n_done, last_newton, trail_len, k_request, n_att
-    ints[0] = 0
-    ints[1] = -1
-    ints[5] = len(atts)
-    cooldown = s.cooldown if discover else s.max_periods + 1
+    cells = _CellMap(np.full(((nx - 1) * r + 1, (ny - 1) * r + 1) if use_cells else (1, 1), _UNKNOWN_CELL,
+                             np.int8),
+                     float(lattice.x[0]), dx / r, float(lattice.y[0]), dy / r, lattice.ix, lattice.iy,
+                     s.guard, use_cells)
+    criteria = _Criteria(scale, s.radius**2, s.consecutive, s.trigger**2,
+                         s.cooldown if discover else s.max_periods + 1, s.max_period, s.max_periods)
+    traj = _Trajectory(np.empty(n), np.zeros((s.max_period, n)), np.zeros(s.max_periods + 1, np.int64),
+                       np.zeros(_CURSOR_SLOTS, np.int64))
+    traj.cursor[_AT_PERIODS] = -1
+    traj.cursor[_AT_KNOWN] = len(atts)
     while True:
-        code = _classify_kernel(states, labels, periods, cellmap, cells, s.guard, geo, lattice.ix,
-                                lattice.iy, att_pts, att_per, scale, s.radius**2,
-                                s.consecutive, s.trigger**2, cooldown, s.max_period,
-                                s.max_periods, tab, c_damp, p_load, omega, s.steps, y, ring,
-                                trail, ints)
+        code = _classify_kernel(states, labels, periods, cells, att_pts, att_per, criteria,
+                                fmap.rom.tables, fmap.forcing, fmap.steps, traj)
         if code == 0:
             break
-        att = find_periodic_orbit(y, int(ints[4]), period, tab, c_damp, p_load, omega,
-                                  s.steps, scale, s.newton_tol)
+        att = find_periodic_orbit(traj.y, int(traj.cursor[_AT_SEARCH_K]), fmap, scale, s.newton_tol)
         if att is None or np.max(np.abs(att.multipliers)) >= 1.0:
             continue
         if match_attractor(att, atts, scale, s.radius) >= 0:
@@ -268,7 +299,7 @@ def classify_lattice(states, lattice: Lattice, tab, c_damp: float, p_load: float
         att_pts[len(atts), :att.period] = att.points
         att_per[len(atts)] = att.period
         atts.append(att)
-        ints[5] = len(atts)
+        traj.cursor[_AT_KNOWN] = len(atts)
     return labels, atts, periods
 
 
@@ -287,8 +318,48 @@ def match_attractor(att: Attractor, attractors, scale, tol: float) -> int:
     return -1
 
 
-def find_periodic_orbit(y0, k: int, period: float, tab, c_damp: float, p_load: float,
-                        omega: float, steps: int, scale, tol: float, max_iter: int = 30,
+def merge_attractors(tiles, scale, tol: float):
+    """Identify the attractors that separately classified tiles of one lattice found.
+
+    Two attractors are the same when :func:`match_attractor` says so (same period, every
+    point within ``tol`` of a point of the other, scaled norm).  The merged attractors are
+    numbered by decreasing amplitude (ties: by their first Poincare point), so attractor 0
+    is the largest response.
+
+    Parameters
+    ----------
+    tiles : sequence of sequences of (Attractor, float)
+        Per tile, its attractors in the tile's own numbering, each with its amplitude (m).
+    scale : (2K,) array
+        Weights of the scaled norm (:func:`lattice_scale`).
+    tol : float
+        Matching distance in the scaled norm (the capture radius).
+
+    Returns
+    -------
+    merged : list of (Attractor, float)
+        The distinct attractors and their amplitudes, largest amplitude first; each keeps
+        the Poincare points of its first finder (tiles in order).
+    index : list of (A_t,) int arrays
+        Per tile, the merged index of each of its attractors.
+    """
+    found, where = [], []
+    for tile in tiles:
+        idx = np.empty(len(tile), np.int64)
+        for a, (att, amp) in enumerate(tile):
+            j = match_attractor(att, [f[0] for f in found], scale, tol)
+            if j < 0:
+                found.append((att, amp))
+                j = len(found) - 1
+            idx[a] = j
+        where.append(idx)
+    order = sorted(range(len(found)), key=lambda j: (-found[j][1], tuple(found[j][0].points[0])))
+    rank = np.empty(len(found), np.int64)
+    rank[order] = np.arange(len(found))
+    return [found[j] for j in order], [rank[idx] for idx in where]
+
+
+def find_periodic_orbit(y0, k: int, fmap: ForcedMap, scale, tol: float, max_iter: int = 30,
                         max_step: float = 0.05):
     """Newton iteration on ``P^k(y) - y = 0`` from ``y0``.
 
@@ -298,8 +369,8 @@ def find_periodic_orbit(y0, k: int, period: float, tab, c_damp: float, p_load: f
         Starting state at ``t = 0``.
     k : int
         Period in forcing periods.
-    period : float
-        Forcing period ``2 pi / Omega`` (s).
+    fmap : ForcedMap
+        The stroboscopic map ``P``.
     scale : (2K,) array
         Inverse lattice extents of the state components (norm of the steps).
     tol : float
@@ -320,7 +391,7 @@ def find_periodic_orbit(y0, k: int, period: float, tab, c_damp: float, p_load: f
         phi = np.eye(n)
         pts = [y.copy()]
         for j in range(k):
-            z, m = monodromy(z, 0.0, period, steps, tab, c_damp, p_load, omega)
+            z, m = fmap.monodromy(z)
             phi = m @ phi
             if j < k - 1:
                 pts.append(z.copy())
@@ -345,34 +416,6 @@ def find_periodic_orbit(y0, k: int, period: float, tab, c_damp: float, p_load: f
     return None
 
 
-def orbit_amplitude(att: Attractor, tab, c_damp: float, p_load: float, omega: float,
-                    steps: int) -> float:
-    """``max |w(probe, t)|`` (m) over the ``k`` periods of a periodic orbit.
-
-    ``w = probe . q`` (the ROM's probe, the paper's point ``(rho, theta) = (0.5, 0)``),
-    sampled at every RK4 step.
-    """
-    return _orbit_amplitude(att.points[0].copy(), att.period, tab, c_damp, p_load, omega,
-                            steps)
-
-
-@nb.njit(cache=True)
-def _orbit_amplitude(y, k, tab, c_damp, p_load, omega, steps):
-    n = y.size
-    K = n // 2
-    h = 2.0 * np.pi / omega / steps
-    work = np.empty((6, n))
-    amp = 0.0
-    t = 0.0
-    for _ in range(k * steps):
-        w = 0.0
-        for i in range(K):
-            w += tab.probe[i] * y[i]
-        amp = max(amp, abs(w))
-        t = rk4_period(y, t, h, 1, tab, c_damp, p_load, omega, work)
-    return amp
-
-
 @nb.njit(cache=True)
 def _near_attractor(y, att_pts, att_per, n_att, scale, r2):
     n = y.size
@@ -388,9 +431,9 @@ def _near_attractor(y, att_pts, att_per, n_att, scale, r2):
 
 
 @nb.njit(cache=True)
-def _cell(y, geo, ix, iy, nx, ny):
-    cx = int(np.floor((y[ix] - geo[0]) / geo[1] + 0.5))
-    cy = int(np.floor((y[iy] - geo[2]) / geo[3] + 0.5))
+def _cell(y, cells, nx, ny):
+    cx = int(np.floor((y[cells.ix] - cells.x0) / cells.dx + 0.5))
+    cy = int(np.floor((y[cells.iy] - cells.y0) / cells.dy + 0.5))
     if cx < 0 or cx >= nx or cy < 0 or cy >= ny:
         return -1
     return cx * ny + cy
@@ -423,60 +466,63 @@ def _clean_label(flat, c, nx, ny, guard):
 
 
 @nb.njit(cache=True)
-def _classify_kernel(states, labels, periods, cellmap, cells, guard, geo, ix, iy, att_pts,
-                     att_per, scale, r2, consecutive, trig2, cooldown, kmax, max_periods,
-                     tab, c_damp, p_load, omega, steps, y, ring, trail, ints):
+def _classify_kernel(states, labels, periods, cells, att_pts, att_per, crit, tab, forcing, steps, traj):
     # Returns 0 when every state is labelled, 1 to ask the caller for a Newton search
-    # from y with period ints[4]; the trajectory then resumes where it stopped.
+    # from traj.y with period traj.cursor[_AT_SEARCH_K]; the trajectory then resumes where
+    # it stopped.
     N, n = states.shape
-    nx, ny = cellmap.shape
-    h = 2.0 * np.pi / omega / steps
+    nx, ny = cells.labels.shape
+    h = 2.0 * np.pi / forcing.Omega / steps
     work = np.empty((6, n))
-    flat = cellmap.ravel()
-    y_arg = y
-    y = y_arg.copy()  # a local array: no aliasing, so LLVM optimises the RK4 loop
-    while ints[0] < N:
-        i = ints[0]
-        if ints[1] < 0:
+    flat = cells.labels.ravel()
+    ring = traj.ring
+    trail = traj.trail
+    cur = traj.cursor
+    kmax = crit.max_period
+    max_periods = crit.max_periods
+    y = traj.y.copy()  # a local array: no aliasing, so LLVM optimises the RK4 loop
+    while cur[_AT_STATE] < N:
+        i = cur[_AT_STATE]
+        if cur[_AT_PERIODS] < 0:
             y[:] = states[i]
-            ints[1] = 0
-            ints[2] = 0
-            ints[3] = 0
+            cur[_AT_PERIODS] = 0
+            cur[_AT_LAST_SEARCH] = 0
+            cur[_AT_TRAIL] = 0
         else:
-            y[:] = y_arg
+            y[:] = traj.y
         label = -1
         run_label = -3
         run = 0
-        while ints[1] <= max_periods:
-            nd = ints[1]
-            a = _near_attractor(y, att_pts, att_per, ints[5], scale, r2)
+        while cur[_AT_PERIODS] <= max_periods:
+            nd = cur[_AT_PERIODS]
+            a = _near_attractor(y, att_pts, att_per, cur[_AT_KNOWN], crit.scale, crit.capture2)
             if a >= 0:
                 label = a
                 break
-            if nd - ints[2] >= cooldown:
+            if nd - cur[_AT_LAST_SEARCH] >= crit.cooldown:
                 for k in range(1, min(kmax, nd) + 1):
                     d = 0.0
                     for j in range(n):
-                        e = (y[j] - ring[(nd - k) % kmax, j]) * scale[j]
+                        e = (y[j] - ring[(nd - k) % kmax, j]) * crit.scale[j]
                         d += e * e
-                    if d < trig2:
-                        ints[2] = nd
-                        ints[4] = k
-                        y_arg[:] = y
+                    if d < crit.trigger2:
+                        cur[_AT_LAST_SEARCH] = nd
+                        cur[_AT_SEARCH_K] = k
+                        traj.y[:] = y
                         return 1
-            if cells:
-                c = _cell(y, geo, ix, iy, nx, ny)
-                if c >= 0 and ints[3] < trail.size:
-                    trail[ints[3]] = c
-                    ints[3] += 1
-                    lab = _clean_label(flat, c, nx, ny, guard)
+            if cells.enabled:
+                c = _cell(y, cells, nx, ny)
+                if c >= 0 and cur[_AT_TRAIL] < trail.size:
+                    trail[cur[_AT_TRAIL]] = c
+                    cur[_AT_TRAIL] += 1
+                    lab = _clean_label(flat, c, nx, ny, cells.guard)
                     if lab >= 0:
                         if lab == run_label:
                             run += 1
                         else:
                             run_label = lab
                             run = 1
-                        if run >= consecutive:
+                        if run >= crit.consecutive:
                             label = lab
                             break
                     else:
@@ -486,18 +532,18 @@ def _classify_kernel(states, labels, periods, cellmap, cells, guard, geo, ix, iy
             if nd == max_periods:
                 break
             ring[nd % kmax] = y
-            rk4_period(y, 0.0, h, steps, tab, c_damp, p_load, omega, work)
-            ints[1] = nd + 1
+            rk4_steps(y, 0.0, h, steps, tab, forcing, work)
+            cur[_AT_PERIODS] = nd + 1
             if not np.isfinite(y[0]):
                 break
         labels[i] = label
-        periods[i] = ints[1]
-        if cells and label >= 0:
-            for j in range(ints[3]):
+        periods[i] = cur[_AT_PERIODS]
+        if cells.enabled and label >= 0:
+            for j in range(cur[_AT_TRAIL]):
                 _mark(flat, trail[j], label)
-            c = _cell(states[i], geo, ix, iy, nx, ny)
+            c = _cell(states[i], cells, nx, ny)
             if c >= 0:
                 _mark(flat, c, label)
-        ints[0] = i + 1
-        ints[1] = -1
+        cur[_AT_STATE] = i + 1
+        cur[_AT_PERIODS] = -1
     return 0

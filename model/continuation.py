@@ -1,8 +1,8 @@
 """Pseudo-arclength continuation of periodic responses in ``Omega`` or ``P0`` (Figs. 14-17).
 
-The branch of fixed points of the stroboscopic map (:mod:`model.shooting`) is followed in
-the scaled unknowns ``x = (S y / L, lambda / Lambda)`` (``S`` of
-:func:`model.shooting.state_scale` at the reference frequency, ``L`` = :data:`LENGTH`,
+The branch of fixed points of the stroboscopic map (:class:`model.forced.ForcedMap`) is
+followed in the scaled unknowns ``x = (S y / L, lambda / Lambda)`` (``S`` of
+:func:`model.forced.state_scale` at the reference frequency, ``L`` = :data:`LENGTH`,
 ``Lambda`` = the length of the parameter range), so that arclength weighs a change of the
 response and a change of the parameter alike.  The steps follow AUTO-07p/BifurcationKit:
 
@@ -29,14 +29,12 @@ below ``ds_min``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
-from .integrate import monodromy, rk4_period
-from .params import Loading
-from .rom import Rom
-from .shooting import DEFAULT_STEPS, damping_rate, orbit_amplitude, shoot, sorted_multipliers, state_scale
+from .forced import PARAMETERS, ForcedMap, sorted_multipliers, state_scale
+from .shooting import shoot
 
 #: Length scale ``L`` (m) of the scaled displacements.
 LENGTH = 0.05
@@ -45,7 +43,6 @@ MAX_TURN = 0.3
 #: Labels of the points of a branch.
 REGULAR, FOLD, PERIOD_DOUBLING, NEIMARK_SACKER = 0, 1, 2, 3
 KIND_NAMES = ("regular", "fold", "period_doubling", "neimark_sacker")
-PARAMETERS = ("Omega", "P0")
 
 
 @dataclass
@@ -92,15 +89,13 @@ class Branch:
 class _Problem:
     """The scaled fixed-point problem ``G(x) = 0`` of one continuation."""
 
-    def __init__(self, rom, loading, parameter, start, stop, steps):
-        self.rom, self.loading, self.parameter, self.steps = rom, loading, parameter, steps
+    def __init__(self, fmap, parameter, start, stop):
+        self.fmap, self.parameter = fmap, parameter
         self.start, self.stop = start, stop
         self.span = abs(stop - start)
         self.lo, self.hi = min(start, stop), max(start, stop)
-        self.s = state_scale(rom.dof, loading.Omega if parameter == "P0" else 0.5 * (start + stop)) / LENGTH
-        self.n = 2 * rom.dof
-        self.cd = damping_rate(rom, loading)
-        self.work = np.empty((6, self.n))
+        self.s = state_scale(fmap.dof, fmap.forcing.Omega if parameter == "P0" else 0.5 * (start + stop)) / LENGTH
+        self.n = 2 * fmap.dof
 
     def lam(self, x):
         return self.start + x[-1] * self.span
@@ -111,27 +106,19 @@ class _Problem:
     def pack(self, y, lam):
         return np.append(self.s * y, (lam - self.start) / self.span)
 
-    def _args(self, lam):
-        om, p0 = (lam, self.loading.P0) if self.parameter == "Omega" else (self.loading.Omega, lam)
-        return om, p0
-
-    def _map(self, y, lam):
-        om, p0 = self._args(lam)
-        z = y.copy()
-        period = 2.0 * np.pi / om
-        rk4_period(z, 0.0, period / self.steps, self.steps, self.rom.tables, self.cd, p0, om, self.work)
-        return z
+    def at(self, lam) -> ForcedMap:
+        """The stroboscopic map at parameter value ``lam``."""
+        return self.fmap.varied(self.parameter, lam)
 
     def evaluate(self, x):
         """``G(x)``, its Jacobian ``(n, n+1)`` and the monodromy matrix."""
         y, lam = self.unpack(x)
-        om, p0 = self._args(lam)
-        yT, phi = monodromy(y, 0.0, 2.0 * np.pi / om, self.steps, self.rom.tables, self.cd, p0, om)
+        yT, phi = self.at(lam).monodromy(y)
         g = self.s * (yT - y)
         jac = np.empty((self.n, self.n + 1))
         jac[:, :-1] = (self.s[:, None] * (phi - np.eye(self.n))) / self.s[None, :]
         h = 1e-6 * self.span
-        jac[:, -1] = self.s * (self._map(y, lam + h) - self._map(y, lam - h)) / (2 * h) * self.span
+        jac[:, -1] = self.s * (self.at(lam + h).advance(y) - self.at(lam - h).advance(y)) / (2 * h) * self.span
         return g, jac, phi
 
     def tangent(self, jac, previous):
@@ -177,17 +164,16 @@ def _ns_test(mu):
     return float(out.real)
 
 
-def continue_orbits(rom: Rom, loading: Loading, parameter: str, start: float, stop: float,
-                    guess=None, steps: int = DEFAULT_STEPS, ds: float = 0.01, ds_min: float = 1e-6,
-                    ds_max: float = 0.05, max_points: int = 400, tol: float = 1e-10) -> Branch:
+def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, guess=None,
+                    ds: float = 0.01, ds_min: float = 1e-6, ds_max: float = 0.05,
+                    max_points: int = 400, tol: float = 1e-10) -> Branch:
     """Follow the periodic responses of the forced ROM from ``start`` to ``stop``.
 
     Parameters
     ----------
-    rom : Rom
-    loading : Loading
-        Fixed ``Omega`` (rad s-1), ``P0`` (Pa) and ``c`` (N s m-3); the continued one is
-        overridden by the branch.
+    fmap : ForcedMap
+        The stroboscopic map with the fixed ``Omega`` (rad s-1), ``P0`` (Pa) and damping,
+        and the RK4 steps per period; the continued parameter is overridden by the branch.
     parameter : {"Omega", "P0"}
         The continuation parameter.
     start, stop : float
@@ -196,8 +182,6 @@ def continue_orbits(rom: Rom, loading: Loading, parameter: str, start: float, st
     guess : (2K,) array, optional
         Initial guess at ``start`` (default: rest, which converges to the unique small
         response away from resonance and at ``P0 = 0``).
-    steps : int
-        RK4 steps per forcing period.
     ds, ds_min, ds_max : float
         Initial, smallest and largest arclength step in the scaled unknowns (a unit
         parameter step is the whole range; a unit state step is :data:`LENGTH`).
@@ -221,16 +205,15 @@ def continue_orbits(rom: Rom, loading: Loading, parameter: str, start: float, st
         raise ValueError(f"(ds_min, ds, ds_max) = ({ds_min}, {ds}, {ds_max}) is invalid: need 0 < ds_min <= ds <= ds_max")
     if max_points < 2:
         raise ValueError(f"max_points = {max_points} is invalid: must be >= 2")
-    prob = _Problem(rom, loading, parameter, float(start), float(stop), steps)
-    first = shoot(rom, replace(loading, **{parameter: float(start)}), np.zeros(prob.n) if guess is None else guess,
-                  steps)
+    prob = _Problem(fmap, parameter, float(start), float(stop))
+    first = shoot(prob.at(float(start)), np.zeros(prob.n) if guess is None else guess)
     pts: list[tuple] = []
 
     def record(x, phi, kind):
         y, lam = prob.unpack(x)
         mu = sorted_multipliers(phi)
         stable = kind == REGULAR and bool(np.max(np.abs(mu)) < 1.0)
-        amp = orbit_amplitude(rom, replace(loading, **{parameter: lam}), y, steps)
+        amp = prob.at(lam).amplitude(y)
         pts.append((lam, y, amp, mu, stable, kind))
 
     def finish(complete, message):
@@ -328,3 +311,72 @@ def _locate(prob, kind, x, t, ds, fa, fb, tol):
         if not np.any(np.abs(mu[on_circle].imag) > 1e-8):
             return None
     return best
+
+
+def cusp_from_folds(c, fold_value, fold_amplitude) -> tuple[float, float]:
+    """Cusp where the two saddle-nodes of a branch merge, from fold pairs along ``c``.
+
+    Near a cusp the amplitudes of the two folds differ like ``sqrt(c_cusp - c)``, so their
+    squared difference is linear in ``c``: the cusp is where the straight line through
+    that of the last two ``c`` values with two folds reaches zero, bounded by the first
+    ``c`` with fewer folds; the fold value is the mean of the pair, extrapolated linearly
+    to it.
+
+    Parameters
+    ----------
+    c : (nc,) array
+        Increasing values of the second parameter (e.g. damping, N s m-3).
+    fold_value : (nc, F) array
+        Parameter values at the folds of the branch at each ``c`` (NaN padded).
+    fold_amplitude : (nc, F) array
+        Amplitudes (m) at those folds.
+
+    Returns
+    -------
+    c_cusp, value_cusp : float
+        NaN when the folds do not merge inside the range of ``c`` or do not approach.
+    """
+    c = np.asarray(c, dtype=float)
+    value = np.asarray(fold_value, dtype=float)
+    amp = np.asarray(fold_amplitude, dtype=float)
+    two = np.isfinite(value[:, 0]) & np.isfinite(value[:, 1])
+    idx = np.flatnonzero(two)
+    if idx.size < 2 or idx[-1] == c.size - 1:
+        return np.nan, np.nan
+    i, j = idx[-2], idx[-1]
+    d2 = np.abs(amp[[i, j], 0] - amp[[i, j], 1]) ** 2
+    mean = value[[i, j], :2].mean(axis=1)
+    if d2[1] >= d2[0]:
+        return np.nan, np.nan
+    cc = c[j] + d2[1] * (c[j] - c[i]) / (d2[0] - d2[1])
+    cc = min(cc, c[j + 1])
+    return cc, mean[1] + (mean[1] - mean[0]) * (cc - c[j]) / (c[j] - c[i])
+
+
+def stable_amplitudes_at(value, amplitude, stable, x) -> np.ndarray:
+    """Amplitudes of the stable parts of a branch at parameter value ``x``.
+
+    Linear interpolation between consecutive stable points that bracket ``x``.
+
+    Parameters
+    ----------
+    value, amplitude : (N,) arrays
+        Parameter and amplitude along the branch (NaN padding is ignored).
+    stable : (N,) array
+        1 where the point is stable.
+    x : float
+        Parameter value.
+
+    Returns
+    -------
+    (S,) array
+        One amplitude per stable segment crossing ``x``, in branch order.
+    """
+    value, amplitude, stable = (np.asarray(a) for a in (value, amplitude, stable))
+    ok = np.isfinite(value)
+    bx, ba, st = value[ok], amplitude[ok], stable[ok]
+    found = []
+    for i in range(bx.size - 1):
+        if st[i] == 1 and st[i + 1] == 1 and (bx[i] - x) * (bx[i + 1] - x) <= 0 and bx[i] != bx[i + 1]:
+            found.append(ba[i] + (ba[i + 1] - ba[i]) * (x - bx[i]) / (bx[i + 1] - bx[i]))
+    return np.array(found)

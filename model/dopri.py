@@ -29,28 +29,38 @@ import numba as nb
 import numpy as np
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
-from .rom import Rom, rhs
+from .rom import Forcing, Rom, rhs
 
 _NS = _dop.N_STAGES
-#: (A, B, C, E3, E5) of DOP853, contiguous float arrays for the kernels.
-_COEF = (np.ascontiguousarray(_dop.A[:_NS, :_NS]), np.ascontiguousarray(_dop.B),
-         np.ascontiguousarray(_dop.C[:_NS]), np.ascontiguousarray(_dop.E3),
-         np.ascontiguousarray(_dop.E5))
+
+
+class _Tableau(NamedTuple):
+    # The DOP853 coefficients, contiguous float arrays for the kernels.
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    E3: np.ndarray
+    E5: np.ndarray
+
+
+_COEF = _Tableau(np.ascontiguousarray(_dop.A[:_NS, :_NS]), np.ascontiguousarray(_dop.B),
+                 np.ascontiguousarray(_dop.C[:_NS]), np.ascontiguousarray(_dop.E3),
+                 np.ascontiguousarray(_dop.E5))
 _SAFETY = 0.9
 _MIN_FACTOR = 0.2
 _MAX_FACTOR = 10.0
-#: Largest number of attempted steps of one trajectory before it is declared failed.
+#: Default largest number of attempted steps of one trajectory before it is declared failed.
 MAX_STEPS = 50_000_000
 
 
 @nb.njit(cache=True)
-def _step(t, y, f0, h, tab, c_damp, p_load, omega, A, B, C, E3, E5, kst, tmp, g,
-          y_new, f_new, rtol, atol):
+def _step(t, y, f0, h, tab, forcing, coef, kst, tmp, g, y_new, f_new, rtol, atol):
     """One DOP853 step of size ``h`` from ``(t, y)`` with ``f0 = F(t, y)``.
 
     Fills ``y_new``, ``f_new = F(t + h, y_new)`` and returns the scaled error norm
     (accept the step when it is <= 1).  12 evaluations of the right-hand side.
     """
+    A, B, C, E3, E5 = coef
     n = y.size
     for i in range(n):
         kst[0, i] = f0[i]
@@ -60,13 +70,13 @@ def _step(t, y, f0, h, tab, c_damp, p_load, omega, A, B, C, E3, E5, kst, tmp, g,
             for j in range(s):
                 acc += A[s, j] * kst[j, i]
             tmp[i] = y[i] + h * acc
-        rhs(t + C[s] * h, tmp, tab, c_damp, p_load, omega, g, kst[s])
+        rhs(t + C[s] * h, tmp, tab, forcing, g, kst[s])
     for i in range(n):
         acc = 0.0
         for j in range(_NS):
             acc += B[j] * kst[j, i]
         y_new[i] = y[i] + h * acc
-    rhs(t + h, y_new, tab, c_damp, p_load, omega, g, f_new)
+    rhs(t + h, y_new, tab, forcing, g, f_new)
     for i in range(n):
         kst[_NS, i] = f_new[i]
     e5 = 0.0
@@ -116,29 +126,29 @@ def _workspace(n):
 
 
 @nb.njit(cache=True)
-def _start(y, y0, t0, tab, c_damp, p_load, omega, g, f, rtol, atol):
-    # Load a trajectory's initial state, evaluate F there, return the first step size.
-    y[:] = y0
-    rhs(t0, y, tab, c_damp, p_load, omega, g, f)
-    return _initial_step(y, f, rtol, atol)
+def _start(i, y, y0, t0, tab, c_damp, p_load, omega, g, f, rtol, atol):
+    # Load trajectory i's initial state and forcing, evaluate F there; returns the
+    # trajectory's Forcing and its first step size.
+    forcing = Forcing(c_damp[i], p_load[i], omega[i])
+    y[:] = y0[i]
+    rhs(t0, y, tab, forcing, g, f)
+    return forcing, _initial_step(y, f, rtol, atol)
 
 
 @nb.njit(cache=True)
-def _solve_kernel(y0, t0, t_eval, tab, c_damp, p_load, omega, rtol, atol,
-                  A, B, C, E3, E5, out, nfev):
+def _solve_kernel(y0, t0, t_eval, tab, c_damp, p_load, omega, rtol, atol, coef, max_steps, out, nfev):
     N, n = y0.shape
     kst, tmp, g, y, f, y_new, f_new = _workspace(n)
     for i in range(N):
         t = t0
-        h = _start(y, y0[i], t0, tab, c_damp[i], p_load[i], omega[i], g, f, rtol, atol)
+        forcing, h = _start(i, y, y0, t0, tab, c_damp, p_load, omega, g, f, rtol, atol)
         evals = 1
         attempts = 0
         for j in range(t_eval.size):
-            while t < t_eval[j] and attempts < MAX_STEPS:
+            while t < t_eval[j] and attempts < max_steps:
                 clipped = t + h >= t_eval[j]
                 hs = t_eval[j] - t if clipped else h
-                err = _step(t, y, f, hs, tab, c_damp[i], p_load[i], omega[i], A, B, C, E3, E5,
-                            kst, tmp, g, y_new, f_new, rtol, atol)
+                err = _step(t, y, f, hs, tab, forcing, coef, kst, tmp, g, y_new, f_new, rtol, atol)
                 evals += _NS
                 attempts += 1
                 if err <= 1.0:
@@ -148,7 +158,7 @@ def _solve_kernel(y0, t0, t_eval, tab, c_damp, p_load, omega, rtol, atol,
                     h = max(h, _new_size(hs, err)) if clipped else _new_size(hs, err)
                 else:
                     h = _new_size(hs, err)
-            if attempts >= MAX_STEPS:
+            if attempts >= max_steps:
                 out[i, j:] = np.nan
                 break
             out[i, j] = y
@@ -165,8 +175,8 @@ def _probe_rate(y, probe):
 
 
 @nb.njit(cache=True)
-def _extrema_kernel(y0, t0, t_end, w_stop, tab, c_damp, p_load, omega, rtol, atol,
-                    A, B, C, E3, E5, times, states, count, nfev):
+def _extrema_kernel(y0, t0, t_end, w_stop, tab, c_damp, p_load, omega, rtol, atol, coef, max_steps,
+                    times, states, count, nfev):
     N, n = y0.shape
     K = n // 2
     cap = times.shape[1]
@@ -176,15 +186,14 @@ def _extrema_kernel(y0, t0, t_end, w_stop, tab, c_damp, p_load, omega, rtol, ato
     f_s = np.empty(n)
     for i in range(N):
         t = t0
-        h = _start(y, y0[i], t0, tab, c_damp[i], p_load[i], omega[i], g, f, rtol, atol)
+        forcing, h = _start(i, y, y0, t0, tab, c_damp, p_load, omega, g, f, rtol, atol)
         evals = 1
         found = 0
         attempts = 0
         v_old = _probe_rate(y, probe)
-        while t < t_end and found < cap and attempts < MAX_STEPS:
+        while t < t_end and found < cap and attempts < max_steps:
             hs = min(h, t_end - t)
-            err = _step(t, y, f, hs, tab, c_damp[i], p_load[i], omega[i], A, B, C, E3, E5,
-                        kst, tmp, g, y_new, f_new, rtol, atol)
+            err = _step(t, y, f, hs, tab, forcing, coef, kst, tmp, g, y_new, f_new, rtol, atol)
             evals += _NS
             attempts += 1
             if err > 1.0:
@@ -200,8 +209,7 @@ def _extrema_kernel(y0, t0, t_end, w_stop, tab, c_damp, p_load, omega, rtol, ato
                     s = (a * fb - b * fa) / (fb - fa)
                     if not (a < s < b):
                         s = 0.5 * (a + b)
-                    _step(t, y, f, s, tab, c_damp[i], p_load[i], omega[i], A, B, C, E3, E5,
-                          kst, tmp, g, y_s, f_s, rtol, atol)
+                    _step(t, y, f, s, tab, forcing, coef, kst, tmp, g, y_s, f_s, rtol, atol)
                     evals += _NS
                     fs = _probe_rate(y_s, probe)
                     if fs == 0.0 or b - a <= 4e-16 * (abs(t) + hs):
@@ -253,7 +261,7 @@ def _batch(rom: Rom, y0, c, P0, Omega):
             raise ValueError(f"{name} = {v!r} is invalid: must be finite and "
                              + (f">= {low}" if low is not None else "> 0"))
         out.append(arr)
-    return y0, out[0] / (m.Gamma * m.h), out[1], out[2]
+    return y0, m.damping_rate(out[0]), out[1], out[2]
 
 
 def _tolerances(rtol, atol):
@@ -262,7 +270,8 @@ def _tolerances(rtol, atol):
     return float(rtol), float(atol)
 
 
-def solve(rom: Rom, y0, t_eval, *, c=0.0, P0=0.0, Omega=1.0, t0=0.0, rtol=1e-10, atol=1e-12):
+def solve(rom: Rom, y0, t_eval, *, c=0.0, P0=0.0, Omega=1.0, t0=0.0, rtol=1e-10, atol=1e-12,
+          max_steps=MAX_STEPS):
     """Integrate a batch of trajectories and return their states at ``t_eval``.
 
     Parameters
@@ -280,11 +289,13 @@ def solve(rom: Rom, y0, t_eval, *, c=0.0, P0=0.0, Omega=1.0, t0=0.0, rtol=1e-10,
         Initial time (s); the forcing is ``P0 cos(Omega t)``.
     rtol, atol : float
         Relative and absolute tolerances of the local error (per component).
+    max_steps : int
+        Attempted steps allowed per trajectory.
 
     Returns
     -------
     states : (N, len(t_eval), 2K) ndarray
-        NaN from the point where a trajectory exceeded :data:`MAX_STEPS`.
+        NaN from the point where a trajectory exceeded ``max_steps``.
     nfev : (N,) ndarray of int
         Right-hand side evaluations per trajectory.
     """
@@ -295,7 +306,7 @@ def solve(rom: Rom, y0, t_eval, *, c=0.0, P0=0.0, Omega=1.0, t0=0.0, rtol=1e-10,
         raise ValueError(f"t_eval = {t_eval!r} is invalid: need a non-empty increasing sequence >= t0 = {t0}")
     out = np.empty((y0.shape[0], t_eval.size, y0.shape[1]))
     nfev = np.zeros(y0.shape[0], dtype=np.int64)
-    _solve_kernel(y0, float(t0), t_eval, rom.tables, cd, p, om, rtol, atol, *_COEF, out, nfev)
+    _solve_kernel(y0, float(t0), t_eval, rom.tables, cd, p, om, rtol, atol, _COEF, int(max_steps), out, nfev)
     return out, nfev
 
 
@@ -321,7 +332,7 @@ class Extrema(NamedTuple):
 
 
 def extrema(rom: Rom, y0, t_end, max_count, *, w_stop=0.0, c=0.0, P0=0.0, Omega=1.0,
-            t0=0.0, rtol=1e-10, atol=1e-12) -> Extrema:
+            t0=0.0, rtol=1e-10, atol=1e-12, max_steps=MAX_STEPS) -> Extrema:
     """Integrate a batch of trajectories and record the extrema of ``w(rho_probe, 0, t)``.
 
     Each trajectory stops at ``t_end``, after ``max_count`` extrema, or right after an
@@ -340,5 +351,5 @@ def extrema(rom: Rom, y0, t_end, max_count, *, w_stop=0.0, c=0.0, P0=0.0, Omega=
     count = np.zeros(N, dtype=np.int64)
     nfev = np.zeros(N, dtype=np.int64)
     _extrema_kernel(y0, float(t0), float(t_end), float(w_stop), rom.tables, cd, p, om, rtol, atol,
-                    *_COEF, times, states, count, nfev)
+                    _COEF, int(max_steps), times, states, count, nfev)
     return Extrema(times, states, count, nfev)

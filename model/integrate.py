@@ -2,13 +2,12 @@
 
 The classical fourth-order Runge-Kutta scheme with an integer number of steps per forcing
 period ``2 pi / Omega``, so that every ``steps``-th state is a point of the stroboscopic
-map.  :func:`rk4_period` advances one state by one period in place (the building block of
-basins and brute-force sweeps); :func:`strobe_many` advances a batch of trajectories;
-:func:`monodromy` integrates the state together with the variational equations and returns
-the monodromy matrix of the stroboscopic map (shooting, Floquet multipliers).
+map.  :func:`rk4_steps` advances one state by a number of steps in place (the building
+block of :class:`model.forced.ForcedMap`); :func:`monodromy` integrates the state together
+with the variational equations and returns the monodromy matrix of the stroboscopic map
+(shooting, Floquet multipliers).
 
-All kernels take the :class:`model.rom.RomTables` and scalars only: ``c_damp = c/(Gamma h)``
-(s-1), ``p_load = P0`` (Pa), ``omega = Omega`` (rad s-1).
+All kernels take the :class:`model.rom.RomTables` and a :class:`model.rom.Forcing` tuple.
 
 One-mode ROMs carry a force table (:func:`model.rom.build_rom`); for them the kernels run
 a scalar loop that reads the table (about five times faster than the general loop, whose
@@ -32,6 +31,7 @@ def _accel(q, v, cos_t, coef, q_max, k_force, load, c_damp, p_load):
 
 @nb.njit(cache=True, fastmath=True)
 def _rk4_one_mode(y, t0, h, steps, coef, q_max, k_force, load, c_damp, p_load, omega):
+    # (scalars rather than the Forcing tuple: this loop is the one-mode hot path)
     # RK4 steps of the one-mode ROM from the force table; returns the steps done (fewer
     # than ``steps`` when a stage would leave the table's range: y is then the last state).
     # The range is tested before each evaluation (no NaN sentinel: fastmath assumes none);
@@ -73,15 +73,15 @@ def _rk4_one_mode(y, t0, h, steps, coef, q_max, k_force, load, c_damp, p_load, o
 
 
 @nb.njit(cache=True)
-def rk4_period(y, t0, h, steps, tab, c_damp, p_load, omega, work):
+def rk4_steps(y, t0, h, steps, tab, forcing, work):
     """Advance ``y`` (in place) by ``steps`` RK4 steps of size ``h`` from ``t0``.
 
-    ``work`` is a ``(6, 2K)`` scratch array (``K`` = number of modes).  Returns the time
-    reached.
+    ``forcing`` is a :class:`model.rom.Forcing`; ``work`` is a ``(6, 2K)`` scratch array (``K`` =
+    number of modes).  Returns the time reached.
     """
     if tab.table_max > 0.0:
         done = _rk4_one_mode(y, t0, h, steps, tab.stiffness_table, tab.table_max, tab.k_force[0],
-                             tab.load[0], c_damp, p_load, omega)
+                             tab.load[0], forcing.damping_rate, forcing.P0, forcing.Omega)
         t0 = t0 + done * h
         steps -= done
     n = y.size
@@ -94,16 +94,16 @@ def rk4_period(y, t0, h, steps, tab, c_damp, p_load, omega, work):
     g = work[5, :K]
     t = t0
     for _ in range(steps):
-        rhs(t, y, tab, c_damp, p_load, omega, g, k1)
+        rhs(t, y, tab, forcing, g, k1)
         for i in range(n):
             tmp[i] = y[i] + 0.5 * h * k1[i]
-        rhs(t + 0.5 * h, tmp, tab, c_damp, p_load, omega, g, k2)
+        rhs(t + 0.5 * h, tmp, tab, forcing, g, k2)
         for i in range(n):
             tmp[i] = y[i] + 0.5 * h * k2[i]
-        rhs(t + 0.5 * h, tmp, tab, c_damp, p_load, omega, g, k3)
+        rhs(t + 0.5 * h, tmp, tab, forcing, g, k3)
         for i in range(n):
             tmp[i] = y[i] + h * k3[i]
-        rhs(t + h, tmp, tab, c_damp, p_load, omega, g, k4)
+        rhs(t + h, tmp, tab, forcing, g, k4)
         for i in range(n):
             y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         t += h
@@ -111,41 +111,11 @@ def rk4_period(y, t0, h, steps, tab, c_damp, p_load, omega, work):
 
 
 @nb.njit(cache=True)
-def strobe_many(y0, periods, steps, tab, c_damp, p_load, omega, out):
-    """Integrate a batch of trajectories and record their stroboscopic points.
-
-    Parameters
-    ----------
-    y0 : (N, 2K) array
-        Initial states at ``t = 0`` (the phase of the forcing ``cos(Omega t)``).
-    periods : int
-        Number of forcing periods.
-    steps : int
-        RK4 steps per period.
-    c_damp, p_load, omega : (N,) arrays
-        Parameters of each trajectory (s-1, Pa, rad s-1): a batch may mix initial
-        conditions and parameter sets.
-    out : (N, periods + 1, 2K) array
-        Receives the states at ``t = j 2 pi / Omega_i``, ``j = 0..periods``.
-    """
-    N, n = y0.shape
-    work = np.empty((6, n))
-    y = np.empty(n)
-    for i in range(N):
-        period = 2.0 * np.pi / omega[i]
-        h = period / steps
-        y[:] = y0[i]
-        out[i, 0] = y
-        for j in range(periods):
-            rk4_period(y, j * period, h, steps, tab, c_damp[i], p_load[i], omega[i], work)
-            out[i, j + 1] = y
-
-
-@nb.njit(cache=True)
-def _aug_rhs(t, z, n, tab, c_damp, p_load, omega, g, jac, out):
+def _aug_rhs(t, z, n, tab, forcing, g, jac, out):
     # z = (y, Phi.ravel()); Phi' = A Phi with A = [[0, I], [-diag(k) J(q), -c I]].
     K = n // 2
-    rhs(t, z[:n], tab, c_damp, p_load, omega, g, out[:n])
+    c_damp = forcing.damping_rate
+    rhs(t, z[:n], tab, forcing, g, out[:n])
     force_jacobian(z[:K], tab, jac)
     for col in range(n):
         for i in range(K):
@@ -158,9 +128,17 @@ def _aug_rhs(t, z, n, tab, c_damp, p_load, omega, g, jac, out):
 
 
 @nb.njit(cache=True, fastmath=True)
-def _monodromy_one_mode(y0, t0, h, steps, coef, slope, q_max, k_force, load, c_damp, p_load, omega, phi):
+def _monodromy_one_mode(y0, t0, h, steps, tab, forcing, phi):
     # State and 2x2 variational matrix of the one-mode ROM from the force tables; returns
     # (q, v, ok), ok False when a stage leaves the tables' range.
+    coef = tab.stiffness_table
+    slope = tab.slope_table
+    q_max = tab.table_max
+    k_force = tab.k_force[0]
+    load = tab.load[0]
+    c_damp = forcing.damping_rate
+    p_load = forcing.P0
+    omega = forcing.Omega
     q = y0[0]
     v = y0[1]
     p00, p01, p10, p11 = 1.0, 0.0, 0.0, 1.0
@@ -206,7 +184,7 @@ def _monodromy_one_mode(y0, t0, h, steps, coef, slope, q_max, k_force, load, c_d
 
 
 @nb.njit(cache=True)
-def monodromy(y0, t0, period, steps, tab, c_damp, p_load, omega):
+def monodromy(y0, t0, period, steps, tab, forcing):
     """State after one period and the monodromy matrix ``d y(t0+T) / d y(t0)``.
 
     The variational equations are integrated with the same RK4 steps as the state, so
@@ -221,8 +199,7 @@ def monodromy(y0, t0, period, steps, tab, c_damp, p_load, omega):
     K = n // 2
     if tab.table_max > 0.0:
         phi = np.empty((2, 2))
-        q, v, ok = _monodromy_one_mode(y0, t0, period / steps, steps, tab.stiffness_table, tab.slope_table,
-                                       tab.table_max, tab.k_force[0], tab.load[0], c_damp, p_load, omega, phi)
+        q, v, ok = _monodromy_one_mode(y0, t0, period / steps, steps, tab, forcing, phi)
         if ok:
             return np.array([q, v]), phi
     m = n + n * n
@@ -240,16 +217,16 @@ def monodromy(y0, t0, period, steps, tab, c_damp, p_load, omega):
     h = period / steps
     t = t0
     for _ in range(steps):
-        _aug_rhs(t, z, n, tab, c_damp, p_load, omega, g, jac, k1)
+        _aug_rhs(t, z, n, tab, forcing, g, jac, k1)
         for i in range(m):
             tmp[i] = z[i] + 0.5 * h * k1[i]
-        _aug_rhs(t + 0.5 * h, tmp, n, tab, c_damp, p_load, omega, g, jac, k2)
+        _aug_rhs(t + 0.5 * h, tmp, n, tab, forcing, g, jac, k2)
         for i in range(m):
             tmp[i] = z[i] + 0.5 * h * k2[i]
-        _aug_rhs(t + 0.5 * h, tmp, n, tab, c_damp, p_load, omega, g, jac, k3)
+        _aug_rhs(t + 0.5 * h, tmp, n, tab, forcing, g, jac, k3)
         for i in range(m):
             tmp[i] = z[i] + h * k3[i]
-        _aug_rhs(t + h, tmp, n, tab, c_damp, p_load, omega, g, jac, k4)
+        _aug_rhs(t + h, tmp, n, tab, forcing, g, jac, k4)
         for i in range(m):
             z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         t += h

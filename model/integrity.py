@@ -14,7 +14,7 @@ al. 2011 for the use of basins as integrity measures):
   oscillator", J. Vib. Control 9 (2003) 281-315; Rega and Lenci, "Identifying,
   evaluating, and controlling dynamical integrity measures in non-linear mechanical
   oscillators", Nonlinear Anal. 63 (2005) 902-914): the radius of the largest circle
-  lying entirely in the basin.  Following the issue and Goncalves et al., the circle is
+  lying entirely in the basin.  As in Goncalves et al., the circle is
   centred at the attractor (for a period-k attractor: the smallest such radius over its k
   Poincare points).  Distances are measured in the lattice window mapped to the unit
   square (each coordinate divided by its lattice extent), the circle may not leave the

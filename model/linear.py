@@ -8,7 +8,7 @@ Three estimates of ``omega_mn`` (rad/s):
 * :func:`approximate_frequency`: Eq. (28);
 * :func:`frequency_bound`: Eq. (29), the limit ``delta -> inf``.
 
-Linearising the exact transverse energy (MODEL.md) gives
+Linearising the exact transverse energy (docs/model.md, "Transverse energy") gives
 ``1 + L1 = 1 - rho^2 / (r_o'^4 r_o^2)`` and ``1/rho^2 + L3 = 1/rho^2 - rho^2/(r_o'^2 r_o^4)``,
 so that ``omega^2 = (2 C1 / Gamma) lambda`` with ``lambda`` the generalised eigenvalues of
 ``K_kl = int rho [(1+L1) phi_k' phi_l' + n^2 (1/rho^2+L3) phi_k phi_l] drho`` and

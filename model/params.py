@@ -3,18 +3,60 @@
 Symbols follow the paper (Goncalves, Soares and Pamplona, IJSS 2011, sections 2-3):
 ``C1`` neo-Hookean constant (Eq. 1), ``h`` thickness, ``Gamma`` mass density, ``Re`` outer
 radius, ``delta = Rf/Re`` radial stretch ratio and ``delta_o = Ro/Re`` inner radius ratio
-(Eq. 20).  SI units throughout.
+(Eq. 20).  SI units throughout (docs/model.md, "Geometry, material and parameters").
+
+Each field carries its units, long name and allowed range in its ``metadata``; the
+records are the one source of those rules (the job files' validation and the result
+files' attributes are derived from them: :func:`parameter_info`).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 
 
-def _check(name: str, value: float, ok: bool, allowed: str) -> None:
-    if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value) or not ok:
-        raise ValueError(f"{name} = {value!r} is invalid: must be {allowed}")
+class ParameterError(ValueError):
+    """An impossible parameter value.
+
+    The message reads ``"<name> = <value> is invalid: must be <allowed>"``; the parts are
+    kept as attributes so that callers (the job-file validation) can name the key their own
+    way.
+    """
+
+    def __init__(self, name: str, value, allowed: str):
+        self.name, self.value, self.allowed = name, value, allowed
+        super().__init__(f"{name} = {value!r} is invalid: must be {allowed}")
+
+
+def _parameter(default: float, units: str, long_name: str, low: float, *, low_open: bool,
+               high: float | None = None) -> float:
+    """A dataclass field with its units, long name and range ``(low, high)`` in metadata."""
+    return field(default=default, metadata={"units": units, "long_name": long_name,
+                                            "low": low, "low_open": low_open, "high": high})
+
+
+def _allowed(meta) -> str:
+    if meta["high"] is not None:
+        text = f"a finite number in the open interval ({meta['low']:g}, {meta['high']:g})"
+    else:
+        text = f"a finite number {'>' if meta['low_open'] else '>='} {meta['low']:g}"
+    return text if meta["units"] == "1" else f"{text} ({meta['units']})"
+
+
+def _validate(record) -> None:
+    """Convert integers to floats and check every field against its metadata range."""
+    for f in fields(record):
+        v = getattr(record, f.name)
+        if isinstance(v, int) and not isinstance(v, bool):
+            v = float(v)
+            object.__setattr__(record, f.name, v)
+        meta = f.metadata
+        ok = isinstance(v, float) and math.isfinite(v) and (
+            v > meta["low"] if meta["low_open"] else v >= meta["low"]) and (
+            meta["high"] is None or v < meta["high"])
+        if not ok:
+            raise ParameterError(f.name, v, _allowed(meta))
 
 
 @dataclass(frozen=True)
@@ -24,7 +66,7 @@ class Membrane:
     Parameters
     ----------
     delta : float
-        Radial stretch ratio ``Rf/Re`` (1), must be > 1.
+        Radial stretch ratio ``Rf/Re`` (1), must be > 1 (at 1 every frequency is 0).
     delta_o : float
         Inner radius ratio ``Ro/Re`` (1), in (0, 1).
     C1 : float
@@ -37,25 +79,15 @@ class Membrane:
         Undeformed outer radius (m).
     """
 
-    delta: float = 1.1
-    delta_o: float = 0.2
-    C1: float = 0.17e6
-    h: float = 1e-3
-    Gamma: float = 2200.0
-    Re: float = 1.0
+    delta: float = _parameter(1.1, "1", "radial stretch ratio Rf/Re", 1.0, low_open=True)
+    delta_o: float = _parameter(0.2, "1", "inner radius ratio Ro/Re", 0.0, low_open=True, high=1.0)
+    C1: float = _parameter(0.17e6, "Pa", "neo-Hookean constant", 0.0, low_open=True)
+    h: float = _parameter(1e-3, "m", "undeformed thickness", 0.0, low_open=True)
+    Gamma: float = _parameter(2200.0, "kg m-3", "mass density", 0.0, low_open=True)
+    Re: float = _parameter(1.0, "m", "undeformed outer radius", 0.0, low_open=True)
 
     def __post_init__(self):
-        for f in fields(self):
-            v = getattr(self, f.name)
-            if isinstance(v, int) and not isinstance(v, bool):
-                object.__setattr__(self, f.name, float(v))
-        _check("delta", self.delta, isinstance(self.delta, float) and self.delta > 1.0,
-               "a finite number > 1 (delta = Rf/Re; at delta = 1 every frequency is 0)")
-        _check("delta_o", self.delta_o, isinstance(self.delta_o, float) and 0.0 < self.delta_o < 1.0,
-               "a finite number in the open interval (0, 1)")
-        for name in ("C1", "h", "Gamma", "Re"):
-            v = getattr(self, name)
-            _check(name, v, isinstance(v, float) and v > 0.0, "a finite number > 0")
+        _validate(self)
 
     @property
     def Ro(self) -> float:
@@ -72,6 +104,14 @@ class Membrane:
         """``2 C1 / Gamma`` (m2 s-2): the factor between Galerkin eigenvalues and omega^2."""
         return 2.0 * self.C1 / self.Gamma
 
+    def damping_rate(self, c):
+        """``c / (Gamma h)`` (s-1): the damping coefficient of the modal equations.
+
+        ``c`` (N s m-3, a float or an array) is the viscous pressure per unit undeformed
+        area and velocity (docs/model.md, "Damping and forcing").
+        """
+        return c / (self.Gamma * self.h)
+
 
 @dataclass(frozen=True)
 class Loading:
@@ -87,15 +127,32 @@ class Loading:
         Viscous damping (N s m-3): pressure ``-c w_t`` per unit undeformed area, >= 0.
     """
 
-    Omega: float = 1.0
-    P0: float = 0.0
-    c: float = 0.0
+    Omega: float = _parameter(1.0, "rad s-1", "forcing frequency", 0.0, low_open=True)
+    P0: float = _parameter(0.0, "Pa", "forcing pressure amplitude", 0.0, low_open=False)
+    c: float = _parameter(0.0, "N s m-3", "viscous damping coefficient per unit undeformed area",
+                          0.0, low_open=False)
 
     def __post_init__(self):
-        for f in fields(self):
-            v = getattr(self, f.name)
-            if isinstance(v, int) and not isinstance(v, bool):
-                object.__setattr__(self, f.name, float(v))
-        _check("Omega", self.Omega, isinstance(self.Omega, float) and self.Omega > 0.0, "a finite number > 0 (rad/s)")
-        _check("P0", self.P0, isinstance(self.P0, float) and self.P0 >= 0.0, "a finite number >= 0 (Pa)")
-        _check("c", self.c, isinstance(self.c, float) and self.c >= 0.0, "a finite number >= 0 (N s/m^3)")
+        _validate(self)
+
+
+def parameter_info(name: str) -> tuple[type, str, str]:
+    """The record holding parameter ``name`` and the parameter's units and long name.
+
+    Returns
+    -------
+    record : type
+        :class:`Membrane` or :class:`Loading`.
+    units, long_name : str
+        CF ``units`` and ``long_name``.
+
+    Raises
+    ------
+    KeyError
+        If no record has a field ``name``.
+    """
+    for record in (Membrane, Loading):
+        for f in fields(record):
+            if f.name == name:
+                return record, f.metadata["units"], f.metadata["long_name"]
+    raise KeyError(name)

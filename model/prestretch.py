@@ -2,7 +2,8 @@
 
 Three variants of the deformed radius ``r_o(rho)`` share one interface
 (:class:`Prestretch`): ``analytic`` (linearised solution, Eq. 21), ``numeric`` (shooting
-on the nonlinear equilibrium Eq. 15, with the first-order form corrected in MODEL.md) and
+on the nonlinear equilibrium Eq. 15, with the corrected first-order form of
+docs/model.md, "Corrected first-order form") and
 ``fit`` (least-squares fit Eq. 18 of the numeric solution, used by the paper's
 Appendix A).  Radii are in metres; internally the problem is scaled by ``Re`` (Eq. 20).
 """
@@ -25,7 +26,7 @@ _SHOOT_TOL = 1e-13
 
 
 def _equilibrium_rhs(rho, state):
-    """First-order form of Eq. (15) in scaled variables, as corrected in MODEL.md.
+    """First-order form of Eq. (15) in scaled variables (docs/model.md, "Corrected first-order form").
 
     ``state = (r, y)`` with ``y = dr/drho``; returns ``(y, dy/drho)``.
     """

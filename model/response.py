@@ -1,14 +1,14 @@
 """Brute-force steady-state response of the forced ROM, stepped up and down (Figs. 13, 18).
 
 One parameter (``Omega`` or ``P0``) takes the values of a list, first in increasing and
-then in decreasing order; at every value the ROM is integrated period by period (RK4,
-:func:`model.integrate.rk4_period`) from the steady state of the previous value, until the
-stroboscopic map has settled.  The descending sweep starts from the last state of the
+then in decreasing order; at every value the ROM is integrated period by period (the
+stroboscopic map of :class:`model.forced.ForcedMap`) from the steady state of the previous
+value, until the map has settled.  The descending sweep starts from the last state of the
 ascending one.  Both directions therefore follow a branch until it ends at a fold and jump
 there: this is the independent cross-check of :mod:`model.continuation`.
 
 Convergence criterion (no fixed transient).  With ``y_j`` the state after ``j`` periods and
-``S`` of :func:`model.shooting.state_scale`, the relative stroboscopic residual is::
+``S`` of :func:`model.forced.state_scale`, the relative stroboscopic residual is::
 
     r_j = |S (y_{j+1} - y_j)| / (|S y_{j+1}| + atol)
 
@@ -24,18 +24,13 @@ reported as not converged, and the sweep continues from where it stopped.
 
 from __future__ import annotations
 
-from dataclasses import replace
 from typing import NamedTuple
 
 import numba as nb
 import numpy as np
 
-from .integrate import rk4_period
-from .params import Loading
-from .rom import Rom
-from .shooting import DEFAULT_STEPS, _period_amplitude, damping_rate, state_scale
-
-PARAMETERS = ("Omega", "P0")
+from .forced import PARAMETERS, ForcedMap
+from .integrate import rk4_steps
 
 
 class SweepResult(NamedTuple):
@@ -63,18 +58,17 @@ class SweepResult(NamedTuple):
 
 
 @nb.njit(cache=True)
-def _settle(y, steps, tab, c_damp, p_load, omega, scale, tol, atol, consecutive, min_periods,
-            max_periods, work, prev):
+def _settle(y, steps, tab, forcing, scale, tol, atol, consecutive, min_periods, max_periods, work, prev):
     # Integrate whole periods in place until the relative stroboscopic residual stays
     # below tol for `consecutive` periods; returns (periods, converged).
-    period = 2.0 * np.pi / omega
+    period = 2.0 * np.pi / forcing.Omega
     h = period / steps
     run = 0
     n = y.size
     for j in range(1, max_periods + 1):
         for i in range(n):
             prev[i] = y[i]
-        rk4_period(y, 0.0, h, steps, tab, c_damp, p_load, omega, work)
+        rk4_steps(y, 0.0, h, steps, tab, forcing, work)
         num = 0.0
         den = 0.0
         for i in range(n):
@@ -92,21 +86,25 @@ def _settle(y, steps, tab, c_damp, p_load, omega, scale, tol, atol, consecutive,
     return max_periods, False
 
 
-def stepped_sweep(rom: Rom, loading: Loading, parameter: str, values, steps: int = DEFAULT_STEPS,
-                  tol: float = 1e-6, consecutive: int = 20, min_periods: int = 20,
-                  max_periods: int = 30000, atol: float = 1e-12, initial=None) -> SweepResult:
+def _settle_at(fmap: ForcedMap, y, tol, atol, consecutive, min_periods, max_periods, work, prev):
+    """:func:`_settle` on ``fmap``; returns ``(periods, converged)``."""
+    return _settle(y, fmap.steps, fmap.rom.tables, fmap.forcing, fmap.state_scale(), tol, atol,
+                   consecutive, min_periods, max_periods, work, prev)
+
+
+def stepped_sweep(fmap: ForcedMap, parameter: str, values, tol: float = 1e-6, consecutive: int = 20,
+                  min_periods: int = 20, max_periods: int = 30000, atol: float = 1e-12,
+                  initial=None) -> SweepResult:
     """Steady-state amplitudes for ``parameter`` stepped up through ``values`` and back down.
 
     Parameters
     ----------
-    rom : Rom
-    loading : Loading
-        Fixed ``Omega`` (rad s-1), ``P0`` (Pa), ``c`` (N s m-3); the swept one is replaced.
+    fmap : ForcedMap
+        The stroboscopic map with the fixed forcing and the RK4 steps per period; the
+        swept parameter is replaced.
     parameter : {"Omega", "P0"}
     values : array_like
         Parameter values (any order; swept in increasing order, then decreasing).
-    steps : int
-        RK4 steps per forcing period.
     tol, consecutive, min_periods, max_periods, atol :
         The convergence criterion of the module docstring.
     initial : (2K,) array, optional
@@ -128,7 +126,7 @@ def stepped_sweep(rom: Rom, loading: Loading, parameter: str, values, steps: int
         raise ValueError(f"(tol, consecutive, min_periods, max_periods) = ({tol}, {consecutive}, {min_periods}, "
                          f"{max_periods}) is invalid: need tol > 0, consecutive >= 1, "
                          "1 <= min_periods <= max_periods")
-    n = 2 * rom.dof
+    n = 2 * fmap.dof
     y = np.zeros(n) if initial is None else np.array(initial, dtype=float)
     if y.shape != (n,):
         raise ValueError(f"initial.shape = {y.shape} is invalid: expected ({n},)")
@@ -139,22 +137,19 @@ def stepped_sweep(rom: Rom, loading: Loading, parameter: str, values, steps: int
     periods = np.zeros((2, N), dtype=np.int64)
     work = np.empty((6, n))
     prev = np.empty(n)
-    cd = damping_rate(rom, loading)
     for d, order in enumerate((range(N), range(N - 1, -1, -1))):
         for i in order:
-            ld = replace(loading, **{parameter: float(vals[i])})
-            scale = state_scale(rom.dof, ld.Omega)
-            periods[d, i], conv[d, i] = _settle(y, steps, rom.tables, cd, ld.P0, ld.Omega, scale, tol, atol,
-                                                consecutive, min_periods, max_periods, work, prev)
+            at = fmap.varied(parameter, vals[i])
+            periods[d, i], conv[d, i] = _settle_at(at, y, tol, atol, consecutive, min_periods, max_periods,
+                                                   work, prev)
             states[d, i] = y
-            amp[d, i] = _period_amplitude(y.copy(), steps, rom.tables, cd, ld.P0, ld.Omega, work)
+            amp[d, i] = at.amplitude(y)
     return SweepResult(vals, amp, states, conv, periods)
 
 
-def refine_jumps(rom: Rom, loading: Loading, parameter: str, sweep: SweepResult, max_jumps: int = 2,
-                 jump_fraction: float = 0.3, rtol: float = 1e-3, steps: int = DEFAULT_STEPS,
-                 tol: float = 1e-6, consecutive: int = 20, max_periods: int = 30000,
-                 atol: float = 1e-12) -> np.ndarray:
+def refine_jumps(fmap: ForcedMap, parameter: str, sweep: SweepResult, max_jumps: int = 2,
+                 jump_fraction: float = 0.3, rtol: float = 1e-3, tol: float = 1e-6,
+                 consecutive: int = 20, max_periods: int = 30000, atol: float = 1e-12) -> np.ndarray:
     """Locate the jumps of a stepped sweep with an adaptive step, still by brute force.
 
     A coarse step may kick the state out of a shrinking basin before the branch ends, so a
@@ -176,16 +171,14 @@ def refine_jumps(rom: Rom, loading: Loading, parameter: str, sweep: SweepResult,
     """
     out = np.full((2, max_jumps), np.nan)
     vals, amp = sweep.values, sweep.amplitude
-    n = 2 * rom.dof
+    n = 2 * fmap.dof
     work = np.empty((6, n))
     prev = np.empty(n)
-    cd = damping_rate(rom, loading)
 
     def settle(y, value):
-        ld = replace(loading, **{parameter: float(value)})
-        _settle(y, steps, rom.tables, cd, ld.P0, ld.Omega, state_scale(rom.dof, ld.Omega), tol, atol,
-                consecutive, consecutive, max_periods, work, prev)
-        return _period_amplitude(y.copy(), steps, rom.tables, cd, ld.P0, ld.Omega, work)
+        at = fmap.varied(parameter, value)
+        _settle_at(at, y, tol, atol, consecutive, consecutive, max_periods, work, prev)
+        return at.amplitude(y)
 
     for d in range(2):
         order = np.arange(vals.size) if d == 0 else np.arange(vals.size)[::-1]

@@ -2,7 +2,7 @@
 
 ``w(rho, theta, t) = sum_k q_k(t) psi_k``, ``psi_k = phi_k(rho) cos(n_k theta)`` over a set
 of (m, n) modes with the paper's normalisation (:mod:`model.modes`).  With the exact
-neo-Hookean transverse energy of MODEL.md (no Taylor truncation)::
+neo-Hookean transverse energy (no Taylor truncation; docs/model.md, "Transverse energy")::
 
     D  = r'^2 r^2 + r'^2 w_theta^2 + r^2 w_rho^2
     I1 = r'^2 + w_rho^2 + (r^2 + w_theta^2)/rho^2 + rho^2 / D
@@ -67,6 +67,24 @@ class RomTables(NamedTuple):
     table_max: float
     stiffness_table: np.ndarray
     slope_table: np.ndarray
+
+
+class Forcing(NamedTuple):
+    """The forcing of the modal equations at one parameter point, as the kernels take it.
+
+    Attributes
+    ----------
+    damping_rate : float
+        ``c / (Gamma h)`` (s-1), :meth:`model.params.Membrane.damping_rate`.
+    P0 : float
+        Pressure amplitude (Pa).
+    Omega : float
+        Forcing frequency (rad s-1); the pressure is ``P0 cos(Omega t)``.
+    """
+
+    damping_rate: float
+    P0: float
+    Omega: float
 
 
 @dataclass(frozen=True)
@@ -365,8 +383,8 @@ def strain_energy(q, tab):
 
 
 @nb.njit(cache=True)
-def rhs(t, y, tab, c_damp, p_load, omega, g, out):
-    """Right-hand side of the ROM, ``y' = F(t, y)``, with ``y = (q, q')``.
+def rhs(t, y, tab, forcing, g, out):
+    """Right-hand side of the ROM, ``y' = F(t, y)``, with ``y = (q, q')`` (Eq. 31).
 
     Parameters
     ----------
@@ -375,12 +393,8 @@ def rhs(t, y, tab, c_damp, p_load, omega, g, out):
     y : (2K,) array
         State.
     tab : RomTables
-    c_damp : float
-        ``c / (Gamma h)`` (s-1).
-    p_load : float
-        ``P0`` (Pa).
-    omega : float
-        ``Omega`` (rad s-1).
+    forcing : Forcing
+        Damping rate (s-1), pressure amplitude (Pa) and frequency (rad s-1).
     g : (K,) array
         Work space for the elastic force.
     out : (2K,) array
@@ -388,7 +402,8 @@ def rhs(t, y, tab, c_damp, p_load, omega, g, out):
     """
     K = g.size
     elastic_force(y[:K], tab, g)
-    pt = p_load * np.cos(omega * t)
+    pt = forcing.P0 * np.cos(forcing.Omega * t)
+    c_damp = forcing.damping_rate
     for k in range(K):
         out[k] = y[K + k]
         out[K + k] = -c_damp * y[K + k] - tab.k_force[k] * g[k] + pt * tab.load[k]

@@ -8,36 +8,27 @@ allowed; the first problem found is the one reported.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import math
 import re
 import tomllib
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from model.params import Loading, Membrane, ParameterError, parameter_info
 from sweep import analyses
-from sweep.analyses.base import GRID_KEYS, MISSING, Analysis, JobError
+from sweep.analyses.base import GRID_KEYS, MISSING, Analysis, JobError, Point, check_keys
 from sweep.grid import TaskLayout, default_chunk
 
-#: Defaults of the ``[membrane]`` table (the paper's values), SI units.
-MEMBRANE_DEFAULTS: dict[str, float] = {"C1": 0.17e6, "h": 1e-3, "Gamma": 2200.0, "Re": 1.0}
+#: Keys of the ``[membrane]`` table (the grid sets delta and delta_o).
+MEMBRANE_KEYS = ("C1", "h", "Gamma", "Re")
 
-_MEMBRANE_UNITS = {"C1": "Pa", "h": "m", "Gamma": "kg m-3", "Re": "m"}
-
-#: Allowed range of each grid key: (test, description).
-_GRID_RANGES: dict[str, tuple[Callable[[float], bool], str]] = {
-    "delta": (lambda x: x > 1, "a finite number > 1"),
-    "delta_o": (lambda x: 0 < x < 1, "a finite number in (0, 1)"),
-    "Omega": (lambda x: x > 0, "a finite number > 0 (rad s-1)"),
-    "P0": (lambda x: x >= 0, "a finite number >= 0 (Pa)"),
-    "c": (lambda x: x >= 0, "a finite number >= 0 (N s m-3)"),
-}
-
-_JOB_KEYS = ("name", "analysis", "seed", "chunk")
+_JOB_KEYS = ("name", "analysis", "chunk")
 _NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]*")
 _GRID_FORMS = "a number, a non-empty list of numbers, or a table {start=, stop=, num=}"
 
@@ -56,12 +47,11 @@ class Job:
         The analysis object.
     options : object
         What ``analysis.parse_options`` returned.
-    membrane : dict of str to float
-        ``C1`` (Pa), ``h`` (m), ``Gamma`` (kg m-3), ``Re`` (m).
+    membrane : Membrane
+        The ``[membrane]`` table on the record's defaults (``delta``, ``delta_o`` are set
+        per task from the grid).
     layout : TaskLayout
         Grid, tasks and chunks.
-    seed : int or None
-        ``[job] seed``.
     text : str
         The job file text, stored in the results.
     """
@@ -70,9 +60,8 @@ class Job:
     analysis_name: str
     analysis: Analysis
     options: Any
-    membrane: dict[str, float]
+    membrane: Membrane
     layout: TaskLayout
-    seed: int | None
     text: str
 
     @property
@@ -80,10 +69,18 @@ class Job:
         """Hex SHA-256 of the job file text (a resume must match it)."""
         return job_hash(self.text)
 
-    def point(self, t: int) -> tuple[dict[str, float], int]:
-        """The ``point`` argument of ``compute`` for task ``t`` and its subtask index."""
-        grid_point, subtask = self.layout.task(t)
-        return {**grid_point, **self.membrane}, subtask
+    def point(self, t: int) -> tuple[Point, int]:
+        """The :class:`~sweep.analyses.base.Point` of task ``t`` and its subtask index."""
+        values, subtask = self.layout.task(t)
+        return grid_point(self.membrane, values), subtask
+
+
+def grid_point(membrane: Membrane, values: Mapping[str, float]) -> Point:
+    """The typed records of one grid point: ``values`` (grid key -> value) replace the
+    fields of ``membrane`` and of the :class:`~model.params.Loading` defaults."""
+    loading = {k: v for k, v in values.items() if parameter_info(k)[0] is Loading}
+    return Point(dataclasses.replace(membrane, **{k: v for k, v in values.items() if k not in loading}),
+                 Loading(**loading), dict(values))
 
 
 def job_hash(text: str) -> str:
@@ -137,11 +134,10 @@ def parse_job(text: str, source: str = "<job>") -> Job:
         raise JobError("job file", source, f"TOML syntax is required: {exc}") from None
 
     job = _table(doc, "job", required=True)
-    _check_keys(job, "job", _JOB_KEYS)
+    check_keys(job, "job", _JOB_KEYS)
     name = _job_name(job.get("name", MISSING))
     analysis_name = _string("job.analysis", job.get("analysis", MISSING))
     analysis = analyses.get(analysis_name)
-    seed = _integer("job.seed", job["seed"], 0, "an integer >= 0") if "seed" in job else None
 
     tables = ("job", "membrane", "grid", analysis_name)
     for key, value in doc.items():
@@ -156,15 +152,14 @@ def parse_job(text: str, source: str = "<job>") -> Job:
             raise JobError(f"grid.{key}", MISSING,
                            f"analysis {analysis_name!r} needs grid keys "
                            + ", ".join(analysis.required_grid))
-    options = analysis.parse_options(_table(doc, analysis_name, required=False), grid,
-                                     dict(membrane))
+    options = analysis.parse_options(_table(doc, analysis_name, required=False), grid, membrane)
 
     n_subtasks = analysis.n_subtasks(options)
     n_tasks = math.prod(len(v) for v in grid.values()) * n_subtasks
     chunk = (_integer("job.chunk", job["chunk"], 1, "an integer > 0 (tasks per chunk)")
              if "chunk" in job else default_chunk(n_tasks))
     layout = TaskLayout(tuple(grid), tuple(grid.values()), n_subtasks, chunk)
-    return Job(name, analysis_name, analysis, options, membrane, layout, seed, text)
+    return Job(name, analysis_name, analysis, options, membrane, layout, text)
 
 
 def _table(doc: Mapping, key: str, *, required: bool) -> dict:
@@ -175,13 +170,6 @@ def _table(doc: Mapping, key: str, *, required: bool) -> dict:
     if not isinstance(doc[key], dict):
         raise JobError(key, doc[key], f"a [{key}] table")
     return doc[key]
-
-
-def _check_keys(table: Mapping, prefix: str, allowed: tuple[str, ...]) -> None:
-    for key, value in table.items():
-        if key not in allowed:
-            raise JobError(f"{prefix}.{key}", value, "unknown key; the keys of "
-                           f"[{prefix}] are " + ", ".join(allowed))
 
 
 def _string(key: str, value: Any) -> str:
@@ -203,26 +191,23 @@ def _integer(key: str, value: Any, minimum: int, allowed: str) -> int:
     return value
 
 
-def _finite(key: str, value: Any, allowed: str) -> float:
-    """A TOML number (int or float, not bool) that is finite, as a float."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise JobError(key, value, allowed)
-    return float(value)
+def _record_value(key: str, name: str, value: Any, record: type) -> float:
+    """``value`` validated as field ``name`` of ``record`` (Membrane or Loading); the
+    record's own rule, reported as a :class:`JobError` on the job-file ``key``."""
+    try:
+        return getattr(record(**{name: value}), name)
+    except ParameterError as exc:
+        raise JobError(key, value, exc.allowed) from None
 
 
-def _membrane(table: Mapping) -> dict[str, float]:
-    _check_keys(table, "membrane", tuple(MEMBRANE_DEFAULTS))
-    membrane = dict(MEMBRANE_DEFAULTS)
-    for key, value in table.items():
-        allowed = f"a finite number > 0 ({_MEMBRANE_UNITS[key]})"
-        membrane[key] = _finite(f"membrane.{key}", value, allowed)
-        if membrane[key] <= 0:
-            raise JobError(f"membrane.{key}", value, allowed)
-    return membrane
+def _membrane(table: Mapping) -> Membrane:
+    check_keys(table, "membrane", MEMBRANE_KEYS)
+    return Membrane(**{key: _record_value(f"membrane.{key}", key, value, Membrane)
+                       for key, value in table.items()})
 
 
 def _grid(table: Mapping) -> dict[str, np.ndarray]:
-    _check_keys(table, "grid", tuple(GRID_KEYS))
+    check_keys(table, "grid", tuple(GRID_KEYS))
     if not table:
         raise JobError("grid", table, "at least one of the keys " + ", ".join(GRID_KEYS))
     return {key: _axis(key, table[key]) for key in GRID_KEYS if key in table}
@@ -230,17 +215,14 @@ def _grid(table: Mapping) -> dict[str, np.ndarray]:
 
 def _axis(key: str, spec: Any) -> np.ndarray:
     """Values of one grid key from a number, a list or ``{start, stop, num}``."""
-    test, allowed = _GRID_RANGES[key]
+    record = parameter_info(key)[0]
 
     def value(subkey: str, v: Any) -> float:
-        x = _finite(subkey, v, allowed)
-        if not test(x):
-            raise JobError(subkey, v, allowed)
-        return x
+        return _record_value(subkey, key, v, record)
 
     dotted = f"grid.{key}"
     if isinstance(spec, dict):
-        _check_keys(spec, dotted, ("start", "stop", "num"))
+        check_keys(spec, dotted, ("start", "stop", "num"))
         for sub in ("start", "stop", "num"):
             if sub not in spec:
                 raise JobError(f"{dotted}.{sub}", MISSING, "start, stop and num are all required")

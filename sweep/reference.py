@@ -24,5 +24,6 @@ TABLE2 = {
     (0.3, 2, 1.1): (46.879, 46.796), (0.3, 2, 1.5): (64.950, 65.629), (0.3, 2, 2.0): (67.471, 67.725),
 }
 
-#: Tolerances of MODEL.md: Galerkin vs App.1/App.2, vs FEM, and Eq. (28) vs AN (relative).
+#: Tolerances (docs/model.md, "Reference values"): Galerkin vs App.1/App.2, vs FEM, and
+#: Eq. (28) vs AN (relative).
 TOL_APP, TOL_FEM, TOL_AN = 1e-3, 8e-3, 2.5e-2

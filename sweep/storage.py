@@ -283,8 +283,6 @@ def collect(out: Path) -> CollectReport:
         "tasks_completed": completed,
         "date_created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
     })
-    if job.seed is not None:
-        ds.attrs["seed"] = job.seed
     report = CollectReport(out, completed, job.layout.n_tasks)
     if completed < job.layout.n_tasks:
         report.notes.append(f"{job.layout.n_tasks - completed} of {job.layout.n_tasks} tasks "

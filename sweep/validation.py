@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from model.continuation import stable_amplitudes_at
+
 from .reference import TABLE1, TABLE2, TOL_AN, TOL_APP, TOL_FEM
 
 
@@ -42,7 +44,7 @@ def _missing(*names: str) -> list[str]:
 def section_table1(results: Path) -> list[str]:
     out = ["## Table 1: lowest natural frequency (m = 1, n = 0)", "",
            "Galerkin solution of Eq. (25) (converged basis) with the three pre-stretch variants, and",
-           f"Eq. (28) with the analytic pre-stretch. Tolerances (MODEL.md): App.1/App.2 {TOL_APP:.1%},",
+           f"Eq. (28) with the analytic pre-stretch. Tolerances (docs/model.md, Reference values): App.1/App.2 {TOL_APP:.1%},",
            f"FEM {TOL_FEM:.1%}, AN {TOL_AN:.1%}. Frequencies in rad/s.", ""]
     num, fit, ana = (_open(results, n) for n in ("table1", "table1-app1", "table1-app2"))
     if num is None or fit is None or ana is None:
@@ -192,17 +194,6 @@ def section_backbone_limits(results: Path) -> list[str]:
     return out + [""]
 
 
-def _stable_amplitudes(branch_x, branch_a, stable, x):
-    """Amplitudes of the stable parts of a continued branch at parameter value ``x``."""
-    ok = np.isfinite(branch_x)
-    bx, ba, st = branch_x[ok], branch_a[ok], stable[ok]
-    found = []
-    for i in range(bx.size - 1):
-        if st[i] == 1 and st[i + 1] == 1 and (bx[i] - x) * (bx[i + 1] - x) <= 0 and bx[i] != bx[i + 1]:
-            found.append(ba[i] + (ba[i + 1] - ba[i]) * (x - bx[i]) / (bx[i + 1] - bx[i]))
-    return np.array(found)
-
-
 def section_continuation_bruteforce(results: Path) -> list[str]:
     case = dict(delta=1.1, delta_o=0.2, Omega=33.5, c=0.05)
     out = ["## Continuation against brute force (Fig. 15a)", "",
@@ -230,7 +221,7 @@ def section_continuation_bruteforce(results: Path) -> list[str]:
     worst_a, n = 0.0, 0
     for d in ("up", "down"):
         for p, a in zip(b.P0.values, b.amplitude.sel(direction=d).values):
-            cand = _stable_amplitudes(x, amp, c.stable.values, p)
+            cand = stable_amplitudes_at(x, amp, c.stable.values, p)
             if p > 0 and cand.size and np.isfinite(a):
                 worst_a, n = max(worst_a, np.min(np.abs(cand / a - 1))), n + 1
     out += [f"Brute-force steady-state amplitudes at the {n} swept values P0 > 0 (both directions)",

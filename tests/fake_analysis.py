@@ -62,20 +62,20 @@ class Fake(Analysis):
     def compute(self, point, options, subtask):
         log = os.environ.get("FAKE_SWEEP_LOG")
         if log:
-            line = f"{point['delta']!r} {point.get('delta_o')!r} {point.get('Omega')!r} {subtask}\n"
+            line = f"{point.grid['delta']!r} {point.grid.get('delta_o')!r} {point.grid.get('Omega')!r} {subtask}\n"
             with open(log, "a") as f:
                 f.write(line)
             kill_after = os.environ.get("FAKE_SWEEP_KILL_AFTER")
             if kill_after and len(Path(log).read_text().splitlines()) >= int(kill_after):
                 os.kill(os.getpid(), signal.SIGKILL)
-        if options.fail_delta is not None and point["delta"] == options.fail_delta:
+        if options.fail_delta is not None and point.grid["delta"] == options.fail_delta:
             raise ZeroDivisionError("the fake analysis fails here on purpose")
         time.sleep(options.sleep)
-        phase = 3 * point["delta"] + 7 * point.get("delta_o", 0.0) + point.get("Omega", 0.0)
-        value = options.scale * math.sin(phase) * point["h"] * 1e3 + subtask
+        phase = 3 * point.grid["delta"] + 7 * point.grid.get("delta_o", 0.0) + point.grid.get("Omega", 0.0)
+        value = options.scale * math.sin(phase) * point.membrane.h * 1e3 + subtask
         return {"value": value,
                 "profile": value * np.linspace(0.2, 1.0, 4),
-                "count": np.int32(10 * point["delta"]) + subtask,
+                "count": np.int32(10 * point.grid["delta"]) + subtask,
                 "status": STATUS_NOT_CONVERGED if math.sin(phase) < -0.9 else STATUS_OK}
 
     def assemble(self, raw, options):

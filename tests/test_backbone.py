@@ -12,14 +12,14 @@ import pytest
 import xarray as xr
 
 from model import dopri
-from model.backbone import free_orbit, linear_mode, peak_to_peak, shooting
+from model.backbone import continue_free_orbits, free_orbit, linear_mode, peak_to_peak
 from model.linear import frequency_bound, galerkin_frequencies
 from model.params import Membrane
 from model.prestretch import solve_prestretch
 from model.rom import build_rom, elastic_force, force_jacobian
 from sweep.analyses.backbone import BACKBONE
 from sweep.analyses.base import JobError
-from sweep.jobspec import load_job
+from sweep.jobspec import grid_point, load_job
 
 AMPS = np.array([0.001, 0.05, 0.1, 0.2, 0.3, 0.4])
 JOBS = Path(__file__).resolve().parents[1] / "jobs"
@@ -41,12 +41,12 @@ def rom3():
 
 @pytest.fixture(scope="module")
 def bb1(rom1):
-    return shooting(rom1, AMPS)
+    return continue_free_orbits(rom1, AMPS)
 
 
 @pytest.fixture(scope="module")
 def bb3(rom3):
-    return shooting(rom3, AMPS)
+    return continue_free_orbits(rom3, AMPS)
 
 
 @pytest.mark.parametrize("which", ["1", "3"])
@@ -58,18 +58,28 @@ def test_backbone_starts_at_linear_galerkin_frequency(rom1, rom3, bb1, bb3, whic
 
 
 def test_weak_nonlinearity_matches_lindstedt(rom1):
-    """omega = omega0 + 3 eps a^2 / (8 omega0) for q'' + omega0^2 q + eps q^3 = 0."""
+    """omega = omega0 + 3 eps a^2 / (8 omega0) for q'' + omega0^2 q + eps q^3 + eps5 q^5 = 0.
+
+    The remainder is the next order of the Lindstedt-Poincare series,
+    -21 eps^2 a^4 / (256 omega0^3) + 5 eps5 a^4 / (16 omega0); the test allows twice the
+    sum of their magnitudes (eps, eps5 from secants of the exact force).
+    """
     w0, v = linear_mode(rom1)
     jac, g = np.empty((1, 1)), np.empty(1)
     force_jacobian(np.zeros(1), rom1.tables, jac)
-    h = 1e-3
-    elastic_force(np.array([h]), rom1.tables, g)
-    eps = rom1.tables.k_force[0] * (g[0] - jac[0, 0] * h) / h**3
+
+    def cubic_secant(h):
+        elastic_force(np.array([h]), rom1.tables, g)
+        return rom1.tables.k_force[0] * (g[0] - jac[0, 0] * h) / h**3
+
     amplitude = 0.005
     a = amplitude * abs(v[0])
+    eps = cubic_secant(1e-3)
+    eps5 = (cubic_secant(a) - eps) / a**2
     lindstedt = w0 + 3 * eps * a**2 / (8 * w0)
-    omega = shooting(rom1, [amplitude]).omega[0]
-    assert abs(omega - lindstedt) <= 1e-3 * (lindstedt - w0)
+    next_order = 21 * eps**2 * a**4 / (256 * w0**3) + 5 * abs(eps5) * a**4 / (16 * w0)
+    omega = continue_free_orbits(rom1, [amplitude]).omega[0]
+    assert abs(omega - lindstedt) <= 2 * next_order
 
 
 def test_hardening_below_and_towards_eq29_bound(rom1, bb1):
@@ -97,18 +107,25 @@ def test_orbits_are_periodic_under_dop853(rom3, bb3):
 def test_delta_weakens_and_delta_o_strengthens_nonlinearity():
     rise = {}
     for delta, delta_o in ((1.1, 0.2), (1.5, 0.2), (2.0, 0.2), (1.1, 0.4)):
-        om = shooting(_rom(delta, delta_o), [0.001, 0.2]).omega
+        om = continue_free_orbits(_rom(delta, delta_o), [0.001, 0.2]).omega
         rise[delta, delta_o] = om[1] / om[0] - 1
     assert rise[1.1, 0.2] > rise[1.5, 0.2] > rise[2.0, 0.2] > 0           # Fig. 11
     assert rise[1.1, 0.4] > rise[1.1, 0.2]                                 # Fig. 12
 
 
 def test_three_modes_higher_amplitudes_small_and_close_to_one_mode(bb1, bb3):
-    """Fig. 9: A20, A30 << A10; the 1-mode backbone is within 0.5 % of the 3-mode one."""
+    """Fig. 9: A20, A30 an order of magnitude below A10 (the paper's statement), and the
+    1-mode backbone close to the 3-mode one.
+
+    The tighter bounds are regression bounds, not physics: at commit 6374368 the largest
+    |A20|/A10 was 2.96 % and |omega_1 / omega_3 - 1| below 0.5 % on these amplitudes
+    (closing note of the backbone work, docs/validation.md "modes" section).
+    """
     a10 = bb3.modal[:, 0]
     assert np.all(a10 > 0)
-    assert np.all(np.abs(bb3.modal[:, 1:]) < 0.03 * a10[:, None])
-    assert np.abs(bb1.omega / bb3.omega - 1).max() < 5e-3
+    assert np.all(np.abs(bb3.modal[:, 1:]) < 0.1 * a10[:, None])
+    assert np.all(np.abs(bb3.modal[:, 1:]) < 0.03 * a10[:, None])  # regression bound
+    assert np.abs(bb1.omega / bb3.omega - 1).max() < 5e-3              # regression bound
 
 
 @pytest.mark.parametrize("which,tol", [("1", 2e-7), ("3", 1e-4)])
@@ -128,7 +145,7 @@ def test_failed_newton_is_reported_not_raised(rom1):
 
 
 @pytest.mark.parametrize("call,message", [
-    (lambda r: shooting(r, [0.1, -1.0]), r"amplitudes = \[0.1, -1.0\] is invalid: need finite values > 0"),
+    (lambda r: continue_free_orbits(r, [0.1, -1.0]), r"amplitudes = \[0.1, -1.0\] is invalid: need finite values > 0"),
     (lambda r: peak_to_peak(r, [0.1], c=0.0), r"c = 0.0 is invalid: the peak-to-peak method needs a damped decay"),
     (lambda r: peak_to_peak(r, [0.1], cycles=1), r"cycles = 1 is invalid: must be an integer >= 2"),
 ])
@@ -138,11 +155,11 @@ def test_backbone_errors_name_the_value(rom1, call, message):
 
 
 GRID = {"delta": np.array([1.1]), "delta_o": np.array([0.2])}
-MEMBRANE = {"C1": 0.17e6, "h": 1e-3, "Gamma": 2200.0, "Re": 1.0}
+MEMBRANE = Membrane()
 
 
 @pytest.mark.parametrize("table,message", [
-    ({"amplitud": 1}, r"backbone.amplitud = 1 is invalid: unknown option"),
+    ({"amplitud": 1}, r"backbone.amplitud = 1 is invalid: unknown key"),
     ({"amplitude": {"start": 0.0, "stop": 0.4, "num": 5}}, r"backbone.amplitude.start = 0.0 is invalid: must be > 0"),
     ({"amplitude": {"start": 0.1, "stop": 0.4}}, r"backbone.amplitude = .* is invalid: must be a table with exactly"),
     ({"peak_damping": 0}, r"backbone.peak_damping = 0 is invalid: must be > 0"),
@@ -156,7 +173,7 @@ def test_bad_options_name_key_and_value(table, message):
 
 def test_analysis_compute_assemble_and_figures(tmp_path):
     options = BACKBONE.parse_options({"amplitude": {"start": 0.001, "stop": 0.3, "num": 4}}, GRID, MEMBRANE)
-    out = BACKBONE.compute({"delta": 1.1, "delta_o": 0.2, **MEMBRANE}, options, 0)
+    out = BACKBONE.compute(grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2}), options, 0)
     assert out["status"] == 0
     for var in BACKBONE.variables(options):
         assert np.shape(out[var.name]) == var.shape

@@ -12,18 +12,25 @@ import pytest
 import xarray as xr
 
 from model import basins as mb
+from model.forced import ForcedMap
 from model.linear import galerkin_frequencies
-from model.params import Membrane
+from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
 from model.rom import build_rom
 from sweep.analyses.base import JobError
 from sweep.analyses.basins import BASINS
+from sweep.jobspec import grid_point
 
 GRID = {k: np.array([v]) for k, v in
         dict(delta=1.1, delta_o=0.2, Omega=33.5, P0=1.0, c=0.05).items()}
-MEMBRANE = {"C1": 0.17e6, "h": 1e-3, "Gamma": 2200.0, "Re": 1.0}
-POINT = {**{k: float(v[0]) for k, v in GRID.items()}, **MEMBRANE}
-C_DAMP = 0.05 / (2200.0 * 1e-3)
+MEMBRANE = Membrane()
+POINT = grid_point(MEMBRANE, {k: float(v[0]) for k, v in GRID.items()})
+C_DAMP = 0.05 / (2200.0 * 1e-3)  # c / (Gamma h), s-1
+
+
+def _fmap(rom, omega=33.5, p0=1.0, steps=mb.DEFAULT_STEPS):
+    """The stroboscopic map at c = 0.05 N s/m^3."""
+    return ForcedMap.from_loading(rom, Loading(omega, p0, 0.05), steps)
 
 
 @pytest.fixture(scope="module")
@@ -40,8 +47,7 @@ def test_newton_finds_the_linear_forced_response(rom):
     D = (w0**2 - om**2) ** 2 + (C_DAMP * om) ** 2
     A, B = F * (w0**2 - om**2) / D, F * C_DAMP * om / D
     scale = np.array([1 / 0.6, 1 / 20.0])
-    att = mb.find_periodic_orbit(np.zeros(2), 1, 2 * np.pi / om, rom.tables, C_DAMP, p0, om,
-                                 96, scale, 1e-13)
+    att = mb.find_periodic_orbit(np.zeros(2), 1, _fmap(rom, om, p0, 96), scale, 1e-13)
     assert att is not None and att.period == 1
     np.testing.assert_allclose(att.points[0], [A, B * om], rtol=2e-3)
     np.testing.assert_allclose(np.abs(att.multipliers), math.exp(-C_DAMP * np.pi / om),
@@ -51,8 +57,8 @@ def test_newton_finds_the_linear_forced_response(rom):
 def _converged(atts, rom, lattice, steps=192):
     """The attractors again by Newton at ``steps`` RK4 steps per period."""
     scale = mb.lattice_scale(lattice, 2)
-    return [mb.find_periodic_orbit(a.points[0], a.period, 2 * np.pi / 33.5, rom.tables, C_DAMP,
-                                   1.0, 33.5, steps, scale, 1e-11) for a in atts]
+    return [mb.find_periodic_orbit(a.points[0], a.period, _fmap(rom, steps=steps), scale, 1e-11)
+            for a in atts]
 
 
 def test_fast_labels_agree_with_converged_brute_force(rom):
@@ -65,14 +71,12 @@ def test_fast_labels_agree_with_converged_brute_force(rom):
     """
     lat = mb.Lattice(np.linspace(-0.3, 0.3, 50), np.linspace(-10.0, 10.0, 50))
     states = mb.lattice_states(lat, slice(None), 2)
-    labels, atts, _ = mb.classify_lattice(states, lat, rom.tables, C_DAMP, 1.0, 33.5,
-                                          mb.Settings())
+    labels, atts, _ = mb.classify_lattice(states, lat, _fmap(rom), mb.Settings())
     assert len(atts) == 2 and all(a.period == 1 for a in atts)
     assert np.all(labels >= 0)
     sample = np.random.default_rng(0).choice(labels.size, 400, replace=False)
-    brute, atts2, periods = mb.classify_lattice(states[sample], lat, rom.tables, C_DAMP, 1.0,
-                                                33.5, mb.Settings(steps=192),
-                                                _converged(atts, rom, lat), cells=False,
+    brute, atts2, periods = mb.classify_lattice(states[sample], lat, _fmap(rom, steps=192), mb.Settings(),
+                                                _converged(atts, rom, lat), use_cells=False,
                                                 discover=False)
     assert len(atts2) == 2 and np.all(brute >= 0)
     assert periods.mean() > 200  # brute force really integrates the long transient
@@ -89,11 +93,11 @@ def test_fig19_cases_have_two_attractors_and_a_larger_resonant_basin(delta, omeg
     rom = build_rom(solve_prestretch(Membrane(delta, 0.2), "numeric"), [(1, 0)])
     lat = mb.Lattice(np.linspace(-2.0, 2.0, 30), np.linspace(-50.0, 50.0, 30))
     labels, atts, _ = mb.classify_lattice(mb.lattice_states(lat, slice(None), 2), lat,
-                                          rom.tables, C_DAMP, 1.0, omega, mb.Settings())
+                                          _fmap(rom, omega), mb.Settings())
     assert [a.period for a in atts] == [1, 1]
     assert all(np.max(np.abs(a.multipliers)) < 1.0 for a in atts)
     assert np.all(labels >= 0)
-    amp = [mb.orbit_amplitude(a, rom.tables, C_DAMP, 1.0, omega, 64) for a in atts]
+    amp = [_fmap(rom, omega).amplitude(a.points[0], a.period) for a in atts]
     resonant = int(np.argmax(amp))
     assert np.mean(labels == resonant) > 0.5
 
@@ -101,16 +105,16 @@ def test_fig19_cases_have_two_attractors_and_a_larger_resonant_basin(delta, omeg
 def test_unreached_attractor_gives_label_minus_one(rom):
     lat = mb.Lattice(np.linspace(-0.2, 0.2, 3), np.linspace(-6.7, 6.7, 3))
     states = mb.lattice_states(lat, slice(None), 2)
-    labels, atts, periods = mb.classify_lattice(states, lat, rom.tables, C_DAMP, 1.0, 33.5,
-                                                mb.Settings(max_periods=5), cells=False,
-                                                discover=False)
+    labels, atts, periods = mb.classify_lattice(states, lat, _fmap(rom), mb.Settings(max_periods=5),
+                                                use_cells=False, discover=False)
     assert atts == [] and np.all(labels == mb.UNCLASSIFIED) and np.all(periods == 5)
 
 
 def test_cells_need_one_mode(rom):
     lat = mb.Lattice(np.linspace(-0.2, 0.2, 3), np.linspace(-6.7, 6.7, 3))
-    with pytest.raises(ValueError, match="cells = True is invalid for 2 modes"):
-        mb.classify_lattice(np.zeros((1, 4)), lat, rom.tables, C_DAMP, 1.0, 33.5, mb.Settings())
+    rom2 = build_rom(solve_prestretch(Membrane(1.1, 0.2), "analytic"), [(1, 0), (2, 0)])
+    with pytest.raises(ValueError, match="use_cells = True is invalid for 2 modes"):
+        mb.classify_lattice(np.zeros((1, 4)), lat, _fmap(rom2), mb.Settings())
 
 
 def _raw(options, subtasks):
@@ -164,9 +168,23 @@ def test_cases_skip_other_grid_points():
     ({"cases": [{"P1": 1.0}]}, "case keys must be grid keys of this job"),
     ({"cases": [{"delta": 1.2}]}, "delta = 1.2 is not a value of grid.delta"),
     ({"cases": []}, "must be a non-empty list of tables"),
-    ({"colour": 1}, "basins.colour = 1 is invalid: unknown option"),
+    ({"colour": 1}, "basins.colour = 1 is invalid: unknown key"),
 ])
 def test_bad_options_are_rejected_with_a_message(table, message):
     with pytest.raises(JobError) as err:
         BASINS.parse_options(table, GRID, MEMBRANE)
     assert message in str(err.value)
+
+
+def test_merge_attractors_identifies_tiles_attractors_and_orders_by_amplitude():
+    scale = np.array([1.0, 1.0])
+    small = mb.Attractor(np.array([[0.01, 0.0]]), np.array([0.9]))
+    big = mb.Attractor(np.array([[0.2, 0.5]]), np.array([0.9]))
+    big_again = mb.Attractor(np.array([[0.2 + 1e-4, 0.5]]), np.array([0.9]))
+    two = mb.Attractor(np.array([[0.1, 0.1], [-0.1, -0.1]]), np.array([0.5]))
+    one_at_two_points = mb.Attractor(np.array([[0.1, 0.1]]), np.array([0.5]))
+    tiles = [[(small, 0.01), (big, 0.07)], [(big_again, 0.07), (two, 0.03)], [(one_at_two_points, 0.02)], []]
+    merged, index = mb.merge_attractors(tiles, scale, 1e-3)
+    assert [a for _, a in merged] == [0.07, 0.03, 0.02, 0.01]
+    assert merged[0][0] is big  # the first finder's points
+    assert [list(i) for i in index] == [[3, 0], [0, 1], [2], []]

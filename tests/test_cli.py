@@ -10,7 +10,7 @@ import xarray as xr
 
 from sweep import analyses, cli
 from sweep.progress import Progress, format_duration
-from test_jobspec import BAD, EXTRA, GOOD, job_text
+from jobfiles import BAD, EXTRA, GOOD, job_text
 
 import fake_analysis
 

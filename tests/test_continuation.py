@@ -4,13 +4,16 @@ agreement with independent shooting, the continuation analysis' options and outp
 import numpy as np
 import pytest
 
-from model.continuation import FOLD, REGULAR, continue_orbits
+from model.backbone import linear_mode
+from model.continuation import FOLD, REGULAR, continue_orbits, cusp_from_folds, stable_amplitudes_at
+from model.forced import ForcedMap
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
 from model.rom import build_rom, force_jacobian
-from model.shooting import period_map, shoot
+from model.shooting import shoot
 from sweep.analyses.base import JobError
-from sweep.analyses.continuation import CONTINUATION, _cusp_1d
+from sweep.analyses.continuation import CONTINUATION
+from sweep.jobspec import grid_point
 
 PAPER = Loading(Omega=33.5, P0=1.0, c=0.05)
 
@@ -22,13 +25,13 @@ def rom():
 
 @pytest.fixture(scope="module")
 def p0_branch(rom):
-    return continue_orbits(rom, PAPER, "P0", 0.0, 3.0, ds_max=0.3)
+    return continue_orbits(ForcedMap.from_loading(rom, PAPER), "P0", 0.0, 3.0, ds_max=0.3)
 
 
 def test_linear_resonance_curve_in_omega(rom):
     # P0 = 1e-5 Pa: the response is linear; every point matches the closed-form FRF.
     ld = Loading(Omega=30.0, P0=1e-5, c=1.0)
-    br = continue_orbits(rom, ld, "Omega", 30.0, 35.0, ds_max=0.1)
+    br = continue_orbits(ForcedMap.from_loading(rom, ld), "Omega", 30.0, 35.0, ds_max=0.1)
     jac = np.zeros((1, 1))
     force_jacobian(np.zeros(1), rom.tables, jac)
     w0sq = rom.tables.k_force[0] * jac[0, 0]
@@ -70,34 +73,34 @@ def test_points_agree_with_shooting_and_stable_ones_with_time_integration(rom, p
     idx = np.flatnonzero(br.kind == REGULAR)[5::25]
     for i in idx:
         ld = Loading(Omega=33.5, P0=float(br.value[i]), c=0.05)
-        orbit = shoot(rom, ld, br.state[i])
+        orbit = shoot(ForcedMap.from_loading(rom, ld), br.state[i])
         assert orbit.iterations <= 1 and orbit.amplitude == pytest.approx(br.amplitude[i], rel=1e-9)
         if br.stable[i]:
-            y = period_map(rom, ld, br.state[i], periods=100)
+            y = ForcedMap.from_loading(rom, ld).advance(br.state[i], periods=100)
             assert np.abs(y - br.state[i]).max() < 1e-8
 
 
 def test_bad_arguments_are_rejected(rom):
     with pytest.raises(ValueError, match="parameter = 'c' is invalid: must be one of Omega, P0"):
-        continue_orbits(rom, PAPER, "c", 0.0, 1.0)
+        continue_orbits(ForcedMap.from_loading(rom, PAPER), "c", 0.0, 1.0)
     with pytest.raises(ValueError, match=r"\(start, stop\) = \(1.0, 1.0\) is invalid"):
-        continue_orbits(rom, PAPER, "P0", 1.0, 1.0)
+        continue_orbits(ForcedMap.from_loading(rom, PAPER), "P0", 1.0, 1.0)
     with pytest.raises(ValueError, match="Omega must stay > 0"):
-        continue_orbits(rom, PAPER, "Omega", 0.0, 1.0)
+        continue_orbits(ForcedMap.from_loading(rom, PAPER), "Omega", 0.0, 1.0)
     with pytest.raises(ValueError, match="need 0 < ds_min <= ds <= ds_max"):
-        continue_orbits(rom, PAPER, "P0", 0.0, 1.0, ds=1.0, ds_max=0.1)
+        continue_orbits(ForcedMap.from_loading(rom, PAPER), "P0", 0.0, 1.0, ds=1.0, ds_max=0.1)
     with pytest.raises(ValueError, match="max_points = 1 is invalid: must be >= 2"):
-        continue_orbits(rom, PAPER, "P0", 0.0, 1.0, max_points=1)
+        continue_orbits(ForcedMap.from_loading(rom, PAPER), "P0", 0.0, 1.0, max_points=1)
 
 
 def test_max_points_stops_and_says_so(rom):
-    br = continue_orbits(rom, PAPER, "P0", 0.0, 3.0, max_points=5)
+    br = continue_orbits(ForcedMap.from_loading(rom, PAPER), "P0", 0.0, 3.0, max_points=5)
     assert br.value.size == 5 and not br.complete and "max_points = 5 reached" in br.message
 
 
 GRID = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "Omega": np.array([33.5]),
         "c": np.array([0.05])}
-MEMBRANE = {"C1": 0.17e6, "h": 1e-3, "Gamma": 2200.0, "Re": 1.0}
+MEMBRANE = Membrane()
 
 
 @pytest.mark.parametrize("table, grid, message", [
@@ -112,7 +115,7 @@ MEMBRANE = {"C1": 0.17e6, "h": 1e-3, "Gamma": 2200.0, "Re": 1.0}
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "max_points": 1}, GRID,
      "continuation.max_points = 1 is invalid: must be >= 2"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "bogus": 1}, GRID,
-     "continuation.bogus = 1 is invalid: unknown option"),
+     "continuation.bogus = 1 is invalid: unknown key"),
 ])
 def test_option_errors_name_key_value_and_rule(table, grid, message):
     with pytest.raises(JobError) as err:
@@ -123,7 +126,7 @@ def test_option_errors_name_key_value_and_rule(table, grid, message):
 def test_compute_pads_outputs_to_max_points():
     options = CONTINUATION.parse_options({"parameter": "P0", "start": 0.0, "stop": 3.0, "max_points": 200,
                                           "ds_max": 0.3}, GRID, MEMBRANE)
-    point = {"delta": 1.1, "delta_o": 0.2, "Omega": 33.5, "c": 0.05, **MEMBRANE}
+    point = grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "Omega": 33.5, "c": 0.05})
     out = CONTINUATION.compute(point, options, 0)
     shapes = {v.name: v.shape for v in CONTINUATION.variables(options)}
     assert all(np.shape(out[k]) == s for k, s in shapes.items())
@@ -141,20 +144,30 @@ def test_cusp_extrapolation_of_a_square_root_merger():
     value = np.stack([1 + d**3, 1 - d**3], axis=1)
     amp = np.stack([0.05 + d, 0.05 - d], axis=1)
     value[-1] = amp[-1] = np.nan
-    cc, cv = _cusp_1d(c, value, amp)
+    cc, cv = cusp_from_folds(c, value, amp)
     assert cc == pytest.approx(2.0, rel=1e-12) and cv == pytest.approx(1.0, rel=1e-12)
 
 
 @pytest.mark.slow
 def test_omega_branch_bends_right_with_two_folds(rom):
-    # Fig. 14a: P0 = 1, c = 0.05; the resonant branch leans past the linear frequency
-    # (32.52 rad/s) and a multiplier crosses +1 exactly at each fold.
-    br = continue_orbits(rom, PAPER, "Omega", 28.0, 50.0, ds_max=0.3, max_points=1000)
+    # Fig. 14a: P0 = 1, c = 0.05; the resonant branch leans past the ROM's linear frequency
+    # (hardening) and a multiplier crosses +1 exactly at each fold.
+    br = continue_orbits(ForcedMap.from_loading(rom, PAPER), "Omega", 28.0, 50.0, ds_max=0.3, max_points=1000)
     folds = br.special(FOLD)
     assert br.complete and folds.size == 2
-    assert br.value[folds[0]] > br.value[folds[1]] > 32.52
+    assert br.value[folds[0]] > br.value[folds[1]] > linear_mode(rom)[0]
     for i in folds:
         assert abs(br.multipliers[i, 0] - 1) < 1e-8 and br.stable[i - 1] != br.stable[i + 1]
     regular = br.kind == REGULAR
     between = regular & (np.arange(br.value.size) > folds[0]) & (np.arange(br.value.size) < folds[1])
     assert not br.stable[between].any() and br.stable[regular & ~between].all()
+
+
+def test_stable_amplitudes_on_an_s_curve():
+    # x = a^3 - a: stable where dx/da > 0 (|a| > 1/sqrt(3)); at x = 0 the stable roots are +-1.
+    a = np.linspace(-1.5, 1.5, 3000)
+    x = a**3 - a
+    stable = (3 * a**2 - 1 > 0).astype(np.int8)
+    found = np.sort(stable_amplitudes_at(np.append(x, np.nan), np.append(a, np.nan), np.append(stable, -1),
+                                         0.0))
+    assert np.allclose(found, [-1.0, 1.0], atol=1e-6)

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from model.integrate import monodromy, rk4_period
+from model.integrate import monodromy, rk4_steps
 from model.params import Membrane
 from model.prestretch import solve_prestretch
-from model.rom import TABLE_MAX_W, build_rom, elastic_force, force_jacobian
+from model.rom import TABLE_MAX_W, Forcing, build_rom, elastic_force, force_jacobian
 
 
 @pytest.fixture(scope="module", params=[(1.1, 0.2), (2.0, 0.3), (1.02, 0.6)])
@@ -50,11 +50,12 @@ def test_scalar_paths_match_the_general_ones(roms, y0):
     period = 2 * np.pi / 33.5
     ya, yb = y0.copy(), y0.copy()
     work = np.empty((6, 2))
-    rk4_period(ya, 0.0, period / 64, 64, tab, 0.02, 1.0, 33.5, work)
-    rk4_period(yb, 0.0, period / 64, 64, exact, 0.02, 1.0, 33.5, work)
+    forcing = Forcing(0.02, 1.0, 33.5)
+    rk4_steps(ya, 0.0, period / 64, 64, tab, forcing, work)
+    rk4_steps(yb, 0.0, period / 64, 64, exact, forcing, work)
     np.testing.assert_allclose(ya, yb, rtol=1e-11, atol=1e-12)
-    za, pa = monodromy(y0, 0.0, period, 64, tab, 0.02, 1.0, 33.5)
-    zb, pb = monodromy(y0, 0.0, period, 64, exact, 0.02, 1.0, 33.5)
+    za, pa = monodromy(y0, 0.0, period, 64, tab, forcing)
+    zb, pb = monodromy(y0, 0.0, period, 64, exact, forcing)
     np.testing.assert_allclose(za, zb, rtol=1e-11, atol=1e-12)
     np.testing.assert_allclose(pa, pb, rtol=1e-10, atol=1e-12)
 

@@ -20,10 +20,10 @@ def test_defaults_are_the_papers():
     ({"delta_o": 0.0}, r"delta_o = 0\.0 is invalid: must be a finite number in the open interval \(0, 1\)"),
     ({"delta_o": 1.0}, r"delta_o = 1\.0 is invalid"),
     ({"delta_o": -0.1}, r"delta_o = -0\.1 is invalid"),
-    ({"C1": 0.0}, r"C1 = 0\.0 is invalid: must be a finite number > 0"),
-    ({"h": -1e-3}, r"h = -0\.001 is invalid: must be a finite number > 0"),
-    ({"Gamma": math.inf}, r"Gamma = inf is invalid: must be a finite number > 0"),
-    ({"Re": 0}, r"Re = 0\.0 is invalid: must be a finite number > 0"),
+    ({"C1": 0.0}, r"C1 = 0\.0 is invalid: must be a finite number > 0 \(Pa\)"),
+    ({"h": -1e-3}, r"h = -0\.001 is invalid: must be a finite number > 0 \(m\)"),
+    ({"Gamma": math.inf}, r"Gamma = inf is invalid: must be a finite number > 0 \(kg m-3\)"),
+    ({"Re": 0}, r"Re = 0\.0 is invalid: must be a finite number > 0 \(m\)"),
     ({"delta": "2"}, r"delta = '2' is invalid"),
     ({"delta": True}, r"delta = True is invalid"),
 ])
@@ -33,9 +33,9 @@ def test_membrane_rejects(kwargs, pattern):
 
 
 @pytest.mark.parametrize("kwargs,pattern", [
-    ({"Omega": 0.0}, r"Omega = 0\.0 is invalid: must be a finite number > 0 \(rad/s\)"),
+    ({"Omega": 0.0}, r"Omega = 0\.0 is invalid: must be a finite number > 0 \(rad s-1\)"),
     ({"P0": -1.0}, r"P0 = -1\.0 is invalid: must be a finite number >= 0 \(Pa\)"),
-    ({"c": -0.05}, r"c = -0\.05 is invalid: must be a finite number >= 0 \(N s/m\^3\)"),
+    ({"c": -0.05}, r"c = -0\.05 is invalid: must be a finite number >= 0 \(N s m-3\)"),
     ({"c": math.nan}, r"c = nan is invalid"),
 ])
 def test_loading_rejects(kwargs, pattern):

@@ -47,7 +47,7 @@ def test_numeric_agrees_with_the_shooting_integration():
     m = Membrane(delta=1.5, delta_o=0.2)
     ps = solve_prestretch(m, "numeric")
 
-    def ode(rho, s):  # Eq. (15) solved for r'' by hand, as in MODEL.md
+    def ode(rho, s):  # Eq. (15) solved for r'' by hand (docs/model.md, "Corrected first-order form")
         r, y = s
         return [y, (r**4 * y**4 - 3 * rho**4 * y**2 - rho * r**3 * y**5 + 3 * rho**3 * r * y)
                 / (rho**2 * r * (3 * rho**2 + r**2 * y**4))]

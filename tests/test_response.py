@@ -4,12 +4,14 @@ import numpy as np
 import pytest
 
 from model.continuation import FOLD, continue_orbits
+from model.forced import ForcedMap
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
 from model.response import refine_jumps, stepped_sweep
 from model.rom import build_rom, force_jacobian
 from sweep.analyses.base import JobError
 from sweep.analyses.response import RESPONSE
+from sweep.jobspec import grid_point
 
 
 @pytest.fixture(scope="module")
@@ -20,7 +22,7 @@ def rom():
 def test_linear_limit_matches_the_closed_form_in_both_directions(rom):
     ld = Loading(Omega=30.0, P0=1e-5, c=2.0)
     values = np.linspace(30.0, 35.0, 6)
-    res = stepped_sweep(rom, ld, "Omega", values)
+    res = stepped_sweep(ForcedMap.from_loading(rom, ld), "Omega", values)
     jac = np.zeros((1, 1))
     force_jacobian(np.zeros(1), rom.tables, jac)
     w0sq = rom.tables.k_force[0] * jac[0, 0]
@@ -35,10 +37,10 @@ def test_linear_limit_matches_the_closed_form_in_both_directions(rom):
 def test_jumps_land_at_the_folds_of_the_continuation(rom):
     # c = 1 (transients of ~200 periods): hysteresis between the two saddle-nodes.
     ld = Loading(Omega=33.5, P0=1.0, c=1.0)
-    br = continue_orbits(rom, ld, "P0", 0.0, 3.0, ds_max=0.3)
+    br = continue_orbits(ForcedMap.from_loading(rom, ld), "P0", 0.0, 3.0, ds_max=0.3)
     lo, hi = sorted(br.value[br.special(FOLD)])
     values = np.linspace(1.0, 2.6, 81)
-    res = stepped_sweep(rom, ld, "P0", values)
+    res = stepped_sweep(ForcedMap.from_loading(rom, ld), "P0", values)
     assert res.converged.all()
     up = np.argmax(np.diff(res.amplitude[0]))
     down = np.argmax(np.diff(res.amplitude[1]))
@@ -51,16 +53,17 @@ def test_jumps_land_at_the_folds_of_the_continuation(rom):
 
 
 def _folds(rom, ld):
-    br = continue_orbits(rom, ld, "P0", 0.0, 4.0, ds_max=0.3)
+    br = continue_orbits(ForcedMap.from_loading(rom, ld), "P0", 0.0, 4.0, ds_max=0.3)
     return sorted(br.value[br.special(FOLD)])
 
 
 def test_refined_jumps_land_at_the_folds_from_a_coarse_sweep(rom):
     ld = Loading(Omega=33.5, P0=1.0, c=1.0)
     lo, hi = _folds(rom, ld)
-    res = stepped_sweep(rom, ld, "P0", np.linspace(0.0, 4.0, 9))
-    jumps = refine_jumps(rom, ld, "P0", res)
-    assert jumps[0, 0] == pytest.approx(hi, rel=2e-3) and jumps[1, 0] == pytest.approx(lo, rel=2e-3)
+    res = stepped_sweep(ForcedMap.from_loading(rom, ld), "P0", np.linspace(0.0, 4.0, 9))
+    jumps = refine_jumps(ForcedMap.from_loading(rom, ld), "P0", res)
+    # the march's resolution: refine_jumps' rtol = 1e-3 relative
+    assert jumps[0, 0] == pytest.approx(hi, rel=1e-3) and jumps[1, 0] == pytest.approx(lo, rel=1e-3)
     assert np.isnan(jumps[:, 1]).all()
 
 
@@ -70,13 +73,14 @@ def test_refined_jumps_at_the_papers_damping(rom):
     # early (a 0.5 Pa step leaves the shrinking basin), the adaptive march does not.
     ld = Loading(Omega=33.5, P0=1.0, c=0.05)
     lo, hi = _folds(rom, ld)
-    res = stepped_sweep(rom, ld, "P0", np.linspace(0.0, 4.0, 9))
-    jumps = refine_jumps(rom, ld, "P0", res)
-    assert jumps[0, 0] == pytest.approx(hi, rel=2e-2) and jumps[1, 0] == pytest.approx(lo, rel=2e-2)
+    res = stepped_sweep(ForcedMap.from_loading(rom, ld), "P0", np.linspace(0.0, 4.0, 9))
+    jumps = refine_jumps(ForcedMap.from_loading(rom, ld), "P0", res)
+    # the march's resolution: refine_jumps' rtol = 1e-3 relative
+    assert jumps[0, 0] == pytest.approx(hi, rel=1e-3) and jumps[1, 0] == pytest.approx(lo, rel=1e-3)
 
 
 def test_max_periods_gives_not_converged(rom):
-    res = stepped_sweep(rom, Loading(33.5, 1.0, 0.05), "P0", [0.5], max_periods=50)
+    res = stepped_sweep(ForcedMap.from_loading(rom, Loading(33.5, 1.0, 0.05)), "P0", [0.5], max_periods=50)
     assert not res.converged.any() and res.periods[0, 0] == 50
 
 
@@ -89,12 +93,12 @@ def test_max_periods_gives_not_converged(rom):
 ])
 def test_bad_arguments_are_rejected(rom, kwargs, message):
     with pytest.raises(ValueError) as err:
-        stepped_sweep(rom, Loading(33.5, 1.0, 0.05), **kwargs)
+        stepped_sweep(ForcedMap.from_loading(rom, Loading(33.5, 1.0, 0.05)), **kwargs)
     assert message in str(err.value)
 
 
 GRID = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "P0": np.array([1e-5]), "c": np.array([2.0])}
-MEMBRANE = {"C1": 0.17e6, "h": 1e-3, "Gamma": 2200.0, "Re": 1.0}
+MEMBRANE = Membrane()
 
 
 @pytest.mark.parametrize("table, grid, message", [
@@ -109,7 +113,7 @@ MEMBRANE = {"C1": 0.17e6, "h": 1e-3, "Gamma": 2200.0, "Re": 1.0}
     ({"parameter": "Omega", "values": {"start": 30.0, "stop": 35.0, "num": 3}, "tol": -1.0}, GRID,
      "response.tol = -1.0 is invalid: must be > 0.0"),
     ({"parameter": "Omega", "values": {"start": 30.0, "stop": 35.0, "num": 3}, "x": 1}, GRID,
-     "response.x = 1 is invalid: unknown option"),
+     "response.x = 1 is invalid: unknown key"),
 ])
 def test_option_errors_name_key_value_and_rule(table, grid, message):
     with pytest.raises(JobError) as err:
@@ -120,7 +124,7 @@ def test_option_errors_name_key_value_and_rule(table, grid, message):
 def test_compute_returns_declared_shapes():
     options = RESPONSE.parse_options({"parameter": "Omega", "values": {"start": 30.0, "stop": 34.0, "num": 3}},
                                      GRID, MEMBRANE)
-    point = {"delta": 1.1, "delta_o": 0.2, "P0": 1e-5, "c": 2.0, **MEMBRANE}
+    point = grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "P0": 1e-5, "c": 2.0})
     out = RESPONSE.compute(point, options, 0)
     for v in RESPONSE.variables(options):
         assert np.shape(out[v.name]) == v.shape

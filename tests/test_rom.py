@@ -10,11 +10,12 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from model import dopri
-from model.integrate import monodromy, rk4_period, strobe_many
+from model.forced import ForcedMap
+from model.integrate import monodromy, rk4_steps
 from model.linear import galerkin_frequencies
-from model.params import Membrane
+from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
-from model.rom import build_rom, elastic_force, force_jacobian, total_energy
+from model.rom import Forcing, build_rom, elastic_force, force_jacobian, total_energy
 
 AXI = [(1, 0), (2, 0), (3, 0)]
 MIXED = [(1, 0), (2, 0), (1, 1), (1, 2)]
@@ -144,7 +145,7 @@ def test_rk4_shows_fourth_order(roms):
     errors = []
     for steps in (96, 192, 384):
         y = y0.copy()
-        rk4_period(y, 0.0, period / steps, steps, rom.tables, 0.05 / 2.2, 1.0, omega, np.empty((6, 6)))
+        rk4_steps(y, 0.0, period / steps, steps, rom.tables, Forcing(0.05 / 2.2, 1.0, omega), np.empty((6, 6)))
         errors.append(np.abs(y - ref[0, 0]).max())
     orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
     assert np.all(np.abs(orders - 4.0) < 0.15), orders
@@ -162,13 +163,10 @@ def test_batches_equal_one_by_one(roms):
         assert np.array_equal(one[0], batch[i]) and nf[0] == nfev[i]
         e1 = dopri.extrema(rom, y0[i], 0.5, 6, c=c[i], P0=p0[i], Omega=om[i])
         assert np.array_equal(e1.times[0], ext.times[i], equal_nan=True)
-    out = np.empty((4, 3, 6))
-    c_damp, p_load, omega = np.full(4, 0.05 / 2.2), np.array([1.0, 0.5, 2.0, 1.0]), np.array([33.5, 30.0, 33.5, 40.0])
-    strobe_many(y0, 2, 50, rom.tables, c_damp, p_load, omega, out)
+    fmap = ForcedMap.from_loading(rom, Loading(33.5, 1.0, 0.05), steps=50)
+    out = fmap.advance_batch(y0, periods=2)
     for i in range(4):
-        one = np.empty((1, 3, 6))
-        strobe_many(y0[i:i + 1].copy(), 2, 50, rom.tables, c_damp[i:i + 1], p_load[i:i + 1], omega[i:i + 1], one)
-        assert np.array_equal(one[0], out[i])
+        assert np.array_equal(fmap.advance(y0[i], periods=2), out[i])
 
 
 def test_extrema_are_zeros_of_the_probe_velocity(roms):
@@ -187,7 +185,7 @@ def test_extrema_are_zeros_of_the_probe_velocity(roms):
 def test_monodromy_matches_finite_differences(roms):
     rom = roms["axi"]
     y0 = np.array([0.2, -0.01, 0.001, 0.0, 0.5, 0.0])
-    args = (0.0, 0.05, 40, rom.tables, 0.0, 0.0, 1.0)
+    args = (0.0, 0.05, 40, rom.tables, Forcing(0.0, 0.0, 1.0))
     _, phi = monodromy(y0, *args)
     h = 1e-6
     fd = np.column_stack([(monodromy(y0 + h * e, *args)[0] - monodromy(y0 - h * e, *args)[0]) / (2 * h)

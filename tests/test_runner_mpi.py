@@ -17,7 +17,7 @@ import xarray as xr
 from sweep import analyses
 from sweep.jobspec import parse_job
 from sweep.launch import find_mpiexec
-from test_jobspec import BAD, EXTRA, job_text
+from jobfiles import BAD, EXTRA, job_text
 
 TESTS = Path(__file__).parent
 TIMEOUT = 120  # seconds, for mpiexec and for the subprocess

@@ -80,7 +80,7 @@ def test_frequency_figures(tmp_path):
     ("[linear]\nmodes = [[1, 0], [1, 0]]\n", "linear.modes = [[1, 0], [1, 0]] is invalid: modes must be distinct"),
     ("[linear]\nprestretch = 'exact'\n", "linear.prestretch = 'exact' is invalid: must be one of analytic, numeric, fit"),
     ("[linear]\nbasis = 2\nmodes = [[3, 0]]\n", "linear.basis = 2 is invalid: must be >= the largest m in linear.modes (3)"),
-    ("[linear]\nspeed = 1\n", "linear.speed = 1 is invalid: unknown option; allowed options are basis, modes, prestretch"),
+    ("[linear]\nspeed = 1\n", "linear.speed = 1 is invalid: unknown key; the keys of [linear] are modes, prestretch, basis"),
 ])
 def test_linear_option_errors(tmp_path, capsys, table, message):
     job = tmp_path / "bad.toml"

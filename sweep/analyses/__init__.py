@@ -2,7 +2,7 @@
 
 Entries are ``"module:attribute"`` strings resolved lazily with :mod:`importlib`, so that
 importing the command line does not import (and compile the numba kernels of) every
-analysis.  A built-in entry is listed only when its module exists.
+analysis.
 
 Tests and benchmarks add analyses of their own through the environment variable
 ``SWEEP_EXTRA_ANALYSES``: comma-separated ``name=module:attribute`` items, for example
@@ -12,7 +12,6 @@ Tests and benchmarks add analyses of their own through the environment variable
 from __future__ import annotations
 
 import importlib
-import importlib.util
 import os
 
 from sweep.analyses.base import Analysis, JobError
@@ -46,13 +45,10 @@ def registry() -> dict[str, str]:
     Returns
     -------
     dict of str to str
-        ``name -> "module:attribute"``: the built-in analyses whose module exists, then
-        the entries of ``SWEEP_EXTRA_ANALYSES``.
+        ``name -> "module:attribute"``: the built-in analyses, then the entries of
+        ``SWEEP_EXTRA_ANALYSES``.
     """
-    found = {name: target for name, target in _BUILTIN.items()
-             if importlib.util.find_spec(target.partition(":")[0]) is not None}
-    found.update(_extra_entries())
-    return found
+    return {**_BUILTIN, **_extra_entries()}
 
 
 def get(name: str) -> Analysis:

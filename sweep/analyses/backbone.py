@@ -4,7 +4,7 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
 
 * ``omega_nl`` -- frequency (rad/s) of the free periodic orbit whose maximum of
   ``|w(0.5 Re, 0, t)|`` equals ``amplitude``, by continuation (shooting) of the free
-  periodic orbits of the undamped ROM (:func:`model.backbone.shooting`);
+  periodic orbits of the undamped ROM (:func:`model.backbone.continue_free_orbits`);
 * ``omega_peak`` -- the same by the peak-to-peak method of Nandakumar and Chatterjee on
   lightly damped free decays (:func:`model.backbone.peak_to_peak`), the method the paper
   applies to its finite element model (section 4.2);
@@ -28,14 +28,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from model.backbone import linear_mode, peak_to_peak, shooting
+from model.backbone import continue_free_orbits, linear_mode, peak_to_peak
 from model.linear import frequency_bound
 from model.params import Membrane
-from model.prestretch import solve_prestretch
-from model.rom import build_rom
 
 from . import options as opt
-from .base import STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Variable
+from .base import STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Variable, check_keys
 
 #: Default amplitude targets: 1 mm to 0.4 m.
 DEFAULT_AMPLITUDE = {"start": 1e-3, "stop": 0.4, "num": 40}
@@ -66,7 +64,7 @@ class BackboneAnalysis(Analysis):
     name = "backbone"
 
     def parse_options(self, table, grid, membrane):
-        opt.check_keys(table, self.name, {"modes", "prestretch", "amplitude", "peak_damping"})
+        check_keys(table, self.name, ("modes", "prestretch", "amplitude", "peak_damping"))
         return BackboneOptions(
             modes=opt.modes(table, self.name),
             prestretch=opt.prestretch(table, self.name),
@@ -97,15 +95,14 @@ class BackboneAnalysis(Analysis):
                 **opt.mode_coords(options.modes)}
 
     def warmup(self, options):
-        rom = build_rom(solve_prestretch(Membrane(), "analytic"), [(1, 0)])
-        shooting(rom, [1e-3], steps=8)
+        rom = opt.rom_for(Membrane(), "analytic", ((1, 0),))
+        continue_free_orbits(rom, [1e-3], steps=8)
         peak_to_peak(rom, [1e-3], cycles=2)
 
     def compute(self, point, options, subtask):
-        m = opt.membrane_from_point(point)
-        rom = build_rom(solve_prestretch(m, options.prestretch), options.modes)
+        rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
         targets = options.targets
-        orbits = shooting(rom, targets)
+        orbits = continue_free_orbits(rom, targets)
         peaks = peak_to_peak(rom, targets, c=options.peak_damping)
         ok = bool(orbits.converged.all() and peaks.converged.all())
         return {"amplitude": targets,
@@ -113,48 +110,13 @@ class BackboneAnalysis(Analysis):
                 "omega_peak": peaks.omega,
                 "modal_amplitude": orbits.modal,
                 "omega_linear": linear_mode(rom)[0],
-                "omega_bound": float(frequency_bound(m, rom.alpha[_backbone_mode(rom)])),
+                "omega_bound": float(frequency_bound(point.membrane, rom.alpha[_backbone_mode(rom)])),
                 "status": STATUS_OK if ok else STATUS_NOT_CONVERGED}
 
     def figures(self, ds, outdir):
-        """Backbone curves (Figs. 10-12) and modal amplitudes (Fig. 9)."""
-        from .plots import grid_points, pyplot, save_figure
+        from sweep.figures import backbone_figures
 
-        plt = pyplot()
-        sels = list(grid_points(ds, ()))
-        swept = [d for d in ("delta", "delta_o", "Omega", "P0", "c") if ds.sizes.get(d, 1) > 1]
-
-        def label(sel):
-            return ", ".join(rf"$\{d}$ = {float(sel[d]):g}" if d.startswith("delta") else f"{d} = {float(sel[d]):g}"
-                             for d in (swept or ["delta", "delta_o"]) if d in sel)
-
-        paths = []
-        fig, ax = plt.subplots(figsize=(5.5, 4.2))
-        for sel in sels:
-            line, = ax.plot(ds.omega_nl.sel(sel), ds.amplitude.sel(sel), lw=1.6, label=label(sel))
-            ax.plot(ds.omega_peak.sel(sel), ds.amplitude.sel(sel), ls="none", marker="o", ms=3.5,
-                    mfc="none", color=line.get_color())
-            ax.axvline(float(ds.omega_bound.sel(sel)), ls="--", lw=1.0, color=line.get_color())
-        ax.plot([], [], "k-", label="periodic orbits (continuation)")
-        ax.plot([], [], "ko", mfc="none", ms=3.5, ls="none", label="peak-to-peak (damped decay)")
-        ax.plot([], [], "k--", lw=1.0, label="bound, Eq. 29")
-        ax.set(xlabel=r"frequency $\omega$ (rad/s)", ylabel=r"amplitude max $|w(0.5, 0)|$ (m)",
-               title="Frequency-amplitude relation", ylim=(0, None))
-        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0))
-        paths.append(save_figure(fig, outdir, "backbone.png"))
-
-        K = ds.sizes["mode"]
-        fig, axes = plt.subplots(1, K, figsize=(4.2 * K, 3.6), squeeze=False, layout="constrained")
-        for k, ax in enumerate(axes[0]):
-            m, n = int(ds.m[k]), int(ds.n[k])
-            for sel in sels:
-                ax.plot(ds.omega_nl.sel(sel), ds.modal_amplitude.sel(sel).isel(mode=k), label=label(sel))
-            ax.set(xlabel=r"frequency $\omega$ (rad/s)", ylabel=f"$A_{{{m}{n}}}$ (m)",
-                   title=f"modal amplitude $A_{{{m}{n}}}$")
-        axes[0, 0].legend()
-        fig.suptitle("Modal amplitudes along the backbone (Eq. 31 normalisation)")
-        paths.append(save_figure(fig, outdir, "modal_amplitudes.png"))
-        return paths
+        return backbone_figures(ds, outdir)
 
 
 BACKBONE = BackboneAnalysis()

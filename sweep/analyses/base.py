@@ -1,7 +1,8 @@
 """The contract between the sweep runner and an analysis.
 
 An analysis turns one *task* into a dictionary of fixed-shape numpy arrays.  A task is
-one grid point (a dict of the swept parameters) and one *subtask* index: most analyses
+one grid point (a :class:`Point`: the typed membrane and loading records) and one
+*subtask* index: most analyses
 have a single subtask per grid point, the basins analysis splits its lattice of initial
 conditions into tiles, one subtask each.  The runner never looks inside the arrays: it
 stores them with the shapes declared by :meth:`Analysis.variables`, merges them into a
@@ -20,20 +21,18 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from model.params import Loading, Membrane, parameter_info
+
 #: Values of the per-task ``status`` variable (CF ``flag_values``/``flag_meanings``).
 STATUS_OK = 0
 STATUS_NOT_CONVERGED = 1
 STATUS_FAILED = 2
 STATUS_MEANINGS = "ok not_converged failed"
 
-#: Grid keys a job may sweep, with units and long names.
+#: Grid keys a job may sweep, in canonical order, with the units and long names of the
+#: parameter records (:mod:`model.params`).
 GRID_KEYS: dict[str, tuple[str, str]] = {
-    "delta": ("1", "radial stretch ratio Rf/Re"),
-    "delta_o": ("1", "inner radius ratio Ro/Re"),
-    "Omega": ("rad s-1", "forcing frequency"),
-    "P0": ("Pa", "forcing pressure amplitude"),
-    "c": ("N s m-3", "viscous damping coefficient per unit undeformed area"),
-}
+    key: parameter_info(key)[1:] for key in ("delta", "delta_o", "Omega", "P0", "c")}
 
 
 class _Missing:
@@ -54,6 +53,38 @@ class JobError(ValueError):
     def __init__(self, key: str, value: Any, allowed: str):
         self.key, self.value, self.allowed = key, value, allowed
         super().__init__(f"{key} = {value!r} is invalid: {allowed}")
+
+
+def check_keys(table: Mapping[str, Any], section: str, allowed) -> None:
+    """Reject the first key of ``table`` that is not in ``allowed`` (a :class:`JobError`).
+
+    ``section`` is the dotted name of the table (``"job"``, ``"grid.delta"``,
+    ``"continuation"``); the message lists the allowed keys in the order given.
+    """
+    for key, value in table.items():
+        if key not in allowed:
+            raise JobError(f"{section}.{key}", value,
+                           f"unknown key; the keys of [{section}] are " + ", ".join(allowed))
+
+
+@dataclass(frozen=True)
+class Point:
+    """One grid point of a job, as :meth:`Analysis.compute` receives it.
+
+    Parameters
+    ----------
+    membrane : Membrane
+        The ``[membrane]`` table and the grid's ``delta``, ``delta_o``.
+    loading : Loading
+        The grid's ``Omega``, ``P0``, ``c`` (the record's defaults for keys that are not
+        grid keys: an analysis that varies ``Omega`` or ``P0`` itself replaces them).
+    grid : Mapping of str to float
+        The grid values of this point, by grid key.
+    """
+
+    membrane: Membrane
+    loading: Loading
+    grid: Mapping[str, float]
 
 
 @dataclass(frozen=True)
@@ -91,7 +122,7 @@ class Analysis(ABC):
     """One kind of computation a job can ask for (``[job] analysis = name``).
 
     Subclasses are stateless; everything a task needs travels in ``options`` (the
-    validated option table) and ``point`` (the grid values and the membrane).
+    validated option table) and ``point`` (a :class:`Point`).
     """
 
     name: ClassVar[str]
@@ -100,12 +131,13 @@ class Analysis(ABC):
 
     @abstractmethod
     def parse_options(self, table: Mapping[str, Any], grid: Mapping[str, np.ndarray],
-                      membrane: Mapping[str, float]) -> Any:
+                      membrane: Membrane) -> Any:
         """Validate the analysis' option table; raise :class:`JobError` on bad input.
 
-        ``grid`` maps each grid key to its 1-D array of values; ``membrane`` holds the
-        validated ``[membrane]`` table (C1, h, Gamma, Re).  Returns an immutable, picklable
-        options object (a frozen dataclass), whose ``repr`` is stable.
+        ``grid`` maps each grid key to its 1-D array of values; ``membrane`` is the
+        membrane of the ``[membrane]`` table (its ``delta``, ``delta_o`` are the record's
+        defaults, the grid sets them per task).  Returns an immutable, picklable options
+        object (a frozen dataclass), whose ``repr`` is stable.
         """
 
     @abstractmethod
@@ -121,11 +153,10 @@ class Analysis(ABC):
         return 1
 
     @abstractmethod
-    def compute(self, point: Mapping[str, float], options: Any, subtask: int) -> dict[str, np.ndarray]:
+    def compute(self, point: Point, options: Any, subtask: int) -> dict[str, np.ndarray]:
         """Compute one task.
 
-        ``point`` holds every grid key of the job (floats) plus the membrane constants
-        ``C1, h, Gamma, Re``.  Returns ``{name: array}`` for every declared variable and
+        Returns ``{name: array}`` for every declared variable and
         ``"status"`` (one of the ``STATUS_*`` codes).  Numerical non-convergence is a
         status, not an exception; an exception means a bug and aborts the run.
         """
@@ -149,7 +180,8 @@ class Analysis(ABC):
         """Write the standard plots of a result as PNG files (``python -m sweep figures``).
 
         ``ds`` is the published Dataset read back from the NetCDF file, ``outdir`` an
-        existing :class:`pathlib.Path`.  Returns the paths written.  The default writes
-        nothing, and the command line says that this analysis has no figures.
+        existing :class:`pathlib.Path`.  Returns the paths written.  The built-in analyses
+        delegate to :mod:`sweep.figures`; the default writes nothing, and the command line
+        says that this analysis has no figures.
         """
         return []

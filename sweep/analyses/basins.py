@@ -25,7 +25,7 @@ Options (table ``[basins]``):
 ``radius``         capture radius around attractor points, fraction of the lattice (0.01)
 ``consecutive``    consecutive clean-cell hits to adopt a cell's label (default 8)
 ``guard``          half-width of the block of equal labels around a clean cell (default 2)
-``cells``          about this many cells per axis in the cell map (default 200; 0: the lattice's)
+``cell_resolution`` about this many cells per axis in the cell map (default 200; 0: the lattice's)
 ``max_period``     largest period of the attractors searched, in forcing periods (4)
 ``max_attractors`` attractors stored per grid point (default 6)
 ``cases``          optional list of tables, e.g. ``[{delta = 1.1, Omega = 33.5}]``: only the
@@ -40,7 +40,6 @@ transient), ``-2`` not computed (outside ``cases``).
 
 from __future__ import annotations
 
-import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -48,17 +47,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from model import basins as mb
+from model.forced import ForcedMap
 from model.integrity import global_integrity_measure, integrity_factor
-from model.prestretch import solve_prestretch
-from model.rom import build_rom
+from model.params import Loading, Membrane
 
 from . import options as opt
-from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable
+from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable, check_keys
 
 _SECTION = "basins"
 _KEYS = ("modes", "prestretch", "lattice_mode", "ic_x", "ic_y", "method", "tiles", "steps",
-         "max_periods", "radius", "consecutive", "guard", "cells", "max_period", "max_attractors",
-         "cases")
+         "max_periods", "radius", "consecutive", "guard", "cell_resolution", "max_period",
+         "max_attractors", "cases")
 NOT_COMPUTED = -2
 
 
@@ -73,6 +72,7 @@ class BasinsOptions:
     ic_y: tuple[float, float, int]
     method: str
     tiles: int
+    steps: int
     settings: mb.Settings
     max_attractors: int
     cases: tuple[tuple[tuple[str, float], ...], ...]
@@ -103,12 +103,6 @@ class BasinsOptions:
                           self.lattice_mode - 1, K + self.lattice_mode - 1)
 
 
-@functools.lru_cache(maxsize=8)
-def _rom(delta, delta_o, C1, h, Gamma, Re, modes, prestretch):
-    point = dict(delta=delta, delta_o=delta_o, C1=C1, h=h, Gamma=Gamma, Re=Re)
-    return build_rom(solve_prestretch(opt.membrane_from_point(point), prestretch), modes)
-
-
 def _cases(value, grid) -> tuple:
     key = f"{_SECTION}.cases"
     if not isinstance(value, list) or not value:
@@ -135,7 +129,7 @@ class Basins(Analysis):
     required_grid = ("delta", "delta_o", "Omega", "P0", "c")
 
     def parse_options(self, table, grid, membrane) -> BasinsOptions:
-        opt.check_keys(table, _SECTION, _KEYS)
+        check_keys(table, _SECTION, _KEYS)
         modes = opt.modes(table, _SECTION)
         lm = opt.number(table, _SECTION, "lattice_mode", 1, low=1, high=len(modes),
                         integer=True)
@@ -148,18 +142,19 @@ class Basins(Analysis):
         method = opt.choice(table, _SECTION, "method", ("fast", "brute"), "fast")
         d = mb.Settings()
         settings = mb.Settings(
-            steps=opt.number(table, _SECTION, "steps", d.steps, low=8, integer=True),
             max_periods=opt.number(table, _SECTION, "max_periods", d.max_periods, low=1, integer=True),
             radius=opt.number(table, _SECTION, "radius", d.radius, low=0.0, low_open=True, high=0.5),
             consecutive=opt.number(table, _SECTION, "consecutive", d.consecutive, low=1, integer=True),
             guard=opt.number(table, _SECTION, "guard", d.guard, low=0, integer=True),
-            cells=opt.number(table, _SECTION, "cells", d.cells, low=0, high=20_000, integer=True),
+            cell_resolution=opt.number(table, _SECTION, "cell_resolution", d.cell_resolution, low=0,
+                                       high=20_000, integer=True),
             max_period=opt.number(table, _SECTION, "max_period", d.max_period, low=1, high=64,
                                   integer=True))
         return BasinsOptions(
             modes=modes, prestretch=opt.prestretch(table, _SECTION), lattice_mode=lm,
             ic_x=ic_x, ic_y=ic_y, method=method,
             tiles=min(opt.number(table, _SECTION, "tiles", 8, low=1, integer=True), ic_x[2]),
+            steps=opt.number(table, _SECTION, "steps", mb.DEFAULT_STEPS, low=8, integer=True),
             settings=settings,
             max_attractors=opt.number(table, _SECTION, "max_attractors", 6, low=1, high=1000,
                                       integer=True),
@@ -192,7 +187,7 @@ class Basins(Analysis):
 
     def _skipped(self, point, options) -> bool:
         return bool(options.cases) and not any(
-            all(math.isclose(point[k], v, rel_tol=1e-12) for k, v in case)
+            all(math.isclose(point.grid[k], v, rel_tol=1e-12) for k, v in case)
             for case in options.cases)
 
     def compute(self, point, options: BasinsOptions, subtask: int):
@@ -207,16 +202,14 @@ class Basins(Analysis):
                "status": STATUS_OK}
         if self._skipped(point, options):
             return out
-        rom = _rom(point["delta"], point["delta_o"], point["C1"], point["h"], point["Gamma"],
-                   point["Re"], options.modes, options.prestretch)
-        c_damp = point["c"] / (point["Gamma"] * point["h"])
+        rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
+        fmap = ForcedMap.from_loading(rom, point.loading, options.steps)
         lattice = options.lattice()
         rows = options.tile_rows(subtask)
         states = mb.lattice_states(lattice, rows, S)
         one_mode = S == 2
-        labels, atts, periods = mb.classify_lattice(
-            states, lattice, rom.tables, c_damp, point["P0"], point["Omega"], options.settings,
-            cells=one_mode and options.method == "fast")
+        labels, atts, periods = mb.classify_lattice(states, lattice, fmap, options.settings,
+                                                    use_cells=one_mode and options.method == "fast")
         labels = np.where(labels >= A, -1, labels)
         n = rows.size
         out["tile_label"][:n] = labels.reshape(n, ny)
@@ -224,28 +217,23 @@ class Basins(Analysis):
         for a, att in enumerate(atts[:A]):
             out["tile_attractor_point"][a, :att.period] = att.points
             out["tile_attractor_period"][a] = att.period
-            out["tile_attractor_amplitude"][a] = mb.orbit_amplitude(
-                att, rom.tables, c_damp, point["P0"], point["Omega"], options.settings.steps)
+            out["tile_attractor_amplitude"][a] = fmap.amplitude(att.points[0], att.period)
             out["tile_attractor_multiplier"][a] = np.max(np.abs(att.multipliers))
         if len(atts) > A or np.any(labels < 0):
             out["status"] = STATUS_NOT_CONVERGED
         return out
 
     def warmup(self, options: BasinsOptions) -> None:
-        point = {"delta": 1.1, "delta_o": 0.2, "C1": 0.17e6, "h": 1e-3, "Gamma": 2200.0,
-                 "Re": 1.0, "Omega": 33.5, "P0": 1.0, "c": 0.05}
-        rom = _rom(*(point[k] for k in ("delta", "delta_o", "C1", "h", "Gamma", "Re")),
-                   options.modes, options.prestretch)
+        rom = opt.rom_for(Membrane(), options.prestretch, options.modes)
+        fmap = ForcedMap.from_loading(rom, Loading(33.5, 1.0, 0.05), options.steps)
         lattice = mb.Lattice(np.array([0.0, 0.01]), np.array([0.0, 0.1]),
                              0, len(options.modes))
-        settings = mb.Settings(steps=options.settings.steps, max_periods=2)
+        settings = mb.Settings(max_periods=2)
         mb.classify_lattice(mb.lattice_states(lattice, slice(None), options.n_state)[:1],
-                            lattice, rom.tables, 0.0227, 1.0, 33.5, settings,
-                            cells=len(options.modes) == 1)
-        att = mb.Attractor(np.zeros((1, options.n_state)), np.zeros(options.n_state))
-        mb.orbit_amplitude(att, rom.tables, 0.0227, 1.0, 33.5, 8)
-        mb.find_periodic_orbit(np.zeros(options.n_state), 1, 0.19, rom.tables, 0.0227, 1.0,
-                               33.5, 8, np.ones(options.n_state), 1e-8, max_iter=1)
+                            lattice, fmap, settings, use_cells=len(options.modes) == 1)
+        fmap.amplitude(np.zeros(options.n_state))
+        mb.find_periodic_orbit(np.zeros(options.n_state), 1, fmap, np.ones(options.n_state), 1e-8,
+                               max_iter=1)
 
     def assemble(self, raw, options: BasinsOptions):
         import xarray as xr
@@ -274,38 +262,21 @@ class Basins(Analysis):
         for g in np.ndindex(*gshape):
             if np.all(tl[g] == NOT_COMPUTED):
                 continue
-            merged, where = [], {}
-            for t in range(tl[g].shape[0]):
-                for a in range(A):
-                    k = int(tper[g][t, a])
-                    if k == 0:
-                        continue
-                    att = mb.Attractor(tp[g][t, a, :k], np.array([tmul[g][t, a]]))
-                    j = mb.match_attractor(att, [m[0] for m in merged], scale,
-                                           options.settings.radius)
-                    if j < 0:
-                        merged.append((att, tamp[g][t, a]))
-                        j = len(merged) - 1
-                    where[(t, a)] = j
-            rank = sorted(range(len(merged)),
-                          key=lambda j: (-merged[j][1], tuple(merged[j][0].points[0])))
-            new = {j: r for r, j in enumerate(rank)}
+            tiles = [[(mb.Attractor(tp[g][t, a, :int(tper[g][t, a])], np.array([tmul[g][t, a]])),
+                       tamp[g][t, a]) for a in range(A) if tper[g][t, a] > 0]
+                     for t in range(tl[g].shape[0])]
+            merged, index = mb.merge_attractors(tiles, scale, options.settings.radius)
             lab = np.full((nx, ny), -1, np.int32)
-            for t in range(tl[g].shape[0]):
+            for t, idx in enumerate(index):
                 rows = options.tile_rows(t)
                 tile = tl[g][t, :rows.size]
                 lut = np.full(A + 1, -1, np.int32)
-                for a in range(A):
-                    if (t, a) in where and new[where[(t, a)]] < A:
-                        lut[a] = new[where[(t, a)]]
+                lut[:idx.size] = np.where(idx < A, idx, -1)
                 lab[rows] = np.where(tile >= 0, lut[np.clip(tile, 0, A)], -1)
             label[g] = lab
             n_att[g] = min(len(merged), A)
             uncl[g] = float(np.mean(lab < 0))
-            for j, r in new.items():
-                if r >= A:
-                    continue
-                att, a_amp = merged[j]
+            for r, (att, a_amp) in enumerate(merged[:A]):
                 k = att.period
                 points[g][r, :k] = att.points
                 period[g][r] = k
@@ -366,75 +337,9 @@ class Basins(Analysis):
         return f"({m}, {n})"
 
     def figures(self, ds, outdir) -> list:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        from matplotlib.colors import ListedColormap
+        from sweep.figures import basins_figures
 
-        written = []
-        grid_dims = [d for d in ds["label"].dims if d not in ("ic_x", "ic_y")]
-        colours = ["#555555", "#c8c8c8", "#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd"]
-        cmap = ListedColormap(["#ffffff", "#d62728"] + colours)
-        x, y = ds["ic_x"].values, ds["ic_y"].values
-        for g in np.ndindex(*(ds.sizes[d] for d in grid_dims)):
-            sel = dict(zip(grid_dims, g))
-            lab = ds["label"].isel(sel).values
-            if np.all(lab == NOT_COMPUTED):
-                continue
-            fig, ax = plt.subplots(figsize=(5.2, 4.4))
-            ax.pcolormesh(x, y, np.clip(lab, -2, len(colours) - 1).T + 2, cmap=cmap, vmin=0,
-                          vmax=len(colours) + 1, shading="nearest", rasterized=True)
-            jx, jy = (int(v) for v in ds["label"].attrs["lattice_state"])
-            for a in range(ds["n_attractors"].isel(sel).values.item()):
-                at = {**sel, "attractor": a}
-                k = ds["attractor_period"].isel(at).values.item()
-                pts = ds["attractor_point"].isel({**sel, "attractor": a}).values[:k]
-                ax.plot(pts[:, jx], pts[:, jy], "kx", ms=9, mew=2,
-                        label=f"attractor {a}: amplitude "
-                              f"{ds['attractor_amplitude'].isel(at).values.item():.3g} m, "
-                              f"basin {ds['basin_fraction'].isel(at).values.item():.2f}")
-            ax.set_xlabel(f"{ds['ic_x'].attrs.get('long_name', 'ic_x')} (m)")
-            ax.set_ylabel(f"{ds['ic_y'].attrs.get('long_name', 'ic_y')} (m/s)")
-            title = ", ".join(f"{d} = {float(ds[d].values[i]):g}" for d, i in sel.items())
-            ax.set_title(title, fontsize=9)
-            ax.legend(fontsize=7, loc="upper right", framealpha=0.9)
-            fig.tight_layout()
-            name = "basins_" + "_".join(f"{d}{float(ds[d].values[i]):g}" for d, i in sel.items())
-            path = outdir / f"{name}.png"
-            fig.savefig(path, dpi=150)
-            plt.close(fig)
-            written.append(path)
-        swept = [d for d in grid_dims if ds.sizes[d] > 1]
-        if len(swept) == 1 and not np.all(ds["label"].values == NOT_COMPUTED):
-            d = swept[0]
-            other = {o: 0 for o in grid_dims if o != d}
-            fig, axes = plt.subplots(1, 2, figsize=(9, 3.8))
-            # Basin greys are too light for lines: black, mid grey, then colours.
-            lines = ["#000000", "#808080", *colours[2:]]
-            markers = "osd^v<"
-            for a in range(ds.sizes["attractor"]):
-                gim = ds["basin_fraction"].isel({**other, "attractor": a})
-                if np.all(np.isnan(gim)):
-                    continue
-                style = dict(color=lines[a % len(lines)], marker=markers[a % len(markers)],
-                             label=f"attractor {a}")
-                axes[0].plot(ds[d], gim, **style)
-                axes[1].plot(ds[d], ds["integrity_factor"].isel({**other, "attractor": a}),
-                             **style)
-            unit = ds[d].attrs.get("units", "")
-            for ax, ylab in zip(axes, ("global integrity measure (basin fraction)",
-                                       "integrity factor")):
-                ax.set_xlabel(f"{d} ({unit})")
-                ax.set_ylabel(ylab)
-                ax.set_ylim(-0.02, 1.02)
-                ax.legend(fontsize=8)
-            axes[0].set_title("attractor 0: largest amplitude", fontsize=9)
-            fig.tight_layout()
-            path = outdir / f"erosion_{d}.png"
-            fig.savefig(path, dpi=150)
-            plt.close(fig)
-            written.append(path)
-        return written
+        return basins_figures(ds, outdir)
 
 
 BASINS = Basins()

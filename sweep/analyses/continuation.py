@@ -35,12 +35,9 @@ Outputs (a task's branches differ in length: every ``point`` array is padded wit
 
 Fold loci versus damping (Fig. 17): put ``c`` in the grid (a dense list).  When ``c`` has
 three or more values and ``parameter = "P0"``, :meth:`ContinuationAnalysis.assemble` adds,
-per combination of the other grid keys, the cusp where the two folds merge:
-``cusp_c`` (N s/m^3) and ``cusp_value`` (Pa).  Near a cusp the two fold amplitudes differ
-like ``sqrt(c_cusp - c)``, so the cusp is where the straight line through the squared fold
-amplitude differences of the last two ``c`` values with two folds reaches zero (bounded by
-the first ``c`` with no fold), and ``cusp_value`` the mean fold value extrapolated linearly
-to it.  The status is ``ok`` when the branch reached ``stop``, ``not_converged`` otherwise.
+per combination of the other grid keys, the cusp where the two folds merge
+(:func:`model.continuation.cusp_from_folds`): ``cusp_c`` (N s/m^3) and ``cusp_value``
+(Pa).  The status is ``ok`` when the branch reached ``stop``, ``not_converged`` otherwise.
 """
 
 from __future__ import annotations
@@ -49,14 +46,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from model.continuation import FOLD, KIND_NAMES, continue_orbits
-from model.params import Loading
-from model.prestretch import solve_prestretch
-from model.rom import build_rom
-from model.shooting import DEFAULT_STEPS
+from model.continuation import FOLD, KIND_NAMES, continue_orbits, cusp_from_folds
+from model.forced import DEFAULT_STEPS, ForcedMap
+from model.params import Loading, Membrane
+from model.shooting import shoot
 
 from . import options as opt
-from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable
+from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable, check_keys
 
 #: Length of the ``fold`` dimension.
 MAX_FOLDS = 6
@@ -82,8 +78,8 @@ class ContinuationAnalysis(Analysis):
 
     def parse_options(self, table, grid, membrane):
         s = self.name
-        opt.check_keys(table, s, {"parameter", "start", "stop", "modes", "prestretch", "max_points",
-                                  "ds_max", "steps"})
+        check_keys(table, s, ("parameter", "start", "stop", "modes", "prestretch", "max_points", "ds_max",
+                              "steps"))
         parameter = opt.forcing_parameter(table, s, grid, "is continued")
         low = 0.0
         start = opt.number(table, s, "start", low=low, low_open=parameter == "Omega")
@@ -128,11 +124,10 @@ class ContinuationAnalysis(Analysis):
         }
 
     def compute(self, point, options, subtask):
-        rom = build_rom(solve_prestretch(opt.membrane_from_point(point), options.prestretch), options.modes)
-        fixed = {key: point[key] for key in opt.fixed_forcing_keys(options.parameter)}
-        fixed[options.parameter] = options.start
-        br = continue_orbits(rom, Loading(**fixed), options.parameter, options.start, options.stop,
-                             steps=options.steps, ds_max=options.ds_max, max_points=options.max_points)
+        rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
+        fmap = ForcedMap.from_loading(rom, point.loading, options.steps).varied(options.parameter, options.start)
+        br = continue_orbits(fmap, options.parameter, options.start, options.stop, ds_max=options.ds_max,
+                             max_points=options.max_points)
         n, k = options.max_points, 2 * len(options.modes)
         m = br.value.size
         out = {options.parameter: np.full(n, np.nan), "amplitude": np.full(n, np.nan),
@@ -156,11 +151,8 @@ class ContinuationAnalysis(Analysis):
         return out
 
     def warmup(self, options):
-        from model.params import Membrane
-        from model.shooting import shoot
-
-        rom = build_rom(solve_prestretch(Membrane(), "analytic"), options.modes)
-        shoot(rom, Loading(30.0, 0.1, 0.05), np.zeros(2 * rom.dof), steps=16)
+        rom = opt.rom_for(Membrane(), "analytic", options.modes)
+        shoot(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 0.05), steps=16), np.zeros(2 * rom.dof))
 
     def assemble(self, raw, options):
         ds = raw.isel(subtask=0, drop=True)
@@ -174,23 +166,9 @@ class ContinuationAnalysis(Analysis):
         return ds
 
     def figures(self, ds, outdir):
+        from sweep.figures import continuation_figures
+
         return continuation_figures(ds, outdir)
-
-
-def _cusp_1d(c, value, amp):
-    """Cusp from the fold values/amplitudes ``(nc, fold)`` along increasing ``c``."""
-    two = np.isfinite(value[:, 0]) & np.isfinite(value[:, 1])
-    idx = np.flatnonzero(two)
-    if idx.size < 2 or idx[-1] == c.size - 1:
-        return np.nan, np.nan
-    i, j = idx[-2], idx[-1]
-    d2 = np.abs(amp[[i, j], 0] - amp[[i, j], 1]) ** 2
-    mean = value[[i, j], :2].mean(axis=1)
-    if d2[1] >= d2[0]:
-        return np.nan, np.nan
-    cc = c[j] + d2[1] * (c[j] - c[i]) / (d2[0] - d2[1])
-    cc = min(cc, c[j + 1])
-    return cc, mean[1] + (mean[1] - mean[0]) * (cc - c[j]) / (c[j] - c[i])
 
 
 def _cusp(ds):
@@ -199,139 +177,8 @@ def _cusp(ds):
     order = np.argsort(ds.c.values)
     sub = ds.isel(c=order)
     return xr.apply_ufunc(
-        lambda v, a: _cusp_1d(sub.c.values, v, a), sub.fold_value, sub.fold_amplitude,
+        lambda v, a: cusp_from_folds(sub.c.values, v, a), sub.fold_value, sub.fold_amplitude,
         input_core_dims=[["c", "fold"], ["c", "fold"]], output_core_dims=[[], []], vectorize=True)
 
 
 CONTINUATION = ContinuationAnalysis()
-
-
-def _runs(stable):
-    """Index ranges ``(i0, i1, stable)`` of consecutive points drawn with one line style.
-
-    A located bifurcation point (stable = 0) closes one run and opens the next.
-    """
-    n = stable.size
-    runs, i0 = [], 0
-    for i in range(1, n):
-        if stable[i] != stable[i0] or i == n - 1:
-            style = bool(stable[i0]) if i > i0 + 1 or stable[i0] == stable[i] else bool(stable[i])
-            runs.append((i0, i, style))
-            i0 = i
-    return runs
-
-
-def _draw_branch(ax, x, amp, stable, kind, color, label):
-    ok = np.isfinite(x)
-    x, amp, stable, kind = x[ok], amp[ok], stable[ok], kind[ok]
-    first = True
-    for i0, i1, st in _runs(stable):
-        ax.plot(x[i0:i1 + 1], amp[i0:i1 + 1] * 1e3, color=color, ls="-" if st else "--", lw=1.2,
-                label=label if first else None)
-        first = False
-    for k, marker in ((1, "o"), (2, "s"), (3, "D")):
-        sel = kind == k
-        ax.plot(x[sel], amp[sel] * 1e3, ls="none", marker=marker, mfc="white", color=color, ms=5)
-
-
-def _title(sel) -> str:
-    symbols = {"delta": r"$\delta$", "delta_o": r"$\delta_o$", "Omega": r"$\Omega$", "P0": "$P_0$"}
-    return ", ".join(f"{symbols.get(k, k)} = {float(v):g}" for k, v in sel.items())
-
-
-def _panel_axes(plt, n):
-    cols = min(n, 3)
-    rows = -(-n // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(max(4.2 * cols, 6.0), 3.6 * rows + 0.4), squeeze=False)
-    for ax in axes.ravel()[n:]:
-        ax.set_visible(False)
-    return fig, axes.ravel()[:n]
-
-
-def _zoom_omega(ax, x, amp):
-    """Limit an Omega axis to the resonance: where the amplitude exceeds 5 % of its maximum,
-    widened on each side by half that range and at least 2 rad/s."""
-    ok = np.isfinite(x) & np.isfinite(amp)
-    if not ok.any():
-        return
-    x, amp = x[ok], amp[ok]
-    peak = x[amp >= 0.05 * amp.max()]
-    pad = max(0.5 * (peak.max() - peak.min()), 2.0)
-    ax.set_xlim(max(x.min(), peak.min() - pad), min(x.max(), peak.max() + pad))
-
-
-def _style_legend(ax):
-    """Legend of the line styles (black): stable, unstable, bifurcation points present."""
-    from matplotlib.lines import Line2D
-
-    handles = [Line2D([], [], color="k", ls="-", label="stable"),
-               Line2D([], [], color="k", ls="--", label="unstable"),
-               Line2D([], [], color="k", ls="none", marker="o", mfc="white", label="saddle-node")]
-    return ax.legend(handles=handles, loc="upper left", fontsize=7)
-
-
-def continuation_figures(ds, outdir) -> list:
-    """Bifurcation diagrams (Figs. 14-16) and, with a ``c`` grid in P0, fold loci (Fig. 17).
-
-    One panel per combination of the grid keys other than ``c``; the ``c`` values are
-    overlaid (a colour bar when there are more than four).  Stable responses solid,
-    unstable dashed, saddle-nodes circles (period doubling squares, Neimark-Sacker
-    diamonds).  Continuations in Omega are zoomed on the resonance (:func:`_zoom_omega`).
-    The fold-loci figure skips the panels without saddle-nodes.
-    """
-    from .plots import grid_points, pyplot, save_figure
-
-    plt = pyplot()
-    par = ds.attrs.get("continued_parameter", "P0" if "P0" in ds.data_vars else "Omega")
-    xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
-    panels = list(grid_points(ds, ("c", "point", "fold", "multiplier")))
-    cs = ds.c.values if "c" in ds.dims else [None]
-    fig, axes = _panel_axes(plt, len(panels))
-    many = len(cs) > 4
-    if many:
-        import matplotlib as mpl
-
-        norm = mpl.colors.Normalize(float(min(cs)), float(max(cs)))
-        colors = [plt.cm.viridis(norm(float(c))) for c in cs]
-    else:
-        cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-        colors = [cycle[j % len(cycle)] for j in range(len(cs))]
-    for ax, sel in zip(axes, panels):
-        for j, c in enumerate(cs):
-            s = dict(sel, **({} if c is None else {"c": c}))
-            b = ds.sel(s)
-            _draw_branch(ax, b[par].values, b.amplitude.values, b.stable.values, b.point_type.values,
-                         colors[j], None if c is None or many else f"c = {float(c):g} N s/m$^3$")
-        if par == "Omega":
-            b = ds.sel(sel)
-            _zoom_omega(ax, b[par].values.ravel(), b.amplitude.values.ravel())
-        ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)")
-        ax.set_title(_title(sel), fontsize=9)
-        if len(cs) > 1 and not many:
-            ax.add_artist(_style_legend(ax))
-            ax.legend(fontsize=7, loc="lower right")
-    if len(cs) <= 1 or many:
-        _style_legend(axes[0])
-    fig.suptitle("Periodic responses (stroboscopic map)", fontsize=11)
-    fig.tight_layout()
-    if many:
-        fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=list(axes),
-                     label=r"damping $c$ (N s/m$^3$)", shrink=0.8)
-    paths = [save_figure(fig, outdir, f"bifurcation_{par}.png")]
-    if par == "P0" and ds.sizes.get("c", 0) >= 3:
-        with_folds = [sel for sel in panels if np.isfinite(ds.fold_value.sel(sel).values).any()]
-        if with_folds:
-            fig, axes = _panel_axes(plt, len(with_folds))
-            for ax, sel in zip(axes, with_folds):
-                b = ds.sel(sel)
-                for f in range(2):
-                    ax.plot(b.c, b.fold_value.isel(fold=f), marker=".", label=f"saddle-node {f + 1}")
-                if "cusp_c" in b and np.isfinite(b.cusp_c):
-                    ax.plot(b.cusp_c, b.cusp_value, marker="*", ms=10, ls="none", color="k", label="cusp")
-                ax.set(xlabel=r"damping $c$ (N s/m$^3$)", ylabel=r"$P_0$ at saddle-node (Pa)")
-                ax.set_title(_title(sel), fontsize=9)
-                ax.legend()
-            fig.suptitle("Saddle-node loci versus damping", fontsize=11)
-            fig.tight_layout()
-            paths.append(save_figure(fig, outdir, "fold_loci_damping.png"))
-    return paths

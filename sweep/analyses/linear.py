@@ -18,7 +18,7 @@ from model.modes import bessel_roots
 from model.prestretch import solve_prestretch
 
 from . import options as opt
-from .base import STATUS_OK, Analysis, JobError, Variable
+from .base import STATUS_OK, Analysis, JobError, Variable, check_keys
 
 
 @dataclass(frozen=True)
@@ -34,7 +34,7 @@ class LinearAnalysis(Analysis):
     name = "linear"
 
     def parse_options(self, table, grid, membrane):
-        opt.check_keys(table, self.name, {"modes", "prestretch", "basis"})
+        check_keys(table, self.name, ("modes", "prestretch", "basis"))
         modes = opt.modes(table, self.name)
         basis = table.get("basis")
         if basis is not None:
@@ -56,7 +56,7 @@ class LinearAnalysis(Analysis):
         return opt.mode_coords(options.modes)
 
     def compute(self, point, options, subtask):
-        m = opt.membrane_from_point(point)
+        m = point.membrane
         ps = solve_prestretch(m, options.prestretch)
         out = {name: np.empty(len(options.modes)) for name in ("omega", "omega_approx", "omega_bound")}
         by_n: dict[int, np.ndarray] = {}
@@ -72,7 +72,7 @@ class LinearAnalysis(Analysis):
         return out
 
     def figures(self, ds, outdir):
-        from .plots import linear_figures
+        from sweep.figures import linear_figures
 
         return linear_figures(ds, outdir)
 

@@ -6,27 +6,18 @@ value and what is allowed, so that analyses validate their tables in a few lines
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping
-from typing import Any
 
 import numpy as np
 
+from model.forced import PARAMETERS as FORCING_PARAMETERS
 from model.params import Membrane
-from model.prestretch import KINDS
+from model.prestretch import KINDS, solve_prestretch
+from model.rom import Rom, build_rom
 
 from .base import GRID_KEYS, MISSING, JobError
-
-#: Forcing parameters an analysis can vary itself (continuation, response).
-FORCING_PARAMETERS = ("Omega", "P0")
-
-
-def check_keys(table: Mapping[str, Any], section: str, allowed) -> None:
-    """Reject keys of ``table`` that are not in ``allowed``."""
-    for key in table:
-        if key not in allowed:
-            raise JobError(f"{section}.{key}", table[key],
-                           f"unknown option; allowed options are {', '.join(sorted(allowed))}")
 
 
 def number(table, section: str, key: str, default=None, *, low=None, high=None,
@@ -118,22 +109,11 @@ def forcing_parameter(table, section: str, grid, role: str) -> str:
     if parameter in grid:
         raise JobError(f"{section}.parameter", parameter,
                        f"{parameter} {role}, so it must not also be a [grid] key")
-    for key in fixed_forcing_keys(parameter):
+    for key in ("P0", "c") if parameter == "Omega" else ("Omega", "c"):
         if key not in grid:
             raise JobError(f"grid.{key}", MISSING,
                            f"{section} in {parameter} needs {key} ({GRID_KEYS[key][0]}) in [grid]")
     return parameter
-
-
-def fixed_forcing_keys(parameter: str) -> tuple[str, str]:
-    """The grid keys that stay fixed while ``parameter`` (Omega or P0) varies."""
-    return ("P0", "c") if parameter == "Omega" else ("Omega", "c")
-
-
-def membrane_from_point(point: Mapping[str, float]) -> Membrane:
-    """The :class:`~model.params.Membrane` of one task's ``point``."""
-    return Membrane(delta=point["delta"], delta_o=point["delta_o"], C1=point["C1"],
-                    h=point["h"], Gamma=point["Gamma"], Re=point["Re"])
 
 
 def mode_coords(mode_list) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict]]:
@@ -141,3 +121,10 @@ def mode_coords(mode_list) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict]
     arr = np.array(mode_list, dtype=np.int32).reshape(-1, 2)
     return {"m": (("mode",), arr[:, 0], {"long_name": "radial mode index m", "units": "1"}),
             "n": (("mode",), arr[:, 1], {"long_name": "circumferential wave number n", "units": "1"})}
+
+
+@functools.lru_cache(maxsize=8)
+def rom_for(membrane: Membrane, prestretch: str, modes: tuple[tuple[int, int], ...]) -> Rom:
+    """The ROM of ``modes`` on the ``prestretch`` solution of ``membrane`` (cached: the
+    tiles of a basins lattice and the tasks of a grid often share a membrane)."""
+    return build_rom(solve_prestretch(membrane, prestretch), modes)

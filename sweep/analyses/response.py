@@ -32,14 +32,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from model.params import Loading
-from model.prestretch import solve_prestretch
+from model.forced import DEFAULT_STEPS, ForcedMap
+from model.params import Loading, Membrane
 from model.response import refine_jumps, stepped_sweep
-from model.rom import build_rom
-from model.shooting import DEFAULT_STEPS
 
 from . import options as opt
-from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Variable
+from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Variable, check_keys
 
 
 @dataclass(frozen=True)
@@ -55,7 +53,7 @@ class ResponseOptions:
     refine_jumps: bool
 
     @property
-    def grid(self) -> np.ndarray:
+    def swept_values(self) -> np.ndarray:
         """The swept values in increasing order."""
         return np.sort(np.linspace(*self.values))
 
@@ -72,8 +70,8 @@ class ResponseAnalysis(Analysis):
 
     def parse_options(self, table, grid, membrane):
         s = self.name
-        opt.check_keys(table, s, {"parameter", "values", "modes", "prestretch", "steps", "tol",
-                                  "consecutive", "max_periods", "refine_jumps"})
+        check_keys(table, s, ("parameter", "values", "modes", "prestretch", "steps", "tol", "consecutive",
+                              "max_periods", "refine_jumps"))
         parameter = opt.forcing_parameter(table, s, grid, "is swept by the analysis")
         values = opt.linspace(table, s, "values", low=0.0, low_open=parameter == "Omega", max_num=10_000)
         return ResponseOptions(
@@ -99,33 +97,31 @@ class ResponseAnalysis(Analysis):
     def coords(self, options):
         units, what = GRID_KEYS[options.parameter]
         return {
-            options.parameter: ((options.parameter,), options.grid, {"units": units, "long_name": what}),
+            options.parameter: ((options.parameter,), options.swept_values, {"units": units, "long_name": what}),
             "direction": (("direction",), np.array(["up", "down"]),
                           {"units": "1", "long_name": "sweep direction of the parameter"}),
         }
 
     def compute(self, point, options, subtask):
-        rom = build_rom(solve_prestretch(opt.membrane_from_point(point), options.prestretch), options.modes)
-        fixed = {key: point[key] for key in opt.fixed_forcing_keys(options.parameter)}
-        fixed[options.parameter] = float(options.grid[0])
-        res = stepped_sweep(rom, Loading(**fixed), options.parameter, options.grid, steps=options.steps,
-                            tol=options.tol, consecutive=options.consecutive, max_periods=options.max_periods,
+        rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
+        values = options.swept_values
+        fmap = ForcedMap.from_loading(rom, point.loading, options.steps).varied(options.parameter, values[0])
+        res = stepped_sweep(fmap, options.parameter, values, tol=options.tol, consecutive=options.consecutive,
+                            max_periods=options.max_periods,
                             min_periods=min(options.consecutive, options.max_periods))
         conv = res.converged.T
         jumps = np.full((2, MAX_JUMPS), np.nan)
         if options.refine_jumps:
-            jumps = refine_jumps(rom, Loading(**fixed), options.parameter, res, max_jumps=MAX_JUMPS,
-                                 steps=options.steps, tol=options.tol, consecutive=options.consecutive,
-                                 max_periods=options.max_periods)
+            jumps = refine_jumps(fmap, options.parameter, res, max_jumps=MAX_JUMPS, tol=options.tol,
+                                 consecutive=options.consecutive, max_periods=options.max_periods)
         return {"amplitude": res.amplitude.T.copy(), "converged": conv.astype(np.int8),
                 "periods": res.periods.T.astype(np.int32), "jump_value": jumps,
                 "status": STATUS_OK if conv.all() else STATUS_NOT_CONVERGED}
 
     def warmup(self, options):
-        from model.params import Membrane
-
-        rom = build_rom(solve_prestretch(Membrane(), "analytic"), options.modes)
-        stepped_sweep(rom, Loading(30.0, 0.1, 1.0), "P0", [0.1], steps=16, max_periods=2, min_periods=1)
+        rom = opt.rom_for(Membrane(), "analytic", options.modes)
+        stepped_sweep(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 1.0), steps=16), "P0", [0.1],
+                      max_periods=2, min_periods=1)
 
     def assemble(self, raw, options):
         ds = raw.isel(subtask=0, drop=True)
@@ -133,47 +129,9 @@ class ResponseAnalysis(Analysis):
         return ds
 
     def figures(self, ds, outdir):
+        from sweep.figures import response_figures
+
         return response_figures(ds, outdir)
 
 
 RESPONSE = ResponseAnalysis()
-
-
-def response_figures(ds, outdir) -> list:
-    """Brute-force resonance curves (Figs. 13, 18): one curve pair per grid point.
-
-    Up sweeps solid with upward triangles, down sweeps dashed with downward triangles,
-    values that did not settle crossed.
-    """
-    from .plots import grid_points, pyplot, save_figure
-
-    plt = pyplot()
-    par = ds.attrs["swept_parameter"]
-    xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
-    fig, ax = plt.subplots(figsize=(6, 4.2))
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for j, sel in enumerate(grid_points(ds, (par, "direction"))):
-        b = ds.sel(sel)
-        color = colors[j % len(colors)]
-        label = ", ".join(f"{k} = {float(v):g}" for k, v in sel.items() if ds.sizes.get(k, 1) > 1)
-        for d, ls, marker in (("up", "-", "^"), ("down", "--", "v")):
-            a = b.amplitude.sel(direction=d)
-            ax.plot(b[par], a * 1e3, ls=ls, marker=marker, ms=3, color=color,
-                    label=f"{label} {d}".strip())
-            bad = b.converged.sel(direction=d) == 0
-            ax.plot(b[par].values[bad.values], a.values[bad.values] * 1e3, "x", color="k")
-            for x in b.jump_value.sel(direction=d).values:
-                if np.isfinite(x):
-                    ax.axvline(x, ls=ls, lw=0.8, color=color, alpha=0.6)
-                    ax.annotate(f"{x:.4g}", (x, 1.0), xycoords=("data", "axes fraction"), fontsize=7,
-                                ha="center", va="bottom", color=color)
-    if np.isfinite(ds.jump_value.values).any():
-        ax.plot([], [], color="grey", lw=0.8, label="located jumps (thin lines)")
-    fixed = {k: float(ds[k][0]) for k in ("delta", "delta_o", "Omega", "P0", "c")
-             if k != par and ds.sizes.get(k, 0) == 1}
-    symbols = {"delta": r"$\delta$", "delta_o": r"$\delta_o$", "Omega": r"$\Omega$", "P0": "$P_0$", "c": "$c$"}
-    ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)")
-    ax.set_title("Steady states stepped up and down (brute force)\n"
-                 + ", ".join(f"{symbols[k]} = {v:g}" for k, v in fixed.items()), fontsize=10, pad=14)
-    ax.legend(ncol=2)
-    return [save_figure(fig, outdir, f"response_{par}.png")]

@@ -16,7 +16,7 @@ import numpy as np
 from model.prestretch import solve_prestretch
 
 from . import options as opt
-from .base import STATUS_OK, Analysis, JobError, Variable
+from .base import STATUS_OK, Analysis, JobError, Variable, check_keys
 
 
 @dataclass(frozen=True)
@@ -35,8 +35,8 @@ class StaticAnalysis(Analysis):
     name = "static"
 
     def parse_options(self, table, grid, membrane):
-        opt.check_keys(table, self.name, {"prestretch", "rho"})
-        re = membrane["Re"]
+        check_keys(table, self.name, ("prestretch", "rho"))
+        re = membrane.Re
         default = {"start": float(np.min(grid["delta_o"])) * re, "stop": re, "num": 201}
         rho = opt.linspace(table, self.name, "rho", default, low=0.0, low_open=True)
         if rho[1] > re or rho[0] > rho[1]:
@@ -56,7 +56,7 @@ class StaticAnalysis(Analysis):
         return {"rho": (("rho",), options.radii, {"units": "m", "long_name": "undeformed radial coordinate"})}
 
     def compute(self, point, options, subtask):
-        m = opt.membrane_from_point(point)
+        m = point.membrane
         ps = solve_prestretch(m, options.prestretch)
         rho = options.radii
         inside = (rho >= m.Ro * (1 - 1e-12)) & (rho <= m.Re * (1 + 1e-12))
@@ -68,7 +68,7 @@ class StaticAnalysis(Analysis):
                 "status": STATUS_OK}
 
     def figures(self, ds, outdir):
-        from .plots import static_figures
+        from sweep.figures import static_figures
 
         return static_figures(ds, outdir)
 

@@ -1,0 +1,462 @@
+"""Every figure of ``python -m sweep figures``: one function per analysis (Figs. 2-19).
+
+Each ``<analysis>_figures(ds, outdir)`` takes the published Dataset and an output
+directory and returns the list of PNG paths it wrote; the analyses' ``figures`` methods
+delegate here.  matplotlib is imported lazily (Agg backend).  Grid values are labelled
+with the symbols of :data:`SYMBOLS`.
+"""
+
+from __future__ import annotations
+
+import itertools
+from pathlib import Path
+
+import numpy as np
+
+#: Plot symbols of the grid keys.
+SYMBOLS = {"delta": r"$\delta$", "delta_o": r"$\delta_o$", "Omega": r"$\Omega$", "P0": "$P_0$", "c": "$c$"}
+
+
+def point_label(sel) -> str:
+    """``"$\\delta$ = 1.1, $\\Omega$ = 33.5"`` for a dict of grid values."""
+    return ", ".join(f"{SYMBOLS.get(k, k)} = {float(v):g}" for k, v in sel.items())
+
+
+def pyplot():
+    """matplotlib.pyplot with the Agg backend and the house style."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    plt.rcParams.update({"figure.dpi": 120, "axes.grid": True, "grid.alpha": 0.3,
+                         "font.size": 10, "legend.fontsize": 8, "savefig.bbox": "tight"})
+    return plt
+
+
+def save_figure(fig, outdir, name) -> Path:
+    """Save ``fig`` as ``outdir/name`` (directories created), close it, return the path."""
+    path = Path(outdir) / name
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    return path
+
+
+def grid_points(ds, exclude):
+    """Iterate over the grid points of ``ds`` other than the dims in ``exclude``."""
+    dims = [d for d in ("delta", "delta_o", "Omega", "P0", "c") if d in ds.dims and d not in exclude]
+    for values in itertools.product(*(ds[d].values for d in dims)):
+        yield dict(zip(dims, values))
+
+
+def static_figures(ds, outdir) -> list[Path]:
+    """Fig. 2 (deformed radius) and Fig. 3 (principal stresses) versus ``rho``."""
+    plt = pyplot()
+    paths = []
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for sel in grid_points(ds, ("rho",)):
+        ax.plot(ds.rho, ds.r_o.sel(sel), label=point_label(sel))
+    ax.set(xlabel=r"undeformed radius $\rho$ (m)", ylabel=r"deformed radius $r_o$ (m)",
+           title=f"Pre-stretch ({ds.attrs.get('prestretch', '')})".replace(" ()", ""))
+    ax.legend()
+    paths.append(save_figure(fig, outdir, "fig02_radius.png"))
+    fig, axes = plt.subplots(1, 2, figsize=(9, 4), sharex=True)
+    for sel in grid_points(ds, ("rho",)):
+        for ax, var in zip(axes, ("sigma_1", "sigma_2")):
+            ax.plot(ds.rho, ds[var].sel(sel) / 1e6, label=point_label(sel))
+    for ax, sym in zip(axes, ("1", "2")):
+        ax.set(xlabel=r"undeformed radius $\rho$ (m)", ylabel=rf"$\sigma_{sym}$ (MPa)")
+    axes[0].legend()
+    paths.append(save_figure(fig, outdir, "fig03_stresses.png"))
+    return paths
+
+
+def linear_figures(ds, outdir) -> list[Path]:
+    """Frequency spectra (Fig. 4) and frequencies versus delta (Fig. 5) and delta_o (Fig. 6)."""
+    plt = pyplot()
+    paths = []
+    modes = list(zip(ds.m.values.tolist(), ds.n.values.tolist()))
+    if ds.sizes.get("delta", 1) >= 2:
+        panels = list(itertools.islice(grid_points(ds, ("delta",)), 4))
+        fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4), sharey=True, squeeze=False)
+        for ax, sel in zip(axes[0], panels):
+            for k, (m, n) in enumerate(modes):
+                line, = ax.plot(ds.delta, ds.omega.sel(sel).isel(mode=k), marker=".", label=f"m={m}, n={n}")
+                ax.plot(ds.delta, ds.omega_bound.sel(sel).isel(mode=k), ls="--", color=line.get_color(), lw=0.8)
+            ax.set(xlabel=r"stretch ratio $\delta$", title=point_label(sel))
+        axes[0, 0].set_ylabel(r"$\omega_{mn}$ (rad/s)")
+        axes[0, -1].legend(loc="center left", bbox_to_anchor=(1.02, 0.5), title="dashed: Eq. 29")
+        paths.append(save_figure(fig, outdir, "fig05_frequency_vs_delta.png"))
+    if ds.sizes.get("delta_o", 1) >= 2 and (1, 0) in modes:
+        paths.append(_fig06(ds, outdir, modes.index((1, 0))))
+    if len(modes) > 1:
+        paths.append(_spectrum(ds, outdir, modes))
+    return paths + mode_figure(ds, outdir)
+
+
+def _fig06(ds, outdir, k) -> Path:
+    """Fig. 6: omega_10 versus delta for each delta_o (a) and the Eq. 29 bound versus delta_o (b).
+
+    The bound depends on delta_o only (through alpha_10), so panel (b) draws it as a curve
+    from Eq. 27/29 and marks the values stored in the result.
+    """
+    from model.linear import frequency_bound
+    from model.modes import bessel_roots
+    from model.params import Membrane
+
+    plt = pyplot()
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9.5, 4))
+    other = {d: ds[d].values[0] for d in ("Omega", "P0", "c") if d in ds.dims}
+    for do in ds.delta_o.values:
+        sel = dict(other, delta_o=do)
+        if "delta" in ds.dims and ds.sizes["delta"] >= 2:
+            line, = ax.plot(ds.delta, ds.omega.sel(sel).isel(mode=k), marker=".", label=rf"$\delta_o$ = {do:g}")
+            ax.axhline(float(ds.omega_bound.sel(sel).isel(mode=k).max()), ls="--", lw=0.8, color=line.get_color())
+    ax.set(xlabel=r"stretch ratio $\delta$", ylabel=r"$\omega_{10}$ (rad/s)", title="(a) m = 1, n = 0; dashed: Eq. 29")
+    if ax.lines:
+        ax.legend()
+    import tomllib
+
+    table = tomllib.loads(ds.attrs.get("job_file", "")).get("membrane", {})
+    mem = Membrane(**{key: float(v) for key, v in table.items() if key in ("C1", "h", "Gamma", "Re")})
+    fine = np.linspace(0.05, 0.9, 60)
+    bx.plot(fine, [frequency_bound(mem, bessel_roots(0, d, 1)[0]) for d in fine], "k-", lw=1.2, label="Eq. 29")
+    bound = ds.omega_bound.isel(mode=k)
+    bound = bound.max([d for d in bound.dims if d != "delta_o"]) if bound.ndim > 1 else bound
+    bx.plot(ds.delta_o, bound, "o", mfc="white", label="this run")
+    bx.set(xlabel=r"inner radius ratio $\delta_o$", ylabel=r"upper bound of $\omega_{10}$ (rad/s)",
+           title="(b) Eq. 29 bound versus inner radius")
+    bx.legend()
+    fig.tight_layout()
+    return save_figure(fig, outdir, "fig06_frequency_vs_delta_o.png")
+
+
+def _spectrum(ds, outdir, modes) -> Path:
+    """Fig. 4: omega_mn versus m, one line per n, at two stretch ratios (the grid's delta values
+    nearest 1.1 and 2.0, solid and dashed) and the first delta_o (0.2 if present)."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    sel = {d: ds[d].values[0] for d in ("Omega", "P0", "c") if d in ds.dims}
+    if "delta_o" in ds.dims:
+        values = ds.delta_o.values
+        sel["delta_o"] = values[np.argmin(np.abs(values - 0.2))]
+    deltas = [None]
+    if "delta" in ds.dims:
+        deltas = list(dict.fromkeys(float(ds.delta.sel(delta=d, method="nearest")) for d in (1.1, 2.0)))
+    cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for j, d in enumerate(deltas):
+        s = dict(sel, **({} if d is None else {"delta": d}))
+        for i, n in enumerate(sorted(set(n for _, n in modes))):
+            idx = [k for k, (_, nn) in enumerate(modes) if nn == n]
+            ax.plot([modes[k][0] for k in idx], ds.omega.sel(s).isel(mode=idx), marker="o",
+                    ls="-" if j == 0 else "--", color=cycle[i % len(cycle)],
+                    label=f"n = {n}" + ("" if d is None else rf", $\delta$ = {d:g}"))
+    ax.set(xlabel="radial wave number m", ylabel=r"$\omega_{mn}$ (rad/s)",
+           title="Frequency spectrum" + (rf", $\delta_o$ = {float(sel['delta_o']):g}" if "delta_o" in sel else ""))
+    ax.xaxis.get_major_locator().set_params(integer=True)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    return save_figure(fig, outdir, "fig04_spectrum.png")
+
+
+def mode_figure(ds, outdir) -> list[Path]:
+    """Fig. 7: the three lowest vibration modes (Eq. 26) on the undeformed annulus."""
+    from model.modes import bessel_roots, mode_shape
+
+    plt = pyplot()
+    sel = next(grid_points(ds, ("delta",)))
+    first = {k: v for k, v in sel.items() if k != "delta_o"}
+    omega = ds.omega.sel(first).isel(delta=0) if "delta" in ds.dims else ds.omega.sel(first)
+    delta_o = float(sel.get("delta_o", ds.attrs.get("delta_o", 0.2)))
+    if "delta_o" in ds.dims:
+        omega = omega.sel(delta_o=delta_o)
+    order = np.argsort(omega.values)[:3]
+    rho = np.linspace(delta_o, 1.0, 60)
+    theta = np.linspace(0, 2 * np.pi, 121)
+    fig, axes = plt.subplots(1, len(order), figsize=(3.6 * len(order), 3.4),
+                             subplot_kw={"projection": "polar"}, squeeze=False)
+    for ax, k in zip(axes[0], order):
+        m, n = int(ds.m[k]), int(ds.n[k])
+        phi = mode_shape(rho, bessel_roots(n, delta_o, m)[-1], n, 1.0, delta_o)[0]
+        w = np.outer(np.cos(n * theta), phi)
+        ax.pcolormesh(theta, rho, w.T / np.abs(w).max(), cmap="RdBu_r", vmin=-1, vmax=1, shading="auto")
+        ax.set_ylim(0, 1)
+        ax.set_yticklabels([])
+        ax.set_xticklabels([])
+        ax.set_title(f"m={m}, n={n}: {float(omega[k]):.2f} rad/s", fontsize=9)
+    delta = float(ds.delta[0]) if "delta" in ds.dims else float("nan")
+    fig.suptitle(rf"Vibration modes, $\delta_o$ = {delta_o:g}, $\delta$ = {delta:g} (normalised $w$)", y=1.04)
+    return [save_figure(fig, outdir, "fig07_modes.png")]
+
+
+def _runs(stable):
+    """Index ranges ``(i0, i1, stable)`` of consecutive points drawn with one line style.
+
+    A located bifurcation point (stable = 0) closes one run and opens the next.
+    """
+    n = stable.size
+    runs, i0 = [], 0
+    for i in range(1, n):
+        if stable[i] != stable[i0] or i == n - 1:
+            style = bool(stable[i0]) if i > i0 + 1 or stable[i0] == stable[i] else bool(stable[i])
+            runs.append((i0, i, style))
+            i0 = i
+    return runs
+
+
+def _draw_branch(ax, x, amp, stable, kind, color, label):
+    ok = np.isfinite(x)
+    x, amp, stable, kind = x[ok], amp[ok], stable[ok], kind[ok]
+    first = True
+    for i0, i1, st in _runs(stable):
+        ax.plot(x[i0:i1 + 1], amp[i0:i1 + 1] * 1e3, color=color, ls="-" if st else "--", lw=1.2,
+                label=label if first else None)
+        first = False
+    for k, marker in ((1, "o"), (2, "s"), (3, "D")):
+        sel = kind == k
+        ax.plot(x[sel], amp[sel] * 1e3, ls="none", marker=marker, mfc="white", color=color, ms=5)
+
+
+def _panel_axes(plt, n):
+    cols = min(n, 3)
+    rows = -(-n // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(max(4.2 * cols, 6.0), 3.6 * rows + 0.4), squeeze=False)
+    for ax in axes.ravel()[n:]:
+        ax.set_visible(False)
+    return fig, axes.ravel()[:n]
+
+
+def _zoom_omega(ax, x, amp):
+    """Limit an Omega axis to the resonance: where the amplitude exceeds 5 % of its maximum,
+    widened on each side by half that range and at least 2 rad/s."""
+    ok = np.isfinite(x) & np.isfinite(amp)
+    if not ok.any():
+        return
+    x, amp = x[ok], amp[ok]
+    peak = x[amp >= 0.05 * amp.max()]
+    pad = max(0.5 * (peak.max() - peak.min()), 2.0)
+    ax.set_xlim(max(x.min(), peak.min() - pad), min(x.max(), peak.max() + pad))
+
+
+def _style_legend(ax):
+    """Legend of the line styles (black): stable, unstable, bifurcation points present."""
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color="k", ls="-", label="stable"),
+               Line2D([], [], color="k", ls="--", label="unstable"),
+               Line2D([], [], color="k", ls="none", marker="o", mfc="white", label="saddle-node")]
+    return ax.legend(handles=handles, loc="upper left", fontsize=7)
+
+
+def continuation_figures(ds, outdir) -> list:
+    """Bifurcation diagrams (Figs. 14-16) and, with a ``c`` grid in P0, fold loci (Fig. 17).
+
+    One panel per combination of the grid keys other than ``c``; the ``c`` values are
+    overlaid (a colour bar when there are more than four).  Stable responses solid,
+    unstable dashed, saddle-nodes circles (period doubling squares, Neimark-Sacker
+    diamonds).  Continuations in Omega are zoomed on the resonance (:func:`_zoom_omega`).
+    The fold-loci figure skips the panels without saddle-nodes.
+    """
+    plt = pyplot()
+    par = ds.attrs.get("continued_parameter", "P0" if "P0" in ds.data_vars else "Omega")
+    xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
+    panels = list(grid_points(ds, ("c", "point", "fold", "multiplier")))
+    cs = ds.c.values if "c" in ds.dims else [None]
+    fig, axes = _panel_axes(plt, len(panels))
+    many = len(cs) > 4
+    if many:
+        import matplotlib as mpl
+
+        norm = mpl.colors.Normalize(float(min(cs)), float(max(cs)))
+        colors = [plt.cm.viridis(norm(float(c))) for c in cs]
+    else:
+        cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+        colors = [cycle[j % len(cycle)] for j in range(len(cs))]
+    for ax, sel in zip(axes, panels):
+        for j, c in enumerate(cs):
+            s = dict(sel, **({} if c is None else {"c": c}))
+            b = ds.sel(s)
+            _draw_branch(ax, b[par].values, b.amplitude.values, b.stable.values, b.point_type.values,
+                         colors[j], None if c is None or many else f"c = {float(c):g} N s/m$^3$")
+        if par == "Omega":
+            b = ds.sel(sel)
+            _zoom_omega(ax, b[par].values.ravel(), b.amplitude.values.ravel())
+        ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)")
+        ax.set_title(point_label(sel), fontsize=9)
+        if len(cs) > 1 and not many:
+            ax.add_artist(_style_legend(ax))
+            ax.legend(fontsize=7, loc="lower right")
+    if len(cs) <= 1 or many:
+        _style_legend(axes[0])
+    fig.suptitle("Periodic responses (stroboscopic map)", fontsize=11)
+    fig.tight_layout()
+    if many:
+        fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=list(axes),
+                     label=r"damping $c$ (N s/m$^3$)", shrink=0.8)
+    paths = [save_figure(fig, outdir, f"bifurcation_{par}.png")]
+    if par == "P0" and ds.sizes.get("c", 0) >= 3:
+        with_folds = [sel for sel in panels if np.isfinite(ds.fold_value.sel(sel).values).any()]
+        if with_folds:
+            fig, axes = _panel_axes(plt, len(with_folds))
+            for ax, sel in zip(axes, with_folds):
+                b = ds.sel(sel)
+                for f in range(2):
+                    ax.plot(b.c, b.fold_value.isel(fold=f), marker=".", label=f"saddle-node {f + 1}")
+                if "cusp_c" in b and np.isfinite(b.cusp_c):
+                    ax.plot(b.cusp_c, b.cusp_value, marker="*", ms=10, ls="none", color="k", label="cusp")
+                ax.set(xlabel=r"damping $c$ (N s/m$^3$)", ylabel=r"$P_0$ at saddle-node (Pa)")
+                ax.set_title(point_label(sel), fontsize=9)
+                ax.legend()
+            fig.suptitle("Saddle-node loci versus damping", fontsize=11)
+            fig.tight_layout()
+            paths.append(save_figure(fig, outdir, "fold_loci_damping.png"))
+    return paths
+
+
+def response_figures(ds, outdir) -> list:
+    """Brute-force resonance curves (Figs. 13, 18): one curve pair per grid point.
+
+    Up sweeps solid with upward triangles, down sweeps dashed with downward triangles,
+    values that did not settle crossed.
+    """
+    plt = pyplot()
+    par = ds.attrs["swept_parameter"]
+    xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for j, sel in enumerate(grid_points(ds, (par, "direction"))):
+        b = ds.sel(sel)
+        color = colors[j % len(colors)]
+        label = ", ".join(f"{k} = {float(v):g}" for k, v in sel.items() if ds.sizes.get(k, 1) > 1)
+        for d, ls, marker in (("up", "-", "^"), ("down", "--", "v")):
+            a = b.amplitude.sel(direction=d)
+            ax.plot(b[par], a * 1e3, ls=ls, marker=marker, ms=3, color=color,
+                    label=f"{label} {d}".strip())
+            bad = b.converged.sel(direction=d) == 0
+            ax.plot(b[par].values[bad.values], a.values[bad.values] * 1e3, "x", color="k")
+            for x in b.jump_value.sel(direction=d).values:
+                if np.isfinite(x):
+                    ax.axvline(x, ls=ls, lw=0.8, color=color, alpha=0.6)
+                    ax.annotate(f"{x:.4g}", (x, 1.0), xycoords=("data", "axes fraction"), fontsize=7,
+                                ha="center", va="bottom", color=color)
+    if np.isfinite(ds.jump_value.values).any():
+        ax.plot([], [], color="grey", lw=0.8, label="located jumps (thin lines)")
+    fixed = {k: float(ds[k][0]) for k in ("delta", "delta_o", "Omega", "P0", "c")
+             if k != par and ds.sizes.get(k, 0) == 1}
+    ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)")
+    ax.set_title("Steady states stepped up and down (brute force)\n" + point_label(fixed), fontsize=10, pad=14)
+    ax.legend(ncol=2)
+    return [save_figure(fig, outdir, f"response_{par}.png")]
+
+
+def backbone_figures(ds, outdir) -> list:
+    """Backbone curves (Figs. 10-12) and modal amplitudes (Fig. 9)."""
+    plt = pyplot()
+    sels = list(grid_points(ds, ()))
+    swept = [d for d in ("delta", "delta_o", "Omega", "P0", "c") if ds.sizes.get(d, 1) > 1]
+
+    def label(sel):
+        return point_label({d: sel[d] for d in (swept or ["delta", "delta_o"]) if d in sel})
+
+    paths = []
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    for sel in sels:
+        line, = ax.plot(ds.omega_nl.sel(sel), ds.amplitude.sel(sel), lw=1.6, label=label(sel))
+        ax.plot(ds.omega_peak.sel(sel), ds.amplitude.sel(sel), ls="none", marker="o", ms=3.5,
+                mfc="none", color=line.get_color())
+        ax.axvline(float(ds.omega_bound.sel(sel)), ls="--", lw=1.0, color=line.get_color())
+    ax.plot([], [], "k-", label="periodic orbits (continuation)")
+    ax.plot([], [], "ko", mfc="none", ms=3.5, ls="none", label="peak-to-peak (damped decay)")
+    ax.plot([], [], "k--", lw=1.0, label="bound, Eq. 29")
+    ax.set(xlabel=r"frequency $\omega$ (rad/s)", ylabel=r"amplitude max $|w(0.5, 0)|$ (m)",
+           title="Frequency-amplitude relation", ylim=(0, None))
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    paths.append(save_figure(fig, outdir, "backbone.png"))
+
+    K = ds.sizes["mode"]
+    fig, axes = plt.subplots(1, K, figsize=(4.2 * K, 3.6), squeeze=False, layout="constrained")
+    for k, ax in enumerate(axes[0]):
+        m, n = int(ds.m[k]), int(ds.n[k])
+        for sel in sels:
+            ax.plot(ds.omega_nl.sel(sel), ds.modal_amplitude.sel(sel).isel(mode=k), label=label(sel))
+        ax.set(xlabel=r"frequency $\omega$ (rad/s)", ylabel=f"$A_{{{m}{n}}}$ (m)",
+               title=f"modal amplitude $A_{{{m}{n}}}$")
+    axes[0, 0].legend()
+    fig.suptitle("Modal amplitudes along the backbone (Eq. 31 normalisation)")
+    paths.append(save_figure(fig, outdir, "modal_amplitudes.png"))
+    return paths
+
+
+def basins_figures(ds, outdir) -> list:
+    """Basins of attraction (Fig. 19), one figure per grid point, and, over one swept grid
+    key, the erosion profile of the integrity measures."""
+    from matplotlib.colors import ListedColormap
+
+    from sweep.analyses.basins import NOT_COMPUTED
+
+    plt = pyplot()
+    written = []
+    grid_dims = [d for d in ds["label"].dims if d not in ("ic_x", "ic_y")]
+    colours = ["#555555", "#c8c8c8", "#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd"]
+    cmap = ListedColormap(["#ffffff", "#d62728"] + colours)
+    x, y = ds["ic_x"].values, ds["ic_y"].values
+    for g in np.ndindex(*(ds.sizes[d] for d in grid_dims)):
+        sel = dict(zip(grid_dims, g))
+        lab = ds["label"].isel(sel).values
+        if np.all(lab == NOT_COMPUTED):
+            continue
+        fig, ax = plt.subplots(figsize=(5.2, 4.4))
+        ax.pcolormesh(x, y, np.clip(lab, -2, len(colours) - 1).T + 2, cmap=cmap, vmin=0,
+                      vmax=len(colours) + 1, shading="nearest", rasterized=True)
+        jx, jy = (int(v) for v in ds["label"].attrs["lattice_state"])
+        for a in range(ds["n_attractors"].isel(sel).values.item()):
+            at = {**sel, "attractor": a}
+            k = ds["attractor_period"].isel(at).values.item()
+            pts = ds["attractor_point"].isel({**sel, "attractor": a}).values[:k]
+            ax.plot(pts[:, jx], pts[:, jy], "kx", ms=9, mew=2,
+                    label=f"attractor {a}: amplitude "
+                          f"{ds['attractor_amplitude'].isel(at).values.item():.3g} m, "
+                          f"basin {ds['basin_fraction'].isel(at).values.item():.2f}")
+        ax.set_xlabel(f"{ds['ic_x'].attrs.get('long_name', 'ic_x')} (m)")
+        ax.set_ylabel(f"{ds['ic_y'].attrs.get('long_name', 'ic_y')} (m/s)")
+        ax.set_title(point_label({d: ds[d].values[i] for d, i in sel.items()}), fontsize=9)
+        ax.legend(fontsize=7, loc="upper right", framealpha=0.9)
+        fig.tight_layout()
+        name = "basins_" + "_".join(f"{d}{float(ds[d].values[i]):g}" for d, i in sel.items())
+        path = outdir / f"{name}.png"
+        fig.savefig(path, dpi=150)
+        plt.close(fig)
+        written.append(path)
+    swept = [d for d in grid_dims if ds.sizes[d] > 1]
+    if len(swept) == 1 and not np.all(ds["label"].values == NOT_COMPUTED):
+        d = swept[0]
+        other = {o: 0 for o in grid_dims if o != d}
+        fig, axes = plt.subplots(1, 2, figsize=(9, 3.8))
+        # Basin greys are too light for lines: black, mid grey, then colours.
+        lines = ["#000000", "#808080", *colours[2:]]
+        markers = "osd^v<"
+        for a in range(ds.sizes["attractor"]):
+            gim = ds["basin_fraction"].isel({**other, "attractor": a})
+            if np.all(np.isnan(gim)):
+                continue
+            style = dict(color=lines[a % len(lines)], marker=markers[a % len(markers)],
+                         label=f"attractor {a}")
+            axes[0].plot(ds[d], gim, **style)
+            axes[1].plot(ds[d], ds["integrity_factor"].isel({**other, "attractor": a}),
+                         **style)
+        unit = ds[d].attrs.get("units", "")
+        for ax, ylab in zip(axes, ("global integrity measure (basin fraction)",
+                                   "integrity factor")):
+            ax.set_xlabel(f"{d} ({unit})")
+            ax.set_ylabel(ylab)
+            ax.set_ylim(-0.02, 1.02)
+            ax.legend(fontsize=8)
+        axes[0].set_title("attractor 0: largest amplitude", fontsize=9)
+        fig.tight_layout()
+        path = outdir / f"erosion_{d}.png"
+        fig.savefig(path, dpi=150)
+        plt.close(fig)
+        written.append(path)
+    return written

@@ -1,0 +1,81 @@
+"""Job-file texts shared by the job-file, command-line and MPI runner tests.
+
+The ``fake`` analyses of ``fake_analysis.py`` are registered through the environment
+variable ``SWEEP_EXTRA_ANALYSES`` set to :data:`EXTRA`.
+"""
+
+import textwrap
+
+EXTRA = "fake=fake_analysis:FAKE,fake_nofig=fake_analysis:FAKE_NOFIG"
+
+GOOD = """
+[job]
+name = "good"
+analysis = "fake"
+
+[grid]
+delta_o = [0.2, 0.3]
+delta = {start = 1.1, stop = 1.5, num = 3}
+Omega = 2.0
+
+[fake]
+scale = 1.0
+"""
+
+
+def job_text(**replace: str) -> str:
+    """GOOD with some lines replaced: ``{old line: new text}`` given as keyword pairs."""
+    text = GOOD
+    for old, new in replace.values():
+        assert old in text
+        text = text.replace(old, new)
+    return textwrap.dedent(text)
+
+
+BAD = {
+    "unknown key": (("name = ", "nme = "), ["job.nme", "unknown key", "name, analysis"]),
+    "name wrong type": (('name = "good"', "name = 3"), ["job.name = 3", "a string"]),
+    "name is a path": (('name = "good"', 'name = "../x"'), ["job.name = '../x'", "letters"]),
+    "missing job table": (("[job]", "[jobs]"), ["job = <missing>", "[job] table is required"]),
+    "unknown analysis": (('analysis = "fake"', 'analysis = "nope"'),
+                         ["job.analysis = 'nope'", "'fake'", "'fake_nofig'"]),
+    "delta <= 1": (("delta = {start = 1.1,", "delta = {start = 1.0,"),
+                   ["grid.delta.start = 1.0", "> 1"]),
+    "delta_o out of range": (("delta_o = [0.2, 0.3]", "delta_o = [0.2, 1.0]"),
+                             ["grid.delta_o[1] = 1.0", "in the open interval (0, 1)"]),
+    "Omega <= 0": (("Omega = 2.0", "Omega = 0"), ["grid.Omega = 0", "> 0 (rad s-1)"]),
+    "c < 0": (("Omega = 2.0", "c = -1e-3"), ["grid.c = -0.001", ">= 0 (N s m-3)"]),
+    "P0 not finite": (("Omega = 2.0", "P0 = inf"), ["grid.P0 = inf", "finite number >= 0"]),
+    "NaN": (("Omega = 2.0", "Omega = nan"), ["grid.Omega = nan", "finite number > 0"]),
+    "bool for a number": (("Omega = 2.0", "Omega = true"), ["grid.Omega = True", "a number"]),
+    "string in a list": (("delta_o = [0.2, 0.3]", 'delta_o = [0.2, "0.3"]'),
+                         ["grid.delta_o[1] = '0.3'", "finite number in the open interval (0, 1)"]),
+    "empty list": (("delta_o = [0.2, 0.3]", "delta_o = []"),
+                   ["grid.delta_o = []", "non-empty list", "empty grid"]),
+    "empty grid table": (("delta_o = [0.2, 0.3]\ndelta = {start = 1.1, stop = 1.5, num = 3}\n"
+                          "Omega = 2.0", ""), ["grid = {}", "at least one of the keys delta"]),
+    "num = 0": (("num = 3", "num = 0"), ["grid.delta.num = 0", "integer >= 1"]),
+    "num float": (("num = 3", "num = 3.0"), ["grid.delta.num = 3.0", "integer >= 1"]),
+    "range key missing": (("stop = 1.5, ", ""), ["grid.delta.stop = <missing>", "required"]),
+    "range unknown key": (("num = 3", "num = 3, step = 1"), ["grid.delta.step", "unknown key"]),
+    "duplicates": (("delta_o = [0.2, 0.3]", "delta_o = [0.2, 0.2]"),
+                   ["grid.delta_o = [0.2, 0.2]", "distinct values (0.2 repeats)"]),
+    "unknown grid key": (("Omega = 2.0", "omega = 2.0"),
+                         ["grid.omega = 2.0", "unknown key", "delta, delta_o, Omega, P0, c"]),
+    "unknown table": (("[fake]", "[fak]\nscale = 1\n[fake]"),
+                      ["fak = {'scale': 1}", "unknown table", "[job], [membrane], [grid], [fake]"]),
+    "table is a value": (("[job]", "membrane = 3\n[job]"),
+                         ["membrane = 3", "a [membrane] table"]),
+    "membrane h <= 0": (("[grid]", "[membrane]\nh = 0.0\n[grid]"),
+                        ["membrane.h = 0.0", "> 0 (m)"]),
+    "membrane unknown key": (("[grid]", "[membrane]\nE = 1.0\n[grid]"),
+                             ["membrane.E = 1.0", "C1, h, Gamma, Re"]),
+    "required grid key": (("delta = {start = 1.1, stop = 1.5, num = 3}", ""),
+                          ["grid.delta = <missing>", "analysis 'fake' needs grid keys delta"]),
+    "missing analysis table": (("[fake]\nscale = 1.0", ""),
+                               ["fake.scale = <missing>", "a number > 0 is required"]),
+    "chunk = 0": (('analysis = "fake"', 'analysis = "fake"\nchunk = 0'),
+                  ["job.chunk = 0", "integer > 0"]),
+    "malformed TOML": (("Omega = 2.0", "Omega = = 2"), ["job file = 'bad.toml'", "TOML syntax",
+                                                         "line"]),
+}
