@@ -57,7 +57,8 @@ def stiffness_coefficients(prestretch: Prestretch, rho):
 
 
 def galerkin_frequencies(prestretch: Prestretch, n: int, count: int,
-                         basis: int | None = None, quad_points: int | None = None):
+                         basis: int | None = None, quad_points: int | None = None,
+                         full_output: bool = False):
     """Lowest ``count`` frequencies of Eq. (25) for wave number ``n`` by Galerkin.
 
     Parameters
@@ -76,6 +77,8 @@ def galerkin_frequencies(prestretch: Prestretch, n: int, count: int,
     quad_points : int, optional
         Gauss-Legendre points on ``[Ro, Re]``; default ``4*basis + 40``, enough to
         integrate the products of the most oscillatory basis functions.
+    full_output : bool
+        Also return the last relative change of the adaptive basis.
 
     Returns
     -------
@@ -84,11 +87,17 @@ def galerkin_frequencies(prestretch: Prestretch, n: int, count: int,
     vectors : numpy.ndarray
         ``(basis, count)`` coefficients of the eigenfunctions on the Bessel basis in the
         paper's normalisation, ``M``-orthonormal.
+    change : float
+        Only with ``full_output``: the largest relative change of the frequencies at the
+        last doubling of the basis (below :data:`CHANGE_TOL` when converged; NaN for a
+        given ``basis``).
     """
     if basis is not None:
-        return _galerkin(prestretch, n, count, basis, quad_points)
+        omega, vec = _galerkin(prestretch, n, count, basis, quad_points)
+        return (omega, vec, np.nan) if full_output else (omega, vec)
     size = max(DEFAULT_BASIS, count)
     omega, vec = _galerkin(prestretch, n, count, size, quad_points)
+    change = np.inf
     while size < MAX_BASIS:
         size *= 2
         finer, vec = _galerkin(prestretch, n, count, size, quad_points)
@@ -96,7 +105,7 @@ def galerkin_frequencies(prestretch: Prestretch, n: int, count: int,
         omega = finer
         if change < CHANGE_TOL:
             break
-    return omega, vec
+    return (omega, vec, float(change)) if full_output else (omega, vec)
 
 
 def _galerkin(prestretch, n, count, basis, quad_points):

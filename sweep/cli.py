@@ -5,8 +5,10 @@ commands are serial and do not initialise MPI.  Launch parallel runs as
 ``mpiexec -n N python -m mpi4py -m sweep run JOB.toml`` so that an uncaught exception
 aborts every rank.
 
-Exit status: 0 success, 1 the run was refused or failed (a task raised, files missing),
-2 the job file or the command line is invalid.  Messages go to stderr, from rank 0.
+Exit status: 0 success (every task ok or not converged), 1 the run was refused or could
+not finish (files missing or unwritable, output in use), 2 the job file or the command line
+is invalid, 3 the run finished and wrote its result but some tasks failed (their status
+and message are in the file).  Messages go to stderr, from rank 0.
 """
 
 import sweep.threads  # noqa: F401  (before numpy and numba load: one thread per rank)
@@ -22,6 +24,7 @@ from sweep.jobspec import Job, load_job, parse_job, read_job_text
 
 EXIT_FAILED = 1
 EXIT_INVALID = 2
+EXIT_TASKS_FAILED = 3
 
 
 def _error(message: str, details: str = "") -> None:
@@ -71,20 +74,19 @@ def _run_on(comm, args: argparse.Namespace) -> int:
     if kind == "error":
         raise JobError(*value)
     job = parse_job(value, args.job)
-    summary = runner.run(job, _output(args, job), comm, resume=args.resume,
-                         overwrite=args.overwrite)
+    summary = runner.run(job, _output(args, job), comm, resume=args.resume, overwrite=args.overwrite,
+                         allow_code_change=args.allow_code_change, break_lock=args.break_lock)
+    report = summary.report
     if comm.rank == 0:
-        report = summary.report
-        for note in report.notes:
+        for note in summary.notes + report.notes:
             print(f"note: {note}", file=sys.stderr)
         if args.report_memory:
             ranks = ", ".join(f"{m:.1f}" for m in summary.peak_rss_mib)
             print(f"memory: peak RSS per rank after compute (MiB): {ranks}; rank 0 after "
                   f"collect: {summary.peak_rss_collect_mib:.1f}", file=sys.stderr)
-        print(f"wrote {report.path}: {report.tasks_completed} / {report.tasks_total} tasks, "
-              f"{summary.tasks_computed} computed by this run on {comm.size} rank(s) in "
-              f"{summary.seconds:.2f} s")
-    return 0
+        print(f"wrote {report.path}: {report.summary()}; {summary.tasks_computed} computed by this run "
+              f"on {comm.size} rank(s) in {summary.seconds:.2f} s")
+    return EXIT_TASKS_FAILED if report.failed else 0
 
 
 def _plan(args: argparse.Namespace) -> int:
@@ -112,11 +114,11 @@ def _status(args: argparse.Namespace) -> int:
 def _collect(args: argparse.Namespace) -> int:
     from sweep import storage
 
-    report = storage.collect(Path(args.out))
+    report = storage.collect(Path(args.out), break_lock=args.break_lock)
     for note in report.notes:
         print(f"note: {note}", file=sys.stderr)
-    print(f"wrote {report.path}: {report.tasks_completed} / {report.tasks_total} tasks")
-    return 0
+    print(f"wrote {report.path}: {report.summary()}")
+    return EXIT_TASKS_FAILED if report.failed else 0
 
 
 def _figures(args: argparse.Namespace) -> int:
@@ -155,6 +157,10 @@ def build_parser() -> argparse.ArgumentParser:
                        help="compute only the chunks missing from OUT.nc.parts/")
     again.add_argument("--overwrite", action="store_true",
                        help="delete OUT.nc and OUT.nc.parts/ first")
+    run.add_argument("--allow-code-change", action="store_true",
+                     help="resume although the code differs from the earlier runs' (recorded in the result)")
+    run.add_argument("--break-lock", action="store_true",
+                     help="remove the lock of a run that no longer exists on another host")
     run.add_argument("--report-memory", action="store_true",
                      help="print the peak resident memory of each rank")
     run.set_defaults(handler=_run)
@@ -170,6 +176,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     collect = commands.add_parser("collect", help="merge the finished parts into the NetCDF")
     collect.add_argument("out", help="output NetCDF of the run")
+    collect.add_argument("--break-lock", action="store_true",
+                         help="remove the lock of a run that no longer exists on another host")
     collect.set_defaults(handler=_collect)
 
     figures = commands.add_parser("figures", help="standard plots of a result as PNG")
@@ -191,7 +199,7 @@ def main(argv: list[str] | None = None) -> int:
     Returns
     -------
     int
-        Exit status: 0, :data:`EXIT_FAILED` or :data:`EXIT_INVALID`.
+        Exit status: 0, :data:`EXIT_FAILED`, :data:`EXIT_INVALID` or :data:`EXIT_TASKS_FAILED`.
     """
     args = build_parser().parse_args(argv)
     try:

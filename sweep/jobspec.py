@@ -178,10 +178,16 @@ def _string(key: str, value: Any) -> str:
     return value
 
 
+#: Longest job name: the output ``<name>.nc``, its parts directory and temporary files
+#: must fit the 255-byte file names of common file systems.
+MAX_NAME = 200
+
+
 def _job_name(value: Any) -> str:
-    if not isinstance(value, str) or not _NAME.fullmatch(value):
+    if not isinstance(value, str) or not _NAME.fullmatch(value) or len(value) > MAX_NAME:
         raise JobError("job.name", value, "a string of letters, digits, '.', '_', '-' "
-                       "starting with a letter or digit (it names the output file)")
+                       f"starting with a letter or digit, at most {MAX_NAME} characters "
+                       "(it names the output file)")
     return value
 
 

@@ -1,11 +1,15 @@
-"""The MPI sweep: hand chunks of tasks out dynamically, compute, stream them to part files.
+"""The MPI sweep: hand chunks of tasks out dynamically, compute, append them to part logs.
 
 Every rank computes, rank 0 included.  Chunks are claimed one at a time from a shared
-counter (:class:`~sweep.counter.ChunkCounter`), so uneven task costs do not idle ranks.
-A task that raises stops the hand-out for everybody; every rank then finishes the chunk
-it holds, the ranks agree on the failures in one ``allgather`` and all of them raise the
-same :class:`~sweep.errors.RunError`.  Results do not depend on the rank: a task's values
-are a function of the job and the task index only.
+counter (:class:`~sweep.counter.ChunkCounter`), so uneven task costs do not idle ranks;
+each rank appends its finished chunks to its own log (:mod:`sweep.partlog`).
+
+A task whose computation raises is data: it is stored with status failed and the
+exception's type and message, and the sweep goes on.  What stops a run is a fault of the
+run itself (an analysis returning something else than it declares, a file that cannot be
+written): every rank then finishes the chunk it holds, the ranks agree on the failures in
+one ``allgather`` and all of them raise the same :class:`~sweep.errors.RunError`.  Results
+do not depend on the rank: a task's values are a function of the job and the task index.
 """
 
 from __future__ import annotations
@@ -21,7 +25,7 @@ from pathlib import Path
 import numpy as np
 from mpi4py import MPI
 
-from sweep import storage
+from sweep import partlog, storage
 from sweep.analyses.base import STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Variable
 from sweep.counter import ChunkCounter
 from sweep.errors import RunError
@@ -32,7 +36,7 @@ _STATUS_CODES = (STATUS_OK, STATUS_NOT_CONVERGED, STATUS_FAILED)
 
 
 class TaskError(Exception):
-    """A task raised, or returned something else than its analysis declares."""
+    """A task returned something else than its analysis declares (a bug of the analysis)."""
 
 
 @dataclass
@@ -45,6 +49,8 @@ class RunSummary:
         What the final collect wrote.
     tasks_computed : int
         Tasks computed by this run (all ranks).
+    notes : list of str
+        What the preparation found (rejected parts, a resume with changed code).
     seconds : float
         Wall time of the computation, s.
     peak_rss_mib : list of float
@@ -55,6 +61,7 @@ class RunSummary:
 
     report: storage.CollectReport
     tasks_computed: int
+    notes: list[str]
     seconds: float
     peak_rss_mib: list[float]
     peak_rss_collect_mib: float
@@ -116,14 +123,15 @@ def _warmup(job: Job, comm: MPI.Intracomm) -> None:
 
 
 def _store(result: object, variables: list[Variable], arrays: dict[str, np.ndarray],
-           i: int) -> int:
-    """Copy one task's result into row ``i`` of the chunk arrays; returns its status."""
+           i: int) -> tuple[int, str]:
+    """Copy one task's result into row ``i`` of the chunk arrays; returns its status and
+    message."""
     if not isinstance(result, dict):
         raise TaskError(f"compute returned a {type(result).__name__}, not a dict")
     expected = {v.name for v in variables} | {"status"}
-    if set(result) != expected:
+    if set(result) - {"message"} != expected:
         raise TaskError(f"compute returned the keys {sorted(result)}, expected "
-                        f"{sorted(expected)}")
+                        f"{sorted(expected)} and optionally 'message'")
     for v in variables:
         value = np.asarray(result[v.name])
         if value.shape != v.shape:
@@ -133,11 +141,17 @@ def _store(result: object, variables: list[Variable], arrays: dict[str, np.ndarr
     status = result["status"]
     if status not in _STATUS_CODES:
         raise TaskError(f"compute returned status {status!r}, expected one of {_STATUS_CODES}")
-    return int(status)
+    message = result.get("message", "")
+    if not isinstance(message, str):
+        raise TaskError(f"compute returned a message of type {type(message).__name__}, not str")
+    return int(status), message
 
 
-def compute_chunk(job: Job, k: int) -> tuple[range, dict[str, np.ndarray], np.ndarray]:
+def compute_chunk(job: Job, k: int) -> tuple[range, dict[str, np.ndarray], np.ndarray, dict[int, str]]:
     """Compute the tasks of chunk ``k``.
+
+    A task whose computation raises gets status failed, the fill values, and the message
+    ``"<ExceptionType>: <message>"``.
 
     Returns
     -------
@@ -147,56 +161,80 @@ def compute_chunk(job: Job, k: int) -> tuple[range, dict[str, np.ndarray], np.nd
         Each variable, shape ``(len(tasks), *shape)``.
     status : numpy.ndarray
         int8 status of each task.
+    messages : dict of int to str
+        Message of the tasks that have one, by position in the chunk.
 
     Raises
     ------
     TaskError
-        Naming the task (index and grid values) and the cause.
+        When the analysis returns something else than it declares, naming the task.
     """
     variables = job.analysis.variables(job.options)
     tasks = job.layout.chunk_tasks(k)
     arrays = {v.name: np.full((len(tasks), *v.shape), v.fill, dtype=v.dtype) for v in variables}
     status = np.empty(len(tasks), dtype=np.int8)
+    messages: dict[int, str] = {}
     for i, t in enumerate(tasks):
         point, subtask = job.point(t)
         try:
-            status[i] = _store(job.analysis.compute(point, job.options, subtask),
-                               variables, arrays, i)
-        except Exception as exc:
-            raise TaskError(f"{job.layout.describe(t)} failed: {type(exc).__name__}: "
-                            f"{exc}") from exc
-    return tasks, arrays, status
+            result = job.analysis.compute(point, job.options, subtask)
+        except Exception as exc:  # noqa: BLE001 - a failing task is data (status failed)
+            for v in variables:
+                arrays[v.name][i] = v.fill
+            status[i], messages[i] = STATUS_FAILED, f"{type(exc).__name__}: {exc}"
+            continue
+        try:
+            status[i], message = _store(result, variables, arrays, i)
+        except TaskError as exc:
+            raise TaskError(f"{job.layout.describe(t)}: {exc}") from exc
+        if message:
+            messages[i] = message
+    return tasks, arrays, status, messages
 
 
-def _compute(job: Job, parts: Path, missing: list[int], comm: MPI.Intracomm,
+def _compute(job: Job, log: Path, done: storage.ChunkSet, comm: MPI.Intracomm,
              progress: Progress | None) -> int:
-    """Compute the ``missing`` chunks and write their part files; collective over comm.
+    """Compute the chunks not in ``done``, appending them to this rank's ``log``;
+    collective over comm.
 
     Returns the number of tasks computed by all ranks.
     """
     counter = ChunkCounter(comm)
-    failure, mine = None, 0
-    while (i := counter.claim()) < len(missing):
-        try:
-            tasks, arrays, status = compute_chunk(job, missing[i])
-            storage.write_part(parts, missing[i], tasks, arrays, status)
-        except Exception as exc:
-            counter.stop()
-            cause = (str(exc) if isinstance(exc, TaskError)
-                     else f"chunk {missing[i]}: {type(exc).__name__}: {exc}")
-            failure = (f"{cause} (on rank {comm.rank})", traceback.format_exc())
-            break
-        mine += len(tasks)
-        done = counter.add_done(len(tasks))
-        if progress is not None:
-            progress.update(done)
+    failure, mine, writer = None, 0, None
+    try:
+        writer = partlog.Writer(log, job.analysis.variables(job.options))
+        while (k := counter.claim()) < job.layout.n_chunks:
+            if k in done:
+                continue
+            tasks, arrays, status, messages = compute_chunk(job, k)
+            writer.append(k, tasks, status, arrays, messages)
+            mine += len(tasks)
+            n = counter.add_done(len(tasks))
+            if progress is not None:
+                progress.update(n)
+    except Exception as exc:  # noqa: BLE001 - agreed below, so that no rank hangs
+        counter.stop()
+        if isinstance(exc, OSError):
+            cause = storage.file_error(exc, f"writing {log}").message
+        elif isinstance(exc, TaskError):
+            cause = str(exc)
+        else:
+            cause = f"{type(exc).__name__}: {exc}"
+        failure = (f"{cause} (on rank {comm.rank})", "" if isinstance(exc, OSError) else traceback.format_exc())
+    finally:
+        if writer is not None:
+            try:
+                writer.close()
+            except OSError as exc:
+                failure = failure or (storage.file_error(exc, f"closing {log}").message, "")
     counter.free()
     _agree(comm, failure)
     return comm.allreduce(mine)
 
 
 def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
-        overwrite: bool = False, progress_stream=None) -> RunSummary:
+        overwrite: bool = False, allow_code_change: bool = False, break_lock: bool = False,
+        progress_stream=None) -> RunSummary:
     """Run a job and write its merged NetCDF file; collective over comm.
 
     Parameters
@@ -204,13 +242,18 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
     job : Job
         The validated job (the same on every rank).
     out : pathlib.Path
-        Output NetCDF path; part files go to ``OUT.nc.parts/``.
+        Output NetCDF path; part logs go to ``OUT.nc.parts/``.
     comm : mpi4py.MPI.Intracomm
         The ranks taking part.
     resume : bool
-        Compute only the chunks without a part file (the job file must be unchanged).
+        Compute only the chunks missing from the part logs (the job file and the code
+        must be unchanged).
     overwrite : bool
         Delete earlier results at ``out`` first.
+    allow_code_change : bool
+        Resume although the code changed (recorded in the result).
+    break_lock : bool
+        Remove a lock left by a run that cannot be checked from this host.
     progress_stream : file, optional
         Where rank 0 reports progress (default: ``sys.stderr``).
 
@@ -221,21 +264,26 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
     Raises
     ------
     RunError
-        On every rank, when the run is refused or a task fails.
+        On every rank, when the run is refused or cannot write its files.
     """
-    missing = _on_root(comm, lambda: storage.prepare(job, out, resume=resume,
-                                                     overwrite=overwrite),
-                       f"preparing {storage.parts_dir(out)}/")
-    _warmup(job, comm)
-    layout = job.layout
-    todo = sum(len(layout.chunk_tasks(k)) for k in missing)
-    progress = (Progress(layout.n_tasks, layout.n_tasks - todo, progress_stream or sys.stderr)
-                if comm.rank == 0 else None)
-    start = time.perf_counter()
-    computed = _compute(job, storage.parts_dir(out), missing, comm, progress)
-    seconds = time.perf_counter() - start
-    if progress is not None:
-        progress.finish(computed)
-    rss = comm.allgather(peak_rss_mib())
-    report = _on_root(comm, lambda: storage.collect(out), f"collecting {out}")
-    return RunSummary(report, computed, seconds, rss, comm.bcast(peak_rss_mib(), root=0))
+    parts = storage.parts_dir(out)
+    lock = storage.Lock(parts, "run")
+    try:
+        plan = _on_root(comm, lambda: storage.prepare(job, out, lock, resume=resume, overwrite=overwrite,
+                                                     allow_code_change=allow_code_change,
+                                                     break_lock=break_lock, ranks=comm.size),
+                        f"preparing {parts}/")
+        _warmup(job, comm)
+        layout = job.layout
+        progress = (Progress(layout.n_tasks, plan.done.tasks(layout.chunk, layout.n_tasks),
+                             progress_stream or sys.stderr) if comm.rank == 0 else None)
+        start = time.perf_counter()
+        computed = _compute(job, storage.log_path(parts, plan.run, comm.rank), plan.done, comm, progress)
+        seconds = time.perf_counter() - start
+        if progress is not None:
+            progress.finish(computed)
+        rss = comm.allgather(peak_rss_mib())
+        report = _on_root(comm, lambda: storage.collect(out, lock_held=True), f"collecting {out}")
+    finally:
+        lock.release()
+    return RunSummary(report, computed, plan.notes, seconds, rss, comm.bcast(peak_rss_mib(), root=0))

@@ -1,39 +1,53 @@
-"""Result storage: one part file per finished chunk, merged into one NetCDF file.
+"""Result storage: append-only part logs per rank and run, merged into one NetCDF file.
 
 Layout next to the output ``OUT.nc``::
 
-    OUT.nc.parts/manifest.json        the job file text and its SHA-256, the chunk layout
-    OUT.nc.parts/chunk-000017.h5      tasks of chunk 17: ``task`` indices, ``status`` and
-                                      one ``(n_tasks_in_chunk, *shape)`` array per variable
+    OUT.nc.parts/manifest.json                the job file text and its SHA-256, the chunk
+                                              layout, and every run with its provenance
+    OUT.nc.parts/lock                         held by the process writing (host, pid, start)
+    OUT.nc.parts/run-0002-rank-00001.log      the chunks rank 1 computed in run 2
+                                              (:mod:`sweep.partlog`: checksummed records)
 
-Every file is written under a temporary name in the same directory, then renamed with
-:func:`os.replace`, so a part file that exists is complete.  The parts are kept after a
-successful :func:`collect`: collecting again gives the same file, ``--resume`` finds
-nothing to do, and ``status`` reads them.  Delete the directory to reclaim the space.
+A run appends one record per finished chunk to its rank's log, so a sweep leaves a few
+files per rank whatever its task count, and a killed rank loses at most the chunk it was
+writing.  Every record is verified when read (checksum, task range); a record that fails
+is reported by file and offset, never merged, and its chunk is computed again by
+``--resume``.  The logs are kept after a successful :func:`collect`: collecting again gives
+the same file, ``--resume`` finds nothing to do, ``status`` reads them.
+
+One writer per output: :class:`Lock` (an ``O_EXCL`` file, safe on NFS and Lustre) is held
+by a run, or by ``collect``, for as long as it writes; a second one is refused at once
+with the holder's host, process and start time.
+
+:func:`collect` streams: results whose published layout is the raw one (every analysis
+but ``basins``) are written window by window of consecutive tasks straight into the
+NetCDF file, so rank 0's memory does not grow with the task count.  An analysis with its
+own ``assemble`` (basins: tiles into lattices) is merged in memory.
 
 The merged file is identical whatever the rank count and the order in which chunks
-finished: values are placed by task index.  Its only attribute that changes from one
-collect to the next is ``date_created``.
+finished: values are placed by task index.  Its attributes ``date_created`` and
+``history`` change from one collect to the next.
 """
 
 from __future__ import annotations
 
 import datetime
-import importlib.metadata
 import json
+import math
 import os
 import re
 import shutil
+import socket
 from collections import Counter
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import h5py
 import numpy as np
 import xarray as xr
 
-from sweep.analyses.base import GRID_KEYS, STATUS_MEANINGS
+from sweep import partlog, provenance
+from sweep.analyses.base import GRID_KEYS, STATUS_FAILED, STATUS_MEANINGS, STATUS_NOT_CONVERGED, STATUS_OK
 from sweep.errors import RunError
 from sweep.jobspec import Job, parse_job
 
@@ -43,24 +57,33 @@ STATUS_FLAG_VALUES = np.array([STATUS_MISSING, 0, 1, 2], dtype=np.int8)
 STATUS_FLAG_MEANINGS = "missing " + STATUS_MEANINGS
 
 MANIFEST = "manifest.json"
-_PART = re.compile(r"chunk-(\d+)\.h5")
-
-
-def software_version() -> str:
-    """Installed version of the ``membrane-sweep`` distribution."""
-    try:
-        return importlib.metadata.version("membrane-sweep")
-    except importlib.metadata.PackageNotFoundError:
-        return "unknown (not installed)"
+LOCK = "lock"
+_LOG = re.compile(r"run-(\d+)-rank-(\d+)\.log")
+#: Bytes of task data buffered per write window of a streaming collect.
+WINDOW_BYTES = 2**20
 
 
 def parts_dir(out: Path) -> Path:
-    """The directory of part files of the output ``out``: ``OUT.nc.parts``."""
+    """The directory of part logs of the output ``out``: ``OUT.nc.parts``."""
     return out.with_name(out.name + ".parts")
 
 
-def _part_path(parts: Path, k: int) -> Path:
-    return parts / f"chunk-{k:06d}.h5"
+def log_path(parts: Path, run: int, rank: int) -> Path:
+    """The part log of ``rank`` in run number ``run``."""
+    return parts / f"run-{run:04d}-rank-{rank:05d}.log"
+
+
+def _logs(parts: Path) -> list[Path]:
+    return sorted(p for p in parts.iterdir() if _LOG.fullmatch(p.name))
+
+
+def file_error(exc: OSError, doing: str) -> RunError:
+    """One line for a file-system failure: what was being done, the file, the cause, what to do."""
+    where = f": {exc.filename}" if exc.filename else ""
+    hint = {28: "free some space", 13: "choose a writable directory with -o",
+            30: "choose a writable directory with -o"}.get(exc.errno, "check the path")
+    return RunError(f"{doing}{where}: {exc.strerror or exc}; {hint}, then run again "
+                    "(with --resume to keep what is done)")
 
 
 def _replace_atomically(path: Path, write) -> None:
@@ -73,33 +96,177 @@ def _replace_atomically(path: Path, write) -> None:
         tmp.unlink(missing_ok=True)
 
 
+# -- the manifest -------------------------------------------------------------------
+
+
 def read_manifest(parts: Path) -> dict:
     """The manifest of a parts directory.
 
     Raises
     ------
     RunError
-        If the directory or its manifest does not exist.
+        If the directory or its manifest does not exist or cannot be read.
     """
+    path = parts / MANIFEST
     try:
-        return json.loads((parts / MANIFEST).read_text())
+        manifest = json.loads(path.read_text())
+        manifest["job_sha256"], manifest["n_tasks"]  # noqa: B018 - the keys every reader needs
+        return manifest
     except FileNotFoundError:
         if parts.is_dir():
             raise RunError(f"{parts}/ has no {MANIFEST}: it is not the parts directory of "
                            "a sweep run") from None
         raise RunError(f"{parts}/ does not exist: nothing to collect or resume") from None
+    except (ValueError, KeyError, TypeError) as exc:
+        raise RunError(f"{path} is corrupt ({type(exc).__name__}: {exc}); restore it, or start "
+                       "again with --overwrite (the parts cannot be used without it)") from None
+    except OSError as exc:
+        raise file_error(exc, "reading the manifest") from None
 
 
-def completed_chunks(parts: Path, n_chunks: int) -> list[int]:
-    """Sorted numbers of the chunks whose part file exists."""
-    found = (_PART.fullmatch(p.name) for p in parts.iterdir())
-    return sorted(k for k in (int(m.group(1)) for m in found if m) if k < n_chunks)
+def _write_manifest(parts: Path, manifest: dict) -> None:
+    _replace_atomically(parts / MANIFEST, lambda tmp: tmp.write_text(json.dumps(manifest, indent=1)))
 
 
-def prepare(job: Job, out: Path, *, resume: bool, overwrite: bool) -> list[int]:
-    """Set up the parts directory of a run and find the chunks still to compute.
+# -- one writer per output ----------------------------------------------------------
 
-    Called on one rank only (rank 0), before any computation.
+
+class Lock:
+    """The lock file of a parts directory: one writer per output.
+
+    Created with ``O_CREAT | O_EXCL`` (atomic on local file systems, NFSv3+ and Lustre),
+    it records the holder's host, process id and start time.  A lock whose holder is a
+    process of this host that no longer exists is stale and taken over; a lock held from
+    another host is reported (it cannot be checked from here) and only ``break_lock``
+    removes it.
+
+    Parameters
+    ----------
+    parts : pathlib.Path
+        The parts directory (it must exist).
+    what : str
+        What the holder does (``"run"``, ``"collect"``), recorded in the file.
+    """
+
+    def __init__(self, parts: Path, what: str):
+        self.path, self.what, self.held = parts / LOCK, what, False
+
+    def acquire(self, *, break_lock: bool = False) -> Lock:
+        """Take the lock or raise :class:`RunError` naming its holder."""
+        me = {"host": socket.gethostname(), "pid": os.getpid(), "what": self.what,
+              "started": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")}
+        for _ in range(2):
+            try:
+                fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
+            except FileExistsError:
+                holder = self._holder()
+                if break_lock or self._stale(holder):
+                    self.path.unlink(missing_ok=True)
+                    continue
+                raise RunError(
+                    f"{self.path.parent}/ is in use by a {holder.get('what', '?')} on host "
+                    f"{holder.get('host', '?')}, process {holder.get('pid', '?')}, since "
+                    f"{holder.get('started', '?')}: wait for it to finish; if that process no longer "
+                    "exists (a job killed on another node), run again with --break-lock") from None
+            except OSError as exc:
+                raise file_error(exc, "locking the parts directory") from None
+            with os.fdopen(fd, "w") as f:
+                json.dump(me, f)
+            self.held = True
+            return self
+        raise RunError(f"{self.path}: could not take the lock; try again")
+
+    def _holder(self) -> dict:
+        try:
+            return json.loads(self.path.read_text())
+        except (OSError, ValueError):
+            return {}
+
+    @staticmethod
+    def _stale(holder: dict) -> bool:
+        # Only a process of this host can be checked; an unreadable lock is left alone.
+        if holder.get("host") != socket.gethostname() or not isinstance(holder.get("pid"), int):
+            return False
+        try:
+            os.kill(holder["pid"], 0)
+        except ProcessLookupError:
+            return True
+        except PermissionError:
+            return False
+        return False
+
+    def release(self) -> None:
+        """Remove the lock file if this object holds it."""
+        if self.held:
+            self.path.unlink(missing_ok=True)
+            self.held = False
+
+    def __enter__(self) -> Lock:
+        return self.acquire()
+
+    def __exit__(self, *exc) -> None:
+        self.release()
+
+
+# -- the set of finished chunks -----------------------------------------------------
+
+
+class ChunkSet:
+    """Chunks already computed, as a bitmap (one bit per chunk: 10^8 chunks in 12.5 MB).
+
+    Parameters
+    ----------
+    n_chunks : int
+        Chunks of the job.
+    bits : numpy.ndarray, optional
+        Packed bitmap (``numpy.packbits`` order); default: none done.
+    """
+
+    def __init__(self, n_chunks: int, bits: np.ndarray | None = None):
+        self.n_chunks = n_chunks
+        self.bits = np.zeros((n_chunks + 7) // 8, np.uint8) if bits is None else bits
+
+    def __contains__(self, k: int) -> bool:
+        return bool(self.bits[k >> 3] & (128 >> (k & 7)))
+
+    def count(self) -> int:
+        """Number of chunks in the set."""
+        return int(np.unpackbits(self.bits, count=self.n_chunks).sum()) if self.n_chunks else 0
+
+    def tasks(self, chunk: int, n_tasks: int) -> int:
+        """Number of tasks in the set's chunks (``chunk`` tasks per chunk, ``n_tasks`` in all)."""
+        ids = np.flatnonzero(np.unpackbits(self.bits, count=self.n_chunks))
+        return int(np.minimum(chunk, n_tasks - ids * chunk).sum())
+
+
+# -- preparing a run ----------------------------------------------------------------
+
+
+@dataclass
+class Plan:
+    """What :func:`prepare` decided for a run (rank 0), broadcast to every rank.
+
+    Parameters
+    ----------
+    run : int
+        Number of this run (1 for the first run on an output).
+    done : ChunkSet
+        Chunks already computed by earlier runs.
+    notes : list of str
+        Things the user should know (parts that failed verification, code changes).
+    """
+
+    run: int
+    done: ChunkSet
+    notes: list[str] = field(default_factory=list)
+
+
+def prepare(job: Job, out: Path, lock: Lock, *, resume: bool, overwrite: bool,
+            allow_code_change: bool = False, break_lock: bool = False, ranks: int = 1) -> Plan:
+    """Set up the parts directory of a run, take its lock, find the chunks still to compute.
+
+    Called on one rank only (rank 0), before any computation.  The lock is taken before
+    anything is deleted or written; the caller releases it (:meth:`Lock.release`).
 
     Parameters
     ----------
@@ -107,81 +274,102 @@ def prepare(job: Job, out: Path, *, resume: bool, overwrite: bool) -> list[int]:
         The validated job.
     out : pathlib.Path
         Output NetCDF path.
+    lock : Lock
+        The lock of ``parts_dir(out)``, acquired here and held on return.
     resume : bool
         Continue the run whose parts are in ``OUT.nc.parts/``; refused if its job file
-        text differs from ``job.text``.
+        text or its code differ.
     overwrite : bool
         Delete ``OUT.nc`` and ``OUT.nc.parts/`` first.
+    allow_code_change : bool
+        Resume even though the code differs from the earlier runs' (recorded).
+    break_lock : bool
+        Remove a lock whose holder cannot be checked from this host.
+    ranks : int
+        Ranks of this run (recorded).
 
     Returns
     -------
-    list of int
-        Numbers of the chunks without a part file, ascending.
+    Plan
 
     Raises
     ------
     RunError
-        When earlier results would be lost or mixed with this job's.
+        When earlier results would be lost or mixed with this job's, or a file cannot be
+        written (one line naming it).
     """
     parts = parts_dir(out)
+    try:
+        return _prepare(job, out, parts, lock, resume, overwrite, allow_code_change, break_lock, ranks)
+    except OSError as exc:
+        raise file_error(exc, f"preparing {parts}/") from None
+
+
+def _prepare(job, out, parts, lock, resume, overwrite, allow_code_change, break_lock, ranks) -> Plan:
+    current = provenance.provenance(job.analysis)
+    started = parts.is_dir() and (parts / MANIFEST).exists()
+    if parts.is_dir() and not started and not _logs(parts):
+        # A directory with no manifest and no results (a run that failed while starting).
+        shutil.rmtree(parts)
+    if parts.exists():
+        lock.acquire(break_lock=break_lock)
+        if overwrite:
+            lock.release()
+            shutil.rmtree(parts)
     if overwrite:
-        shutil.rmtree(parts, ignore_errors=True)
         out.unlink(missing_ok=True)
+    if not parts.exists() and out.exists():
+        raise RunError(f"{out} exists: use --overwrite to replace it, or -o to write elsewhere")
+    notes: list[str] = []
     if parts.exists():
         if not resume:
-            raise RunError(f"{parts}/ holds the parts of an earlier run: add --resume to "
-                           "continue it, or --overwrite (or delete the directory) to start "
-                           "again")
+            raise RunError(f"{parts}/ holds the parts of an earlier run: add --resume to continue "
+                           "it, or --overwrite (or delete the directory) to start again")
         manifest = read_manifest(parts)
         if manifest["job_sha256"] != job.sha256:
-            raise RunError(f"cannot resume: {parts}/ was written by a different job file "
-                           f"(its text has sha256 {manifest['job_sha256'][:12]}..., this one "
-                           f"{job.sha256[:12]}...); restore that file, or start again with "
-                           "--overwrite or another -o")
+            raise RunError(f"cannot resume: {parts}/ was written by a different job file (its text "
+                           f"has sha256 {manifest['job_sha256'][:12]}..., this one {job.sha256[:12]}...); "
+                           "restore that file, or start again with --overwrite or another -o")
+        recorded = manifest["runs"][-1]["provenance"] if manifest.get("runs") else {}
+        changed = provenance.differences(recorded, current)
+        if changed and not allow_code_change:
+            raise RunError(f"cannot resume: the code differs from the run that wrote {parts}/ ("
+                           + "; ".join(changed) + "): resuming would mix results of two versions; run "
+                           "the code that started it, or start again with --overwrite, or pass "
+                           "--allow-code-change to resume anyway (recorded in the result)")
+        if changed:
+            notes.append("resumed with different code (--allow-code-change, recorded): " + "; ".join(changed))
         for tmp in parts.glob(".*.tmp"):
             tmp.unlink()
+        logs = partlog.Logs(_logs(parts), job.layout.chunk, job.layout.n_tasks).scan_all()
+        notes += logs.problems()
+        done = ChunkSet(job.layout.n_chunks, logs.done)
     else:
-        if out.exists():
-            raise RunError(f"{out} exists: use --overwrite to replace it, or -o to write "
-                           "elsewhere")
         parts.mkdir(parents=True)
-        manifest = {
-            "job_name": job.name, "analysis": job.analysis_name,
-            "job_sha256": job.sha256, "job_text": job.text,
-            "n_tasks": job.layout.n_tasks, "n_chunks": job.layout.n_chunks,
-            "chunk": job.layout.chunk, "software_version": software_version(),
-        }
-        _replace_atomically(parts / MANIFEST,
-                            lambda tmp: tmp.write_text(json.dumps(manifest, indent=1)))
-    done = set(completed_chunks(parts, job.layout.n_chunks))
-    return [k for k in range(job.layout.n_chunks) if k not in done]
+        lock.acquire(break_lock=break_lock)
+        manifest = {"format": partlog.VERSION, "job_name": job.name, "analysis": job.analysis_name,
+                    "job_sha256": job.sha256, "job_text": job.text, "n_tasks": job.layout.n_tasks,
+                    "n_chunks": job.layout.n_chunks, "chunk": job.layout.chunk, "runs": []}
+        changed = []
+        done = ChunkSet(job.layout.n_chunks)
+    run = len(manifest["runs"]) + 1
+    manifest["runs"].append({
+        "run": run, "started": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "host": socket.gethostname(), "ranks": ranks, "provenance": current,
+        "code_changed": changed})
+    _write_manifest(parts, manifest)
+    return Plan(run, done, notes)
 
 
-def write_part(parts: Path, k: int, tasks: range, arrays: Mapping[str, np.ndarray],
-               status: np.ndarray) -> None:
-    """Write the results of chunk ``k`` atomically.
+# -- reading the parts --------------------------------------------------------------
 
-    Parameters
-    ----------
-    parts : pathlib.Path
-        The parts directory.
-    k : int
-        Chunk number.
-    tasks : range
-        Task indices of the chunk.
-    arrays : mapping of str to numpy.ndarray
-        Each variable, shape ``(len(tasks), *variable.shape)``.
-    status : numpy.ndarray
-        int8 status of each task.
-    """
-    def write(tmp: Path) -> None:
-        with h5py.File(tmp, "w", locking=False) as f:
-            f["task"] = np.arange(tasks.start, tasks.stop, dtype=np.int64)
-            f["status"] = status
-            for name, values in arrays.items():
-                f.create_dataset(f"variables/{name}", data=values)
 
-    _replace_atomically(_part_path(parts, k), write)
+def part_logs(job: Job, parts: Path) -> partlog.Logs:
+    """The part logs of a parts directory, to be streamed (:class:`sweep.partlog.Logs`)."""
+    try:
+        return partlog.Logs(_logs(parts), job.layout.chunk, job.layout.n_tasks)
+    except OSError as exc:
+        raise file_error(exc, "listing the part logs") from None
 
 
 @dataclass
@@ -194,67 +382,230 @@ class CollectReport:
         The NetCDF file.
     tasks_completed, tasks_total : int
         Tasks found in the parts, tasks of the job.
+    counts : collections.Counter
+        Tasks per status code.
+    reasons : collections.Counter
+        ``(status, message)`` of the tasks that are not ok, counted.
     notes : list of str
-        Things the user should know (missing tasks, unlabelled variables).
+        Things the user should know (missing tasks, rejected parts, unlabelled variables).
     """
 
     path: Path
     tasks_completed: int
     tasks_total: int
+    counts: Counter = field(default_factory=Counter)
+    reasons: Counter = field(default_factory=Counter)
     notes: list[str] = field(default_factory=list)
 
+    @property
+    def failed(self) -> int:
+        """Tasks with status failed."""
+        return self.counts.get(STATUS_FAILED, 0)
 
-def merge(job: Job, parts: Path) -> tuple[xr.Dataset, int]:
-    """Merge the part files into the raw Dataset.
+    def summary(self) -> str:
+        """``"9 / 9 tasks: 4 ok, 5 not converged (5: reached max_points = 40 ...), 0 failed"``."""
+        return f"{self.tasks_completed} / {self.tasks_total} tasks: " + summarize(self.counts, self.reasons)
+
+
+def summarize(counts: Mapping[int, int], reasons: Mapping[tuple[int, str], int], top: int = 3) -> str:
+    """Counts per status with the commonest reasons of the tasks that are not ok."""
+    out = []
+    for code, name in ((STATUS_OK, "ok"), (STATUS_NOT_CONVERGED, "not converged"), (STATUS_FAILED, "failed")):
+        n = counts.get(code, 0)
+        why = sorted(((c, m) for (s, m), c in reasons.items() if s == code and m), key=lambda x: (-x[0], x[1]))
+        detail = "; ".join(f"{c}: {m}" for c, m in why[:top])
+        more = "" if len(why) <= top else f"; {len(why) - top} other reason(s)"
+        out.append(f"{n} {name}" + (f" ({detail}{more})" if detail else ""))
+    return ", ".join(out)
+
+
+def _grid_coords(job: Job, keep_subtask: bool) -> dict:
+    layout = job.layout
+    coords = {d: (d, values, {"units": GRID_KEYS[d][0], "long_name": GRID_KEYS[d][1]})
+              for d, values in zip(layout.dims, layout.values)}
+    if keep_subtask:
+        coords["subtask"] = ("subtask", np.arange(layout.n_subtasks),
+                             {"units": "1", "long_name": "subtask index within a grid point"})
+    coords.update(job.analysis.coords(job.options))
+    return coords
+
+
+_STATUS_ATTRS = {"units": "1", "long_name": "task status", "flag_values": STATUS_FLAG_VALUES,
+                 "flag_meanings": STATUS_FLAG_MEANINGS}
+_MESSAGE_ATTRS = {"long_name": "why a task is not ok (empty when ok)"}
+
+
+def merge(job: Job, parts: Path, logs: partlog.Logs | None = None) -> tuple[xr.Dataset, int]:
+    """Merge the part logs into the raw Dataset, in memory.
 
     Returns
     -------
     raw : xarray.Dataset
-        Dims ``(*grid_dims, "subtask", *variable_dims)``; tasks without a part file hold
-        the variables' fill values and ``status`` -1 (missing).
+        Dims ``(*grid_dims, "subtask", *variable_dims)``; tasks without a part hold the
+        variables' fill values and ``status`` -1 (missing); ``message`` per task.
     tasks_completed : int
         Number of tasks found.
     """
     layout, analysis = job.layout, job.analysis
     variables = analysis.variables(job.options)
-    flat = {v.name: np.full((layout.n_tasks, *v.shape), v.fill, dtype=v.dtype)
-            for v in variables}
+    logs = part_logs(job, parts) if logs is None else logs
+    flat = {v.name: np.full((layout.n_tasks, *v.shape), v.fill, dtype=v.dtype) for v in variables}
     status = np.full(layout.n_tasks, STATUS_MISSING, dtype=np.int8)
-    completed = 0
-    for k in completed_chunks(parts, layout.n_chunks):
-        with h5py.File(_part_path(parts, k), "r", locking=False) as f:
-            tasks = f["task"][:]
-            status[tasks] = f["status"][:]
-            for v in variables:
-                flat[v.name][tasks] = f[f"variables/{v.name}"][:]
-        completed += len(tasks)
-
+    message = np.full(layout.n_tasks, "", dtype=object)
+    with partlog.Reader(variables) as reader:
+        for rec in logs:
+            st, arrays, messages = reader.read(rec)
+            sl = slice(rec.task_start, rec.task_start + rec.task_count)
+            status[sl] = st
+            for name, values in arrays.items():
+                flat[name][sl] = values
+            for i, m in messages.items():
+                message[rec.task_start + i] = m
     grid_dims, grid_shape = layout.dims + ("subtask",), layout.shape + (layout.n_subtasks,)
-    coords = {d: (d, values, {"units": GRID_KEYS[d][0], "long_name": GRID_KEYS[d][1]})
-              for d, values in zip(layout.dims, layout.values)}
-    coords["subtask"] = ("subtask", np.arange(layout.n_subtasks),
-                         {"units": "1", "long_name": "subtask index within a grid point"})
-    coords.update(analysis.coords(job.options))
     data = {v.name: ((*grid_dims, *v.dims), flat[v.name].reshape(*grid_shape, *v.shape),
-                     {"units": v.units, "long_name": v.long_name})
+                     {"units": v.units, "long_name": v.long_name, **v.attrs})
             for v in variables}
-    data["status"] = (grid_dims, status.reshape(grid_shape),
-                      {"units": "1", "long_name": "task status",
-                       "flag_values": STATUS_FLAG_VALUES,
-                       "flag_meanings": STATUS_FLAG_MEANINGS})
-    return xr.Dataset(data, coords), completed
+    data["status"] = (grid_dims, status.reshape(grid_shape), dict(_STATUS_ATTRS))
+    data["message"] = (grid_dims, message.reshape(grid_shape), dict(_MESSAGE_ATTRS))
+    return xr.Dataset(data, _grid_coords(job, keep_subtask=True)), logs.tasks
 
 
-def collect(out: Path) -> CollectReport:
+def flat_boxes(start: int, stop: int, shape: tuple[int, ...]) -> list[tuple[tuple[int, ...], tuple[int, ...]]]:
+    """Split the C-order flat index range ``[start, stop)`` of an array of ``shape`` into boxes.
+
+    Returns
+    -------
+    list of (corner, extent)
+        Rectangular blocks, in increasing flat order, each a contiguous flat range (at most
+        ``2 len(shape) - 1`` of them).
+    """
+    if start >= stop:
+        return []
+    if len(shape) == 1:
+        return [((start,), (stop - start,))]
+    inner = math.prod(shape[1:])
+    i0, r0 = divmod(start, inner)
+    i1, r1 = divmod(stop, inner)
+    if i0 == i1:
+        return [((i0, *c), (1, *e)) for c, e in flat_boxes(r0, r1, shape[1:])]
+    out = []
+    if r0:
+        out += [((i0, *c), (1, *e)) for c, e in flat_boxes(r0, inner, shape[1:])]
+        i0 += 1
+    if i1 > i0:
+        out.append(((i0, *(0,) * (len(shape) - 1)), (i1 - i0, *shape[1:])))
+    if r1:
+        out += [((i1, *c), (1, *e)) for c, e in flat_boxes(0, r1, shape[1:])]
+    return out
+
+
+def c_order_chunks(shape: tuple[int, ...], itemsize: int, target: int = 2**20) -> tuple[int, ...]:
+    """HDF5 chunk shape of about ``target`` bytes that is a contiguous run of C order: the
+    trailing dimensions whole, a part of the next one, ones before it.  Written in task
+    order, such chunks are completed one after the other, so the chunk cache holds only
+    the one being filled."""
+    chunks = [1] * len(shape)
+    size = itemsize
+    for i in range(len(shape) - 1, -1, -1):
+        if size * shape[i] <= target:
+            chunks[i] = shape[i]
+            size *= shape[i]
+        else:
+            chunks[i] = max(1, target // size)
+            break
+    return tuple(chunks)
+
+
+def _stream(tmp: Path, job: Job, logs: partlog.Logs, attrs: dict, report: CollectReport) -> None:
+    """Write the result of a raw-layout analysis window by window (bounded memory); sets
+    ``report.tasks_completed`` and the attribute ``tasks_completed``."""
+    import netCDF4
+
+    layout, analysis = job.layout, job.analysis
+    variables = analysis.variables(job.options)
+    keep_subtask = layout.n_subtasks > 1
+    dims = layout.dims + (("subtask",) if keep_subtask else ())
+    shape = layout.shape + ((layout.n_subtasks,) if keep_subtask else ())
+    skeleton = xr.Dataset(coords=_grid_coords(job, keep_subtask), attrs=attrs)
+    skeleton.to_netcdf(tmp, engine="netcdf4", encoding=_encoding(skeleton))
+    non_dim = [c for c in skeleton.coords if c not in skeleton.dims]
+    per_task = 1 + 8 + sum(np.dtype(v.dtype).itemsize * math.prod(v.shape) for v in variables)  # status, message
+    window = layout.chunk * max(1, WINDOW_BYTES // (per_task * layout.chunk))
+    with netCDF4.Dataset(tmp, "a") as nc:
+        for v in variables:
+            for d, n in zip(v.dims, v.shape):
+                if d not in nc.dimensions:
+                    nc.createDimension(d, n)
+        out = {}
+        for v in variables:
+            floating = np.dtype(v.dtype).kind == "f"
+            chunks = c_order_chunks(shape + v.shape, np.dtype(v.dtype).itemsize)
+            var = nc.createVariable(v.name, v.dtype, dims + v.dims, zlib=True, complevel=4,
+                                    fill_value=np.nan if floating else False, chunksizes=chunks)
+            # room for the chunk being filled: written in order, a chunk is never revisited
+            var.set_var_chunk_cache(size=2 * np.dtype(v.dtype).itemsize * math.prod(chunks), nelems=11,
+                                    preemption=1.0)
+            var.setncatts({"units": v.units, "long_name": v.long_name, **v.attrs})
+            linked = [c for c in non_dim if set(skeleton[c].dims) <= set(dims + v.dims)]
+            if linked:
+                var.setncattr("coordinates", " ".join(linked))
+            out[v.name] = var
+        out["status"] = nc.createVariable("status", "i1", dims, zlib=True, complevel=4, fill_value=False,
+                                          chunksizes=c_order_chunks(shape, 1))
+        out["status"].setncatts(_STATUS_ATTRS)
+        out["message"] = nc.createVariable("message", str, dims, chunksizes=c_order_chunks(shape, 16))
+        out["message"].setncatts(_MESSAGE_ATTRS)
+        records = iter(logs)
+        rec = next(records, None)
+        with partlog.Reader(variables) as reader:
+            for w0 in range(0, layout.n_tasks, window):
+                w1 = min(w0 + window, layout.n_tasks)
+                buf = {v.name: np.full((w1 - w0, *v.shape), v.fill, dtype=v.dtype) for v in variables}
+                buf["status"] = np.full(w1 - w0, STATUS_MISSING, np.int8)
+                buf["message"] = np.full(w1 - w0, "", dtype=object)
+                while rec is not None and rec.task_start < w1:
+                    st, arrays, messages = reader.read(rec)
+                    sl = slice(rec.task_start - w0, rec.task_start - w0 + rec.task_count)
+                    buf["status"][sl] = st
+                    for name, values in arrays.items():
+                        buf[name][sl] = values
+                    for i, m in messages.items():
+                        buf["message"][sl.start + i] = m
+                    rec = next(records, None)
+                _count(report, buf["status"], buf["message"])
+                # Messages are rare: unwritten strings read as "", so a window with few of
+                # them writes those alone (HDF5 keeps every written string in its heap).
+                said = np.flatnonzero(buf["message"] != "")
+                few = said.size <= 64
+                for i in said if few else ():
+                    out["message"][np.unravel_index(w0 + i, shape)] = buf["message"][i]
+                for corner, extent in flat_boxes(w0, w1, shape):
+                    lo = int(np.ravel_multi_index(corner, shape)) - w0
+                    size = math.prod(extent)
+                    box = tuple(slice(c, c + e) for c, e in zip(corner, extent))
+                    for name, var in out.items():
+                        if name == "message" and few:
+                            continue
+                        values = buf[name][lo:lo + size]
+                        var[box] = values.reshape(*extent, *values.shape[1:])
+        report.tasks_completed = logs.tasks
+        nc.setncattr("tasks_completed", logs.tasks)
+
+
+def collect(out: Path, *, lock_held: bool = False, break_lock: bool = False) -> CollectReport:
     """Merge the parts of ``OUT.nc.parts/`` into ``out`` (idempotent).
 
-    The raw merged Dataset goes through the analysis' ``assemble``; the result is written
-    with the netCDF4 engine, zlib-compressed, under a temporary name then renamed.
+    Written under a temporary name then renamed; temporary files of an interrupted merge
+    are removed first.
 
     Parameters
     ----------
     out : pathlib.Path
         Output NetCDF path.
+    lock_held : bool
+        The caller holds the parts directory's lock (a run's final collect).
+    break_lock : bool
+        As for :meth:`Lock.acquire`.
 
     Returns
     -------
@@ -263,39 +614,99 @@ def collect(out: Path) -> CollectReport:
     Raises
     ------
     RunError
-        If there is no parts directory.
+        If there is no parts directory, it is in use, or the file cannot be written.
     """
     parts = parts_dir(out)
-    manifest = read_manifest(parts)
+    if not parts.is_dir():
+        read_manifest(parts)  # says that there is nothing to collect
+    lock = None if lock_held else Lock(parts, "collect").acquire(break_lock=break_lock)
+    try:
+        return _collect(out, parts, read_manifest(parts))
+    finally:
+        if lock is not None:
+            lock.release()
+
+
+def _collect(out: Path, parts: Path, manifest: dict) -> CollectReport:
     job = parse_job(manifest["job_text"], str(parts / MANIFEST))
-    raw, completed = merge(job, parts)
-    ds = job.analysis.assemble(raw, job.options)
-    ds.attrs.update({
+    for stale in out.parent.glob(f".{out.name}.*.tmp"):
+        stale.unlink(missing_ok=True)
+    logs = part_logs(job, parts)
+    report = CollectReport(out, 0, job.layout.n_tasks)
+    attrs = _attributes(job, manifest)
+
+    def write(tmp: Path) -> None:
+        if job.analysis.assemble is None:
+            _stream(tmp, job, logs, attrs, report)
+            with xr.open_dataset(tmp, engine="netcdf4") as ds:
+                derived = {k: v.load() for k, v in job.analysis.derived(ds, job.options).items()}
+            if derived:
+                extra = xr.Dataset(derived)
+                encoding = {k: v for k, v in _encoding(extra).items() if k in derived}
+                extra.to_netcdf(tmp, mode="a", engine="netcdf4", encoding=encoding)
+            return
+        raw, report.tasks_completed = merge(job, parts, logs)
+        _count(report, raw["status"].values.ravel(), raw["message"].values.ravel())
+        ds = job.analysis.assemble(raw, job.options)
+        ds.attrs.update(attrs, tasks_completed=report.tasks_completed)
+        for name, var in ds.variables.items():
+            lacking = [a for a in ("units", "long_name") if a not in var.attrs and name != "message"]
+            if lacking:
+                report.notes.append(f"analysis {job.analysis_name!r}: variable {name!r} has no "
+                                    + " or ".join(lacking))
+        ds.to_netcdf(tmp, engine="netcdf4", encoding=_encoding(ds))
+
+    try:
+        _replace_atomically(out, write)
+    except OSError as exc:
+        raise file_error(exc, f"writing {out}") from None
+    except RuntimeError as exc:  # netCDF4 reports a full disk as "NetCDF: HDF error"
+        raise RunError(f"writing {out} failed ({exc}); check the free space and the permissions of "
+                       f"{out.parent}, then run collect again (the parts are kept)") from None
+    report.notes[:0] = logs.problems()
+    missing = report.tasks_total - report.tasks_completed
+    if missing:
+        report.notes.append(f"{missing} of {report.tasks_total} tasks are missing (status "
+                            f"{STATUS_MISSING}); run --resume to compute them")
+    return report
+
+
+def _count(report: CollectReport, status: np.ndarray, message: np.ndarray) -> None:
+    """Add tasks to the counts per status and the reasons of those not ok."""
+    report.counts.update(Counter(status.tolist()))
+    for i in np.flatnonzero((status != STATUS_OK) & (status != STATUS_MISSING)):
+        report.reasons[(int(status[i]), str(message[i]))] += 1
+
+
+def _attributes(job: Job, manifest: dict) -> dict:
+    """Global attributes of a result: CF, job, provenance of every run (``tasks_completed``
+    is added when the parts have been read)."""
+    runs = manifest.get("runs", [])
+    last = runs[-1]["provenance"] if runs else provenance.provenance(job.analysis)
+    history = [f"{r['started']}: run {r['run']} on {r['ranks']} rank(s) at {r['host']} with "
+               f"{provenance.describe(r['provenance'])}"
+               + (f"; resumed with different code: {'; '.join(r['code_changed'])}" if r.get("code_changed") else "")
+               for r in runs]
+    attrs = {
         "Conventions": "CF-1.8",
         "title": f"membrane-sweep job {job.name!r}, analysis {job.analysis_name!r}",
+        "source": provenance.describe(last),
+        "history": "\n".join(history),
         "job_name": job.name,
         "analysis": job.analysis_name,
         "job_file": job.text,
         "job_sha256": job.sha256,
         "software": "membrane-sweep",
-        "software_version": software_version(),
+        "software_version": last["package_version"],
+        "source_sha256": last["source_sha256"],
+        "git_commit": last.get("git_commit") or "unknown",
+        "library_versions": json.dumps(last["versions"]),
+        "code_changed_during_run": int(any(r.get("code_changed") for r in runs)),
         "tasks_total": job.layout.n_tasks,
-        "tasks_completed": completed,
         "date_created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-    })
-    report = CollectReport(out, completed, job.layout.n_tasks)
-    if completed < job.layout.n_tasks:
-        report.notes.append(f"{job.layout.n_tasks - completed} of {job.layout.n_tasks} tasks "
-                            f"are missing (status {STATUS_MISSING}); run --resume to "
-                            "compute them")
-    for name, var in ds.variables.items():
-        lacking = [a for a in ("units", "long_name") if a not in var.attrs]
-        if lacking:
-            report.notes.append(f"analysis {job.analysis_name!r}: variable {name!r} has no "
-                                + " or ".join(lacking))
-    _replace_atomically(out, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4",
-                                                       encoding=_encoding(ds)))
-    return report
+    }
+    attrs.update(job.analysis.attributes(job.options))
+    return attrs
 
 
 def _encoding(ds: xr.Dataset) -> dict[str, dict]:
@@ -309,10 +720,14 @@ def _encoding(ds: xr.Dataset) -> dict[str, dict]:
     return encoding
 
 
-def describe_status(out: Path) -> str:
-    """One line: completed / total tasks of the run writing ``out``, finished or not.
+# -- status -------------------------------------------------------------------------
 
-    Read from ``OUT.nc.parts/`` when it exists, else from the attributes of ``out``.
+
+def describe_status(out: Path) -> str:
+    """Completed / total tasks of the run writing ``out``, finished or not, with the
+    counts per status, the commonest reasons and any part that failed verification.
+
+    Read from ``OUT.nc.parts/`` when it exists, else from ``out``.
 
     Raises
     ------
@@ -322,29 +737,44 @@ def describe_status(out: Path) -> str:
     parts = parts_dir(out)
     if parts.exists():
         m = read_manifest(parts)
-        chunks = completed_chunks(parts, m["n_chunks"])
+        job = parse_job(m["job_text"], str(parts / MANIFEST))
+        logs = part_logs(job, parts)
         counts: Counter[int] = Counter()
-        for k in chunks:
-            with h5py.File(_part_path(parts, k), "r", locking=False) as f:
-                counts.update(f["status"][:].tolist())
+        reasons: Counter = Counter()
+        chunks = 0
+        with partlog.Reader(job.analysis.variables(job.options)) as reader:
+            for rec in logs:
+                chunks += 1
+                st = reader.read(rec, only_status=True)[0]
+                counts.update(Counter(st.tolist()))
+                if np.any(st != STATUS_OK):
+                    messages = reader.read(rec)[2]
+                    for i in np.flatnonzero(st != STATUS_OK):
+                        reasons[(int(st[i]), messages.get(int(i), ""))] += 1
         written = "written" if out.exists() else "not collected yet"
-        return (f"{m['job_name']} ({m['analysis']}): {sum(counts.values())} / {m['n_tasks']} "
-                f"tasks completed, {len(chunks)} / {m['n_chunks']} chunks "
-                f"({_status_counts(counts)}); {out}: {written}")
+        lines = [f"{m['job_name']} ({m['analysis']}): {logs.tasks} / {m['n_tasks']} tasks "
+                 f"completed, {chunks} / {m['n_chunks']} chunks ({summarize(counts, reasons)}); "
+                 f"{out}: {written}"]
+        lock = Lock(parts, "")._holder() if (parts / LOCK).exists() else None
+        if lock:
+            lines.append(f"in use by a {lock.get('what')} on host {lock.get('host')}, process "
+                         f"{lock.get('pid')}, since {lock.get('started')}")
+        return "\n".join(lines + [f"rejected part: {p}" for p in logs.problems()])
     if not out.exists():
         raise RunError(f"no run at {out}: neither {out} nor {parts}/ exists")
-    with xr.open_dataset(out, engine="netcdf4") as ds:
-        if "tasks_total" not in ds.attrs:
-            raise RunError(f"{out} is not a membrane-sweep result (no tasks_total attribute)")
-        statuses = (f" ({_status_counts(Counter(ds['status'].values.ravel().tolist()))})"
-                    if "status" in ds else "")
-        return (f"{ds.attrs['job_name']} ({ds.attrs['analysis']}): "
-                f"{ds.attrs['tasks_completed']} / {ds.attrs['tasks_total']} tasks completed"
-                f"{statuses}; {parts}/ deleted")
-
-
-def _status_counts(counts: Mapping[int, int]) -> str:
-    names = STATUS_FLAG_MEANINGS.split()
-    return ", ".join(f"{name} {counts.get(int(value), 0)}"
-                     for value, name in zip(STATUS_FLAG_VALUES, names)
-                     if value != STATUS_MISSING)
+    try:
+        with xr.open_dataset(out, engine="netcdf4") as ds:
+            if "tasks_total" not in ds.attrs:
+                raise RunError(f"{out} is not a membrane-sweep result (no tasks_total attribute)")
+            counts = Counter(ds["status"].values.ravel().tolist()) if "status" in ds else Counter()
+            reasons = Counter()
+            if "message" in ds:
+                for s, msg in zip(ds["status"].values.ravel(), ds["message"].values.ravel()):
+                    if s not in (STATUS_OK, STATUS_MISSING):
+                        reasons[(int(s), str(msg))] += 1
+            return (f"{ds.attrs['job_name']} ({ds.attrs['analysis']}): {ds.attrs['tasks_completed']} / "
+                    f"{ds.attrs['tasks_total']} tasks completed ({summarize(counts, reasons)}); "
+                    f"{parts}/ deleted")
+    except (OSError, ValueError) as exc:
+        raise RunError(f"{out} is not a readable NetCDF result ({type(exc).__name__}); give the "
+                       "output file of a run (OUT.nc), not a job file") from None

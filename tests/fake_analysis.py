@@ -78,9 +78,6 @@ class Fake(Analysis):
                 "count": np.int32(10 * point.grid["delta"]) + subtask,
                 "status": STATUS_NOT_CONVERGED if math.sin(phase) < -0.9 else STATUS_OK}
 
-    def assemble(self, raw, options):
-        return raw if options.n_sub > 1 else super().assemble(raw, options)
-
     def figures(self, ds, outdir):
         path = Path(outdir) / "value.png"
         path.write_bytes(b"\x89PNG fake")

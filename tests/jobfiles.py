@@ -1,10 +1,23 @@
-"""Job-file texts shared by the job-file, command-line and MPI runner tests.
+"""Job-file texts and launch helpers shared by the job-file, command-line, storage and MPI
+runner tests.
 
 The ``fake`` analyses of ``fake_analysis.py`` are registered through the environment
 variable ``SWEEP_EXTRA_ANALYSES`` set to :data:`EXTRA`.
 """
 
+import os
+import subprocess
+import sys
 import textwrap
+from pathlib import Path
+
+import pytest
+import xarray as xr
+
+from sweep.launch import find_mpiexec
+
+TESTS = Path(__file__).parent
+TIMEOUT = 120  # seconds, for mpiexec and for the subprocess
 
 EXTRA = "fake=fake_analysis:FAKE,fake_nofig=fake_analysis:FAKE_NOFIG"
 
@@ -79,3 +92,51 @@ BAD = {
     "malformed TOML": (("Omega = 2.0", "Omega = = 2"), ["job file = 'bad.toml'", "TOML syntax",
                                                          "line"]),
 }
+
+#: A 48-task job of the fake analysis (6 x 4 grid, 2 subtasks, chunks of 3 tasks).
+MPI_JOB = """
+[job]
+name = "mpi"
+analysis = "fake"
+chunk = 3
+
+[grid]
+delta = [1.1, 1.2, 1.3, 1.4, 1.5, 1.6]
+delta_o = [0.2, 0.4, 0.6, 0.8]
+Omega = 2.0
+
+[fake]
+scale = 1.0
+n_sub = 2
+sleep = {sleep}
+"""
+
+
+def mpiexec() -> str:
+    """The ``mpiexec`` of this environment (a missing one fails the test, never skips it)."""
+    path = find_mpiexec()
+    if path is None:
+        pytest.fail("mpiexec not found next to the Python executable nor on PATH")
+    return path
+
+
+def sweep_env(pythonpath: Path = TESTS, **extra: str) -> dict[str, str]:
+    """Environment of a ``python -m sweep`` subprocess with the fake analyses registered."""
+    return {**os.environ, "PYTHONPATH": str(pythonpath), "SWEEP_EXTRA_ANALYSES": EXTRA,
+            "MPIEXEC_TIMEOUT": str(TIMEOUT), **extra}
+
+
+def sweep(*args, ranks: int, cwd: Path, pythonpath: Path = TESTS, **extra: str) -> subprocess.CompletedProcess:
+    """``python -m sweep ARGS``, under ``mpiexec -n RANKS`` when ranks > 0."""
+    launch = [mpiexec(), "-n", str(ranks), sys.executable, "-m", "mpi4py"] if ranks else [sys.executable]
+    return subprocess.run([*launch, "-m", "sweep", *map(str, args)], cwd=cwd, env=sweep_env(pythonpath, **extra),
+                          capture_output=True, text=True, timeout=TIMEOUT)
+
+
+def data(path: Path) -> xr.Dataset:
+    """A result loaded without the attributes that differ from run to run."""
+    with xr.open_dataset(path) as ds:
+        ds = ds.load()
+    for run_dependent in ("date_created", "history"):
+        del ds.attrs[run_dependent]
+    return ds

@@ -188,3 +188,11 @@ def test_merge_attractors_identifies_tiles_attractors_and_orders_by_amplitude():
     assert [a for _, a in merged] == [0.07, 0.03, 0.02, 0.01]
     assert merged[0][0] is big  # the first finder's points
     assert [list(i) for i in index] == [[3, 0], [0, 1], [2], []]
+
+
+def test_large_lattices_are_tiled_and_bounded():
+    big = {"ic_x": {"start": -0.3, "stop": 0.3, "num": 4096}, "ic_y": {"start": -10.0, "stop": 10.0, "num": 4096}}
+    options = BASINS.parse_options(big, GRID, MEMBRANE)
+    assert options.tiles == 256 and options.rows * 4096 <= 65_536
+    with pytest.raises(JobError, match=r"basins.ic_x.num = 100000 is invalid: must be <= 4096"):
+        BASINS.parse_options({"ic_x": {"start": -0.3, "stop": 0.3, "num": 100_000}}, GRID, MEMBRANE)

@@ -39,7 +39,8 @@ def run(capsys, *argv):
 def data(path):
     with xr.open_dataset(path) as ds:
         ds = ds.load()
-    del ds.attrs["date_created"]
+    for run_dependent in ("date_created", "history"):
+        del ds.attrs[run_dependent]
     return ds
 
 
@@ -56,18 +57,19 @@ def test_run_status_collect(capsys, job, tmp_path):
     out_nc = tmp_path / "r.nc"
     code, out, err = run(capsys, "run", job, "-o", out_nc, "--report-memory")
     assert code == 0, err
-    assert f"wrote {out_nc}: 6 / 6 tasks, 6 computed by this run on 1 rank(s)" in out
+    assert f"wrote {out_nc}: 6 / 6 tasks: " in out and ", 0 failed; 6 computed by this run on 1 rank(s)" in out
     assert "6 / 6 tasks (100%)" in err and "memory: peak RSS per rank" in err
     first = data(out_nc)
     assert first.attrs["job_file"] == JOB and first.attrs["analysis"] == "fake"
     assert first.attrs["tasks_completed"] == 6 and first.attrs["software_version"]
-    for var in first.variables.values():
-        assert var.attrs["units"] and var.attrs["long_name"]
+    assert len(first.attrs["source_sha256"]) == 64 and "numpy" in first.attrs["library_versions"]
+    for name, var in first.variables.items():
+        assert var.attrs["long_name"] and (name == "message" or var.attrs["units"])
     assert first["status"].attrs["flag_meanings"] == "missing ok not_converged failed"
 
     code, out, _ = run(capsys, "status", out_nc)
     assert code == 0
-    assert "good (fake): 6 / 6 tasks completed, 3 / 3 chunks (ok " in out
+    assert "good (fake): 6 / 6 tasks completed, 3 / 3 chunks (" in out and ", 0 failed)" in out
     assert f"{out_nc}: written" in out
 
     code, out, _ = run(capsys, "collect", out_nc)
@@ -111,34 +113,44 @@ def test_resume_with_changed_job_refused(capsys, job, tmp_path):
     assert "restore that file, or start again with --overwrite" in err
 
 
-def test_task_failure_names_task_and_cause_and_keeps_parts(capsys, tmp_path):
+def test_failing_tasks_are_data_and_the_run_goes_on(capsys, tmp_path):
     path = tmp_path / "fail.toml"
     path.write_text(JOB.replace("scale = 1.0", "scale = 1.0\nfail_delta = 1.5"))
     out_nc = tmp_path / "f.nc"
-    code, _, err = run(capsys, "run", path, "-o", out_nc)
-    assert code == 1
-    assert ("error: task 4 of 6 (delta=1.5, delta_o=0.2, Omega=2.0, subtask 0) failed: "
-            "ZeroDivisionError: the fake analysis fails here on purpose (on rank 0)") in err
-    assert "Traceback" in err
-    assert sorted(p.name for p in (tmp_path / "f.nc.parts").iterdir()) == [
-        "chunk-000000.h5", "chunk-000001.h5", "manifest.json"]
-    assert not out_nc.exists()
-
+    code, out, err = run(capsys, "run", path, "-o", out_nc)
+    assert code == cli.EXIT_TASKS_FAILED, err
+    assert ("2 failed (2: ZeroDivisionError: the fake analysis fails here on purpose)"
+            "; 6 computed by this run") in out
+    result = data(out_nc)
+    failed = result.sel(delta=1.5)
+    assert (failed["status"] == 2).all() and failed["value"].isnull().all() and (failed["count"] == -1).all()
+    assert set(failed["message"].values.ravel()) == {"ZeroDivisionError: the fake analysis fails here on purpose"}
+    assert (result["status"].sel(delta=1.1) < 2).all()
     code, out, _ = run(capsys, "status", out_nc)
-    assert "4 / 6 tasks completed, 2 / 3 chunks" in out and "not collected yet" in out
+    assert code == 0 and "2 failed (2: ZeroDivisionError: the fake analysis fails here on purpose)" in out
+
+
+def test_partial_collect_marks_missing_tasks(capsys, job, tmp_path):
+    out_nc = tmp_path / "r.nc"
+    assert run(capsys, "run", job, "-o", out_nc)[0] == 0
+    (log,) = (tmp_path / "r.nc.parts").glob("run-*.log")
+    log.write_bytes(log.read_bytes()[:-10])  # the last chunk (delta = 1.5) torn, as by a kill
     code, out, err = run(capsys, "collect", out_nc)
     assert code == 0 and "4 / 6 tasks" in out
+    assert f"note: {log}: chunk 2 truncated at byte" in err
     assert "note: 2 of 6 tasks are missing (status -1); run --resume" in err
     partial = data(out_nc)
     assert (partial["status"].sel(delta=1.5) == -1).all()
     assert partial["value"].sel(delta=1.5).isnull().all()
     assert (partial["count"].sel(delta=1.5) == -1).all()
     assert (partial["status"].sel(delta=1.1) >= 0).all()
+    code, out, _ = run(capsys, "run", job, "-o", out_nc, "--resume")
+    assert code == 0 and "2 computed by this run" in out
 
 
 @pytest.mark.parametrize("result, message", [
     ({"value": 1.0, "status": 0}, "compute returned the keys ['status', 'value'], expected "
-                                  "['count', 'profile', 'status', 'value']"),
+                                  "['count', 'profile', 'status', 'value'] and optionally 'message'"),
     ({"value": 1.0, "profile": [1.0], "count": 1, "status": 0},
      "compute returned 'profile' with shape (1,), the analysis declares (4,)"),
     ({"value": 1.0, "profile": [1.0] * 4, "count": 1, "status": 7},
@@ -149,8 +161,7 @@ def test_result_not_as_declared(capsys, monkeypatch, job, tmp_path, result, mess
     monkeypatch.setattr(fake_analysis.FAKE, "compute", lambda *args: result)
     code, _, err = run(capsys, "run", job, "-o", tmp_path / "r.nc")
     assert code == 1
-    assert f"error: task 0 of 6 (delta=1.1, delta_o=0.2, Omega=2.0, subtask 0) failed: " \
-           f"TaskError: {message}" in err
+    assert f"error: task 0 of 6 (delta=1.1, delta_o=0.2, Omega=2.0, subtask 0): {message} (on rank 0)" in err
 
 
 KINDS = ["unknown key", "name wrong type", "unknown analysis", "delta <= 1",
@@ -268,14 +279,16 @@ def test_collect_failure_is_reported_and_parts_kept(capsys, monkeypatch, job, tm
     assert code == 1
     assert (f"error: collecting {tmp_path}/r.nc failed on rank 0: KeyError: 'no such "
             "variable'") in err
-    assert len(list((tmp_path / "r.nc.parts").glob("chunk-*.h5"))) == 3
+    assert len(list((tmp_path / "r.nc.parts").glob("run-*.log"))) == 1
+    assert not (tmp_path / "r.nc.parts" / "lock").exists()
 
 
 def test_unwritable_output_is_reported(capsys, job, tmp_path):
     (tmp_path / "file").write_text("")
     code, _, err = run(capsys, "run", job, "-o", tmp_path / "file" / "r.nc")
     assert code == 1
-    assert f"error: preparing {tmp_path}/file/r.nc.parts/ failed on rank 0: " in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert f"error: preparing {tmp_path}/file/r.nc.parts/: {tmp_path}/file/r.nc.parts: Not a directory" in err
 
 
 def test_status_from_the_final_file_once_parts_are_deleted(capsys, job, tmp_path):
@@ -286,8 +299,8 @@ def test_status_from_the_final_file_once_parts_are_deleted(capsys, job, tmp_path
     (tmp_path / "r.nc.parts").rmdir()
     code, out, _ = run(capsys, "status", out_nc)
     assert code == 0
-    assert out.startswith("good (fake): 6 / 6 tasks completed (ok ")
-    assert out.strip().endswith(f"failed 0); {out_nc}.parts/ deleted")
+    assert out.startswith("good (fake): 6 / 6 tasks completed (")
+    assert out.strip().endswith(f"0 failed); {out_nc}.parts/ deleted")
 
 
 def test_warmup_failure_is_reported(capsys, monkeypatch, job, tmp_path):
@@ -301,12 +314,14 @@ def test_warmup_failure_is_reported(capsys, monkeypatch, job, tmp_path):
 
 
 def test_part_write_failure_is_reported(capsys, monkeypatch, job, tmp_path):
-    from sweep import storage
+    from sweep import partlog
 
-    def broken(*args):
-        raise OSError("disk full")
+    def full(*args):
+        raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(storage, "write_part", broken)
+    monkeypatch.setattr(partlog.Writer, "append", full)
     code, _, err = run(capsys, "run", job, "-o", tmp_path / "r.nc")
     assert code == 1
-    assert "error: chunk 0: OSError: disk full (on rank 0)" in err
+    log = tmp_path / "r.nc.parts" / "run-0001-rank-00000.log"
+    assert (f"error: writing {log}: No space left on device; free some space, then run again (with "
+            "--resume to keep what is done) (on rank 0)") in err

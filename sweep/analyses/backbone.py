@@ -105,7 +105,9 @@ class BackboneAnalysis(Analysis):
         orbits = continue_free_orbits(rom, targets)
         peaks = peak_to_peak(rom, targets, c=options.peak_damping)
         ok = bool(orbits.converged.all() and peaks.converged.all())
-        return {"amplitude": targets,
+        why = {} if ok else {"message": f"{np.count_nonzero(~orbits.converged)} target(s) without a free periodic "
+                                        f"orbit, {np.count_nonzero(~peaks.converged)} without a peak-to-peak sample"}
+        return {**why, "amplitude": targets,
                 "omega_nl": orbits.omega,
                 "omega_peak": peaks.omega,
                 "modal_amplitude": orbits.modal,

@@ -5,9 +5,10 @@ one grid point (a :class:`Point`: the typed membrane and loading records) and on
 *subtask* index: most analyses
 have a single subtask per grid point, the basins analysis splits its lattice of initial
 conditions into tiles, one subtask each.  The runner never looks inside the arrays: it
-stores them with the shapes declared by :meth:`Analysis.variables`, merges them into a
-raw :class:`xarray.Dataset` with dimensions ``(*grid_dims, "subtask", *variable_dims)``
-and hands that to :meth:`Analysis.assemble`, which returns the final labelled Dataset.
+stores them with the shapes declared by :meth:`Analysis.variables` and writes them to the
+result with dimensions ``(*grid_dims, *variable_dims)`` (``subtask`` after the grid's when
+there are several), plus ``status`` and ``message`` per task; an analysis that must
+restructure its result defines ``assemble`` (see :class:`Analysis`).
 
 Kernels never see this module: it lives in ``sweep`` and only wraps ``model``.
 """
@@ -16,7 +17,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
 import numpy as np
@@ -107,6 +108,8 @@ class Variable:
         CF ``long_name`` attribute.
     fill : float or int
         Value of a task that has not produced this variable.
+    attrs : Mapping
+        Further attributes (``flag_values``, ``flag_meanings``, ...).
     """
 
     name: str
@@ -116,6 +119,7 @@ class Variable:
     units: str
     long_name: str
     fill: float | int = np.nan
+    attrs: Mapping[str, Any] = field(default_factory=dict)
 
 
 class Analysis(ABC):
@@ -156,9 +160,11 @@ class Analysis(ABC):
     def compute(self, point: Point, options: Any, subtask: int) -> dict[str, np.ndarray]:
         """Compute one task.
 
-        Returns ``{name: array}`` for every declared variable and
-        ``"status"`` (one of the ``STATUS_*`` codes).  Numerical non-convergence is a
-        status, not an exception; an exception means a bug and aborts the run.
+        Returns ``{name: array}`` for every declared variable, ``"status"`` (one of the
+        ``STATUS_*`` codes) and optionally ``"message"``, a short reason when the status is
+        not ok (``"reached max_points = 400 (raise max_points)"``).  Numerical
+        non-convergence is a status; an exception raised here is caught by the runner and
+        stored as status failed with its type and message, and the sweep goes on.
         """
 
     def warmup(self, options: Any) -> None:
@@ -168,13 +174,21 @@ class Analysis(ABC):
         node-local numba caches are filled once per node before any task runs.
         """
 
-    def assemble(self, raw, options: Any):
-        """Turn the raw merged Dataset into the published one (rank 0, at collect).
+    #: ``assemble(raw, options)``: turns the raw merged Dataset, dims ``(*grid_dims,
+    #: "subtask", *variable_dims)`` with ``status`` and ``message``, into the published one,
+    #: in memory on rank 0.  None (the default) publishes the raw layout itself (without
+    #: the ``subtask`` dimension when there is one subtask per point), streamed to the file
+    #: in bounded memory; an analysis defines it only when it must restructure (basins).
+    assemble = None
 
-        ``raw`` has dims ``(*grid_dims, "subtask", *variable_dims)``.  The default drops
-        the ``subtask`` dimension, which is valid when :meth:`n_subtasks` is 1.
-        """
-        return raw.isel(subtask=0, drop=True)
+    def attributes(self, options: Any) -> dict[str, Any]:
+        """Global attributes the result carries for this analysis (default none)."""
+        return {}
+
+    def derived(self, ds, options: Any) -> dict:
+        """Variables computed from the collected result ``ds`` (opened from the file) and
+        appended to it: ``name -> DataArray`` (default none)."""
+        return {}
 
     def figures(self, ds, outdir) -> list:
         """Write the standard plots of a result as PNG files (``python -m sweep figures``).

@@ -18,14 +18,18 @@ Options (table ``[basins]``):
 ``lattice_mode``   1-based index in ``modes`` of the lattice coordinates (default 1)
 ``ic_x``           ``{start, stop, num}`` displacement ``q_j`` (m), default -0.3..0.3, 100
 ``ic_y``           ``{start, stop, num}`` velocity ``dq_j/dt`` (m s-1), default -10..10, 100
+                   (``num`` at most 4096 on each axis: a tile's memory stays below ~1 MB
+                   and rank 0 holds one 4096 x 4096 label image per grid point at collect)
 ``method``         ``fast`` (cells + proximity, default) | ``brute`` (proximity only)
-``tiles``          number of tiles (default 8, at most ``ic_x.num``)
+``tiles``          number of tiles (default 8, at most ``ic_x.num``; raised so that no tile
+                   holds more than 65,536 initial conditions)
 ``steps``          RK4 steps per forcing period (default 64)
 ``max_periods``    periods before a trajectory is unclassified, label -1 (default 20000)
 ``radius``         capture radius around attractor points, fraction of the lattice (0.01)
 ``consecutive``    consecutive clean-cell hits to adopt a cell's label (default 8)
 ``guard``          half-width of the block of equal labels around a clean cell (default 2)
-``cell_resolution`` about this many cells per axis in the cell map (default 200; 0: the lattice's)
+``cell_resolution`` about this many cells per axis in the cell map (default 200, at most 4096;
+                   0: the lattice's)
 ``max_period``     largest period of the attractors searched, in forcing periods (4)
 ``max_attractors`` attractors stored per grid point (default 6)
 ``cases``          optional list of tables, e.g. ``[{delta = 1.1, Omega = 33.5}]``: only the
@@ -59,6 +63,10 @@ _KEYS = ("modes", "prestretch", "lattice_mode", "ic_x", "ic_y", "method", "tiles
          "max_periods", "radius", "consecutive", "guard", "cell_resolution", "max_period",
          "max_attractors", "cases")
 NOT_COMPUTED = -2
+#: Largest ``num`` of ``ic_x`` and ``ic_y``.
+MAX_LATTICE = 4096
+#: Largest number of initial conditions in one tile (one task).
+MAX_TILE_POINTS = 65_536
 
 
 @dataclass(frozen=True)
@@ -133,8 +141,10 @@ class Basins(Analysis):
         modes = opt.modes(table, _SECTION)
         lm = opt.number(table, _SECTION, "lattice_mode", 1, low=1, high=len(modes),
                         integer=True)
-        ic_x = opt.linspace(table, _SECTION, "ic_x", {"start": -0.3, "stop": 0.3, "num": 100})
-        ic_y = opt.linspace(table, _SECTION, "ic_y", {"start": -10.0, "stop": 10.0, "num": 100})
+        ic_x = opt.linspace(table, _SECTION, "ic_x", {"start": -0.3, "stop": 0.3, "num": 100},
+                            max_num=MAX_LATTICE)
+        ic_y = opt.linspace(table, _SECTION, "ic_y", {"start": -10.0, "stop": 10.0, "num": 100},
+                            max_num=MAX_LATTICE)
         for key, (a, b, num) in (("ic_x", ic_x), ("ic_y", ic_y)):
             if num < 2 or not b > a:
                 raise JobError(f"{_SECTION}.{key}", table.get(key),
@@ -147,13 +157,14 @@ class Basins(Analysis):
             consecutive=opt.number(table, _SECTION, "consecutive", d.consecutive, low=1, integer=True),
             guard=opt.number(table, _SECTION, "guard", d.guard, low=0, integer=True),
             cell_resolution=opt.number(table, _SECTION, "cell_resolution", d.cell_resolution, low=0,
-                                       high=20_000, integer=True),
+                                       high=MAX_LATTICE, integer=True),
             max_period=opt.number(table, _SECTION, "max_period", d.max_period, low=1, high=64,
                                   integer=True))
         return BasinsOptions(
             modes=modes, prestretch=opt.prestretch(table, _SECTION), lattice_mode=lm,
             ic_x=ic_x, ic_y=ic_y, method=method,
-            tiles=min(opt.number(table, _SECTION, "tiles", 8, low=1, integer=True), ic_x[2]),
+            tiles=min(max(opt.number(table, _SECTION, "tiles", 8, low=1, integer=True),
+                          math.ceil(ic_x[2] * ic_y[2] / MAX_TILE_POINTS)), ic_x[2]),
             steps=opt.number(table, _SECTION, "steps", mb.DEFAULT_STEPS, low=8, integer=True),
             settings=settings,
             max_attractors=opt.number(table, _SECTION, "max_attractors", 6, low=1, high=1000,
@@ -221,6 +232,9 @@ class Basins(Analysis):
             out["tile_attractor_multiplier"][a] = np.max(np.abs(att.multipliers))
         if len(atts) > A or np.any(labels < 0):
             out["status"] = STATUS_NOT_CONVERGED
+            out["message"] = (f"more than max_attractors = {A} attractors (raise max_attractors)" if len(atts) > A
+                              else f"initial conditions unclassified after max_periods = "
+                                   f"{options.settings.max_periods} (label -1)")
         return out
 
     def warmup(self, options: BasinsOptions) -> None:
@@ -315,6 +329,12 @@ class Basins(Analysis):
         }
         if status is not None:
             data["status"] = (G, status, raw["status"].attrs)
+        if "message" in raw:
+            tiles = raw["message"].transpose(*order).values
+            joined = np.empty(gshape, dtype=object)
+            for g in np.ndindex(*gshape):
+                joined[g] = "; ".join(dict.fromkeys(m for m in tiles[g] if m))
+            data["message"] = (G, joined, raw["message"].attrs)
         coords = {d: raw[d] for d in grid_dims if d in raw.coords}
         coords.update({
             "ic_x": ("ic_x", lattice.x, {"units": "m", "long_name":

@@ -34,10 +34,11 @@ Outputs (a task's branches differ in length: every ``point`` array is padded wit
   saddle-node points in branch order, and ``n_points``, ``n_folds``.
 
 Fold loci versus damping (Fig. 17): put ``c`` in the grid (a dense list).  When ``c`` has
-three or more values and ``parameter = "P0"``, :meth:`ContinuationAnalysis.assemble` adds,
+three or more values and ``parameter = "P0"``, :meth:`ContinuationAnalysis.derived` adds,
 per combination of the other grid keys, the cusp where the two folds merge
 (:func:`model.continuation.cusp_from_folds`): ``cusp_c`` (N s/m^3) and ``cusp_value``
-(Pa).  The status is ``ok`` when the branch reached ``stop``, ``not_converged`` otherwise.
+(Pa).  The status is ``ok`` when the branch reached ``stop``, ``not_converged`` otherwise
+(``message`` says why), ``failed`` when a state on the branch is not finite.
 """
 
 from __future__ import annotations
@@ -52,7 +53,8 @@ from model.params import Loading, Membrane
 from model.shooting import shoot
 
 from . import options as opt
-from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable, check_keys
+from .base import (GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
+                   check_keys)
 
 #: Length of the ``fold`` dimension.
 MAX_FOLDS = 6
@@ -101,7 +103,8 @@ class ContinuationAnalysis(Analysis):
             Variable("amplitude", pt, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)|"),
             Variable("stable", pt, (n,), "i1", "1", "1 stable, 0 unstable periodic response", -1),
             Variable("point_type", pt, (n,), "i1", "1",
-                     "0 regular, 1 fold (saddle-node), 2 period doubling, 3 Neimark-Sacker", -1),
+                     "0 regular, 1 fold (saddle-node), 2 period doubling, 3 Neimark-Sacker", -1,
+                     {"flag_values": np.arange(4, dtype=np.int8), "flag_meanings": " ".join(KIND_NAMES)}),
             Variable("multiplier_real", ("point", "multiplier"), (n, k), "f8", "1",
                      "real part of the Floquet multipliers, by decreasing modulus"),
             Variable("multiplier_imag", ("point", "multiplier"), (n, k), "f8", "1",
@@ -148,22 +151,27 @@ class ContinuationAnalysis(Analysis):
         out["n_points"] = np.int32(m)
         out["n_folds"] = np.int32(br.special(FOLD).size)
         out["status"] = STATUS_OK if br.complete else STATUS_NOT_CONVERGED
+        if not br.complete:
+            out["message"] = (f"reached max_points = {options.max_points} (raise max_points)"
+                              if m >= options.max_points else br.message)
+        if not (np.all(np.isfinite(br.state)) and np.all(np.isfinite(br.amplitude))):
+            out["status"], out["message"] = STATUS_FAILED, "non-finite periodic response on the branch"
         return out
 
     def warmup(self, options):
         rom = opt.rom_for(Membrane(), "analytic", options.modes)
         shoot(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 0.05), steps=16), np.zeros(2 * rom.dof))
 
-    def assemble(self, raw, options):
-        ds = raw.isel(subtask=0, drop=True)
-        ds.attrs["continued_parameter"] = options.parameter
-        ds["point_type"].attrs.update(flag_values=np.arange(4, dtype=np.int8), flag_meanings=" ".join(KIND_NAMES))
-        if options.parameter == "P0" and ds.sizes.get("c", 0) >= 3:
-            cusp_c, cusp_v = _cusp(ds)
-            ds["cusp_c"] = cusp_c.assign_attrs(units=GRID_KEYS["c"][0],
-                                               long_name="damping at which the two saddle-nodes merge (cusp)")
-            ds["cusp_value"] = cusp_v.assign_attrs(units=GRID_KEYS["P0"][0], long_name="P0 at the cusp")
-        return ds
+    def attributes(self, options):
+        return {"continued_parameter": options.parameter}
+
+    def derived(self, ds, options):
+        if not (options.parameter == "P0" and ds.sizes.get("c", 0) >= 3):
+            return {}
+        cusp_c, cusp_v = _cusp(ds)
+        return {"cusp_c": cusp_c.assign_attrs(units=GRID_KEYS["c"][0],
+                                              long_name="damping at which the two saddle-nodes merge (cusp)"),
+                "cusp_value": cusp_v.assign_attrs(units=GRID_KEYS["P0"][0], long_name="P0 at the cusp")}
 
     def figures(self, ds, outdir):
         from sweep.figures import continuation_figures

@@ -13,12 +13,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from model.linear import MAX_BASIS, approximate_frequency, frequency_bound, galerkin_frequencies
+from model.linear import CHANGE_TOL, MAX_BASIS, approximate_frequency, frequency_bound, galerkin_frequencies
 from model.modes import bessel_roots
 from model.prestretch import solve_prestretch
 
 from . import options as opt
-from .base import STATUS_OK, Analysis, JobError, Variable, check_keys
+from .base import STATUS_FAILED, STATUS_OK, Analysis, JobError, Variable, check_keys
 
 
 @dataclass(frozen=True)
@@ -59,16 +59,27 @@ class LinearAnalysis(Analysis):
         m = point.membrane
         ps = solve_prestretch(m, options.prestretch)
         out = {name: np.empty(len(options.modes)) for name in ("omega", "omega_approx", "omega_bound")}
-        by_n: dict[int, np.ndarray] = {}
+        by_n: dict[int, tuple[np.ndarray, float]] = {}
+        problems = []
         for k, (mm, n) in enumerate(options.modes):
             if n not in by_n:
                 mmax = max(a for a, b in options.modes if b == n)
-                by_n[n] = galerkin_frequencies(ps, n, mmax, basis=options.basis)[0]
+                omega, _, change = galerkin_frequencies(ps, n, mmax, basis=options.basis, full_output=True)
+                by_n[n] = omega, change
+                if change >= CHANGE_TOL:
+                    problems.append(f"n = {n}: basis not converged at {MAX_BASIS} functions "
+                                    f"(last relative change {change:.1e})")
             alpha = bessel_roots(n, m.delta_o, mm)[-1]
-            out["omega"][k] = by_n[n][mm - 1]
+            out["omega"][k] = by_n[n][0][mm - 1]
             out["omega_approx"][k] = approximate_frequency(ps, alpha)
             out["omega_bound"][k] = frequency_bound(m, alpha)
-        out["status"] = STATUS_OK
+            # Eq. 29 bounds every frequency from above (the limit delta -> infinity).
+            if not (np.isfinite(out["omega"][k]) and 0.0 < out["omega"][k] < out["omega_bound"][k]):
+                problems.append(f"mode ({mm}, {n}): omega = {out['omega'][k]:.6g} rad/s is not in "
+                                f"(0, Eq. 29 bound = {out['omega_bound'][k]:.6g})")
+        out["status"] = STATUS_FAILED if problems else STATUS_OK
+        if problems:
+            out["message"] = "; ".join(problems)
         return out
 
     def figures(self, ds, outdir):

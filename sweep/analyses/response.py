@@ -114,19 +114,21 @@ class ResponseAnalysis(Analysis):
         if options.refine_jumps:
             jumps = refine_jumps(fmap, options.parameter, res, max_jumps=MAX_JUMPS, tol=options.tol,
                                  consecutive=options.consecutive, max_periods=options.max_periods)
-        return {"amplitude": res.amplitude.T.copy(), "converged": conv.astype(np.int8),
-                "periods": res.periods.T.astype(np.int32), "jump_value": jumps,
-                "status": STATUS_OK if conv.all() else STATUS_NOT_CONVERGED}
+        out = {"amplitude": res.amplitude.T.copy(), "converged": conv.astype(np.int8),
+               "periods": res.periods.T.astype(np.int32), "jump_value": jumps,
+               "status": STATUS_OK if conv.all() else STATUS_NOT_CONVERGED}
+        if not conv.all():
+            out["message"] = (f"{np.count_nonzero(~conv)} of {conv.size} steady states did not settle within "
+                              f"max_periods = {options.max_periods} (raise max_periods or tol)")
+        return out
 
     def warmup(self, options):
         rom = opt.rom_for(Membrane(), "analytic", options.modes)
         stepped_sweep(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 1.0), steps=16), "P0", [0.1],
                       max_periods=2, min_periods=1)
 
-    def assemble(self, raw, options):
-        ds = raw.isel(subtask=0, drop=True)
-        ds.attrs["swept_parameter"] = options.parameter
-        return ds
+    def attributes(self, options):
+        return {"swept_parameter": options.parameter}
 
     def figures(self, ds, outdir):
         from sweep.figures import response_figures
