@@ -14,10 +14,11 @@ and message are in the file).  Messages go to stderr, from rank 0.
 import sweep.threads  # noqa: F401  (before numpy and numba load: one thread per rank)
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
-from sweep import analyses
+from sweep import analyses, progress, provenance
 from sweep.analyses.base import JobError
 from sweep.errors import RunError
 from sweep.jobspec import Job, load_job, parse_job, read_job_text
@@ -25,6 +26,7 @@ from sweep.jobspec import Job, load_job, parse_job, read_job_text
 EXIT_FAILED = 1
 EXIT_INVALID = 2
 EXIT_TASKS_FAILED = 3
+EXIT_INTERRUPTED = 130
 
 
 def _error(message: str, details: str = "") -> None:
@@ -42,6 +44,14 @@ def _run(args: argparse.Namespace) -> int:
     comm = MPI.COMM_WORLD
     try:
         code = _run_on(comm, args)
+    except KeyboardInterrupt:
+        # Every rank gets the signal; the runner released the lock on its way out.  Leave
+        # without MPI_Abort's notice and without a traceback.
+        if comm.rank == 0:
+            print(f"\ninterrupted: the finished chunks are kept in {args.output or 'OUT.nc'}.parts/; "
+                  f"run the same command with --resume to continue", file=sys.stderr)
+            sys.stderr.flush()
+        os._exit(EXIT_INTERRUPTED)
     except (JobError, RunError) as exc:
         if comm.rank == 0:
             if isinstance(exc, JobError):
@@ -74,8 +84,10 @@ def _run_on(comm, args: argparse.Namespace) -> int:
     if kind == "error":
         raise JobError(*value)
     job = parse_job(value, args.job)
+    stream, bar = progress.open_stream(args.progress) if comm.rank == 0 else (None, False)
     summary = runner.run(job, _output(args, job), comm, resume=args.resume, overwrite=args.overwrite,
-                         allow_code_change=args.allow_code_change, break_lock=args.break_lock)
+                         allow_code_change=args.allow_code_change, break_lock=args.break_lock,
+                         progress_stream=stream, progress_bar=bar)
     report = summary.report
     if comm.rank == 0:
         for note in summary.notes + report.notes:
@@ -122,18 +134,28 @@ def _collect(args: argparse.Namespace) -> int:
 
 
 def _figures(args: argparse.Namespace) -> int:
+    import matplotlib
+
+    matplotlib.use("Agg")  # a command-line tool: files only
     import xarray as xr
+
+    from sweep import figures
 
     out = Path(args.out)
     if not out.exists():
         raise RunError(f"{out} does not exist")
-    with xr.open_dataset(out, engine="netcdf4") as ds:
-        if "analysis" not in ds.attrs:
-            raise RunError(f"{out} is not a membrane-sweep result (no analysis attribute)")
-        analysis = analyses.get(ds.attrs["analysis"])
-        outdir = Path(args.output)
-        outdir.mkdir(parents=True, exist_ok=True)
-        paths = analysis.figures(ds.load(), outdir)
+    try:
+        ds = xr.load_dataset(out, engine="netcdf4")
+    except (OSError, ValueError) as exc:
+        raise RunError(f"{out} is not a readable NetCDF result ({type(exc).__name__}); give the "
+                       "output file of a run (OUT.nc), not a job file") from None
+    if "analysis" not in ds.attrs:
+        raise RunError(f"{out} is not a membrane-sweep result (no analysis attribute)")
+    analysis = analyses.get(ds.attrs["analysis"])
+    try:
+        paths = figures.draw(analysis, ds, Path(args.output), fmt=args.format, dpi=args.dpi, style=args.style)
+    except OSError as exc:
+        raise RunError(f"cannot use the style {args.style!r} or write to {args.output}: {exc}") from None
     if not paths:
         print(f"analysis {ds.attrs['analysis']!r} has no figures")
     for path in paths:
@@ -147,6 +169,8 @@ def build_parser() -> argparse.ArgumentParser:
         prog="python -m sweep",
         description="Parameter sweeps of the pre-stretched hyperelastic annular membrane.",
         epilog="Parallel: mpiexec -n N python -m mpi4py -m sweep run JOB.toml")
+    parser.add_argument("--version", action="version",
+                        version=f"membrane-sweep {provenance.package_version()}")
     commands = parser.add_subparsers(dest="command", required=True)
 
     run = commands.add_parser("run", help="validate, compute under MPI, write the NetCDF")
@@ -163,6 +187,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="remove the lock of a run that no longer exists on another host")
     run.add_argument("--report-memory", action="store_true",
                      help="print the peak resident memory of each rank")
+    run.add_argument("--progress", choices=progress.MODES, default="auto",
+                     help="progress of rank 0: a bar redrawn on the terminal (also under mpiexec), "
+                          "plain lines (logs), or none; auto: a bar on a terminal, lines otherwise")
     run.set_defaults(handler=_run)
 
     plan = commands.add_parser("plan", help="validate and print the task layout")
@@ -180,10 +207,14 @@ def build_parser() -> argparse.ArgumentParser:
                          help="remove the lock of a run that no longer exists on another host")
     collect.set_defaults(handler=_collect)
 
-    figures = commands.add_parser("figures", help="standard plots of a result as PNG")
+    figures = commands.add_parser("figures", help="standard plots of a result (PNG, PDF or SVG)")
     figures.add_argument("out", help="NetCDF result")
     figures.add_argument("-o", "--output", default="figures",
-                         help="directory for the PNG files (default: figures)")
+                         help="directory for the figure files (default: figures)")
+    figures.add_argument("--format", choices=("png", "pdf", "svg"), default="png",
+                         help="file format (default png; pdf and svg are vector)")
+    figures.add_argument("--dpi", type=float, help="resolution of raster output (default 120; basins 150)")
+    figures.add_argument("--style", help="a matplotlib style name or .mplstyle file, on top of the house style")
     figures.set_defaults(handler=_figures)
     return parser
 
@@ -204,6 +235,9 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return args.handler(args)
+    except KeyboardInterrupt:
+        print("\ninterrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
     except JobError as exc:
         _error(f"{getattr(args, 'job', None) or args.out}: {exc}")
         return EXIT_INVALID

@@ -1,13 +1,17 @@
 """Every figure of ``python -m sweep figures``: one function per analysis (Figs. 2-19).
 
 Each ``<analysis>_figures(ds, outdir)`` takes the published Dataset and an output
-directory and returns the list of PNG paths it wrote; the analyses' ``figures`` methods
-delegate here.  matplotlib is imported lazily (Agg backend).  Grid values are labelled
-with the symbols of :data:`SYMBOLS`.
+directory and returns the list of paths it wrote; the analyses' ``figures`` methods
+delegate here.  :func:`draw` is the entry point (the command line's and a script's): it
+applies the house style and the chosen format, resolution and style file inside a
+``matplotlib.rc_context``, so the caller's ``rcParams`` and backend are left as they
+were.  matplotlib is imported lazily.  Grid values are labelled with the symbols of
+:data:`SYMBOLS`.
 """
 
 from __future__ import annotations
 
+import contextvars
 import itertools
 from pathlib import Path
 
@@ -22,25 +26,67 @@ def point_label(sel) -> str:
     return ", ".join(f"{SYMBOLS.get(k, k)} = {float(v):g}" for k, v in sel.items())
 
 
-def pyplot():
-    """matplotlib.pyplot with the Agg backend and the house style."""
-    import matplotlib
+#: The house style, applied by :func:`draw` (a style file given to it comes on top).
+HOUSE_STYLE = {"figure.dpi": 120, "axes.grid": True, "grid.alpha": 0.3, "font.size": 10,
+               "legend.fontsize": 8, "savefig.bbox": "tight"}
+#: Output formats of :func:`draw`.
+FORMATS = ("png", "pdf", "svg")
+_OUTPUT = contextvars.ContextVar("figure_output", default=("png", None))
 
-    matplotlib.use("Agg")
+
+def pyplot():
+    """``matplotlib.pyplot`` (its backend and ``rcParams`` untouched)."""
     import matplotlib.pyplot as plt
 
-    plt.rcParams.update({"figure.dpi": 120, "axes.grid": True, "grid.alpha": 0.3,
-                         "font.size": 10, "legend.fontsize": 8, "savefig.bbox": "tight"})
     return plt
 
 
-def save_figure(fig, outdir, name) -> Path:
-    """Save ``fig`` as ``outdir/name`` (directories created), close it, return the path."""
-    path = Path(outdir) / name
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
+def draw(analysis, ds, outdir, *, fmt: str = "png", dpi: float | None = None, style=None) -> list[Path]:
+    """The standard figures of a result, written to ``outdir``.
+
+    Parameters
+    ----------
+    analysis : sweep.analyses.base.Analysis
+        The analysis that wrote ``ds`` (``sweep.analyses.get(ds.attrs["analysis"])``).
+    ds : xarray.Dataset
+        The result.
+    outdir : path
+        Output directory (created).
+    fmt : {"png", "pdf", "svg"}
+        File format (PDF and SVG are vector; the basins images are embedded rasters).
+    dpi : float, optional
+        Resolution of raster output (default 120, basins 150).
+    style : str or path, optional
+        A matplotlib style (name or ``.mplstyle`` file) applied on top of the house style.
+
+    Returns
+    -------
+    list of pathlib.Path
+    """
     import matplotlib.pyplot as plt
 
+    if fmt not in FORMATS:
+        raise ValueError(f"fmt = {fmt!r} is invalid: must be one of {', '.join(FORMATS)}")
+    Path(outdir).mkdir(parents=True, exist_ok=True)
+    token = _OUTPUT.set((fmt, dpi))
+    try:
+        with plt.rc_context(HOUSE_STYLE):
+            if style is not None:
+                plt.style.use(style)
+            return analysis.figures(ds, Path(outdir))
+    finally:
+        _OUTPUT.reset(token)
+
+
+def save_figure(fig, outdir, name, dpi: float | None = None) -> Path:
+    """Save ``fig`` as ``outdir/name`` in the format of :func:`draw` (the suffix of ``name``
+    is replaced), close it, return the path.  ``dpi`` is this figure's default resolution."""
+    import matplotlib.pyplot as plt
+
+    fmt, chosen = _OUTPUT.get()
+    path = (Path(outdir) / name).with_suffix("." + fmt)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, format=fmt, **({"dpi": chosen or dpi} if chosen or dpi else {}))
     plt.close(fig)
     return path
 
@@ -425,10 +471,7 @@ def basins_figures(ds, outdir) -> list:
         ax.legend(fontsize=7, loc="upper right", framealpha=0.9)
         fig.tight_layout()
         name = "basins_" + "_".join(f"{d}{float(ds[d].values[i]):g}" for d, i in sel.items())
-        path = outdir / f"{name}.png"
-        fig.savefig(path, dpi=150)
-        plt.close(fig)
-        written.append(path)
+        written.append(save_figure(fig, outdir, f"{name}.png", dpi=150))
     swept = [d for d in grid_dims if ds.sizes[d] > 1]
     if len(swept) == 1 and not np.all(ds["label"].values == NOT_COMPUTED):
         d = swept[0]
@@ -455,8 +498,5 @@ def basins_figures(ds, outdir) -> list:
             ax.legend(fontsize=8)
         axes[0].set_title("attractor 0: largest amplitude", fontsize=9)
         fig.tight_layout()
-        path = outdir / f"erosion_{d}.png"
-        fig.savefig(path, dpi=150)
-        plt.close(fig)
-        written.append(path)
+        written.append(save_figure(fig, outdir, f"erosion_{d}.png", dpi=150))
     return written

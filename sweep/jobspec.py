@@ -30,7 +30,8 @@ MEMBRANE_KEYS = ("C1", "h", "Gamma", "Re")
 
 _JOB_KEYS = ("name", "analysis", "chunk")
 _NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]*")
-_GRID_FORMS = "a number, a non-empty list of numbers, or a table {start=, stop=, num=}"
+_GRID_FORMS = ("a number, a non-empty list of numbers, or a table {start=, stop=, num=} "
+               "(with scale = \"log\" for geometric spacing)")
 
 
 @dataclass(frozen=True, eq=False)
@@ -220,7 +221,8 @@ def _grid(table: Mapping) -> dict[str, np.ndarray]:
 
 
 def _axis(key: str, spec: Any) -> np.ndarray:
-    """Values of one grid key from a number, a list or ``{start, stop, num}``."""
+    """Values of one grid key from a number, a list or ``{start, stop, num[, scale]}``
+    (``scale = "linear"``, the default, or ``"log"``: geometric spacing, start and stop > 0)."""
     record = parameter_info(key)[0]
 
     def value(subkey: str, v: Any) -> float:
@@ -228,13 +230,18 @@ def _axis(key: str, spec: Any) -> np.ndarray:
 
     dotted = f"grid.{key}"
     if isinstance(spec, dict):
-        check_keys(spec, dotted, ("start", "stop", "num"))
+        check_keys(spec, dotted, ("start", "stop", "num", "scale"))
         for sub in ("start", "stop", "num"):
             if sub not in spec:
                 raise JobError(f"{dotted}.{sub}", MISSING, "start, stop and num are all required")
         start, stop = value(f"{dotted}.start", spec["start"]), value(f"{dotted}.stop", spec["stop"])
         num = _integer(f"{dotted}.num", spec["num"], 1, "an integer >= 1 (number of values)")
-        values = np.linspace(start, stop, num)
+        scale = spec.get("scale", "linear")
+        if scale not in ("linear", "log"):
+            raise JobError(f"{dotted}.scale", scale, '"linear" (the default) or "log"')
+        if scale == "log" and not (start > 0 and stop > 0):
+            raise JobError(dotted, spec, 'start > 0 and stop > 0 with scale = "log"')
+        values = np.geomspace(start, stop, num) if scale == "log" else np.linspace(start, stop, num)
     elif isinstance(spec, list):
         if not spec:
             raise JobError(dotted, spec, _GRID_FORMS + "; an empty list gives an empty grid")

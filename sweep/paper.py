@@ -64,7 +64,8 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true", help=f"cap every num at {QUICK_NUM}")
     parser.add_argument("-n", "--ranks", type=int, default=2, help="MPI ranks (default 2)")
     parser.add_argument("-o", "--output", type=Path, default=Path("results"), help="results directory")
-    parser.add_argument("--only", nargs="+", choices=PAPER_JOBS, help="run only these jobs")
+    parser.add_argument("--only", nargs="+", choices=PAPER_JOBS, metavar="NAME",
+                        help="run only these jobs: " + ", ".join(PAPER_JOBS))
     parser.add_argument("--report", type=Path, default=Path("docs/validation.md"), help="validation report path")
     args = parser.parse_args(argv)
     args.output.mkdir(parents=True, exist_ok=True)

@@ -1,13 +1,44 @@
-"""Progress of a run on rank 0: tasks done / total, rate and ETA, to stderr.
+"""Progress of a run on rank 0: tasks done / total, rate and ETA.
 
-On a terminal one line is redrawn in place with a bar; in a pipe or a batch log a plain
-line is printed at longer intervals.
+``bar``: one line redrawn in place with a bar (a terminal); ``lines``: a plain line at
+longer intervals (a pipe or a batch log).  :func:`open_stream` chooses for ``auto``: under
+``mpiexec`` the ranks' stderr is a pipe to the launcher even when it runs on a terminal,
+so the bar then goes straight to the controlling terminal.
 """
 
 from __future__ import annotations
 
+import os
+import sys
 import time
 from typing import TextIO
+
+#: Values of ``run --progress``.
+MODES = ("auto", "bar", "lines", "none")
+
+
+def open_stream(mode: str) -> tuple[TextIO | None, bool]:
+    """The stream and the style for a ``--progress`` mode.
+
+    Returns
+    -------
+    stream : file or None
+        stderr, the controlling terminal (``/dev/tty``), or None for ``none``.
+    bar : bool
+        Redraw a bar in place (else plain lines).
+    """
+    if mode == "none":
+        return None, False
+    if mode == "lines":
+        return sys.stderr, False
+    if sys.stderr.isatty():
+        return sys.stderr, True
+    if mode == "bar" or os.environ.get("PMI_RANK") is not None or os.environ.get("PMI_SIZE") is not None:
+        try:
+            return open("/dev/tty", "w"), True
+        except OSError:
+            pass
+    return sys.stderr, mode == "bar"
 
 
 def format_duration(seconds: float) -> str:
@@ -31,14 +62,16 @@ class Progress:
         Tasks found on disk when the run started (``--resume``); the rate counts only
         the tasks of this run.
     stream : file
-        Where to write (stderr).
+        Where to write.
+    bar : bool, optional
+        Redraw a bar in place; default: when ``stream`` is a terminal.
     """
 
     BAR_WIDTH = 30
 
-    def __init__(self, total: int, already_done: int, stream: TextIO):
+    def __init__(self, total: int, already_done: int, stream: TextIO, bar: bool | None = None):
         self.total, self.already_done, self.stream = total, already_done, stream
-        self.tty = stream.isatty()
+        self.tty = stream.isatty() if bar is None else bar
         self.interval = 0.5 if self.tty else 10.0  # seconds between reports
         self.start = self.last = time.monotonic()
 

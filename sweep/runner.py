@@ -234,7 +234,7 @@ def _compute(job: Job, log: Path, done: storage.ChunkSet, comm: MPI.Intracomm,
 
 def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
         overwrite: bool = False, allow_code_change: bool = False, break_lock: bool = False,
-        progress_stream=None) -> RunSummary:
+        progress_stream=sys.stderr, progress_bar: bool | None = None) -> RunSummary:
     """Run a job and write its merged NetCDF file; collective over comm.
 
     Parameters
@@ -254,8 +254,10 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
         Resume although the code changed (recorded in the result).
     break_lock : bool
         Remove a lock left by a run that cannot be checked from this host.
-    progress_stream : file, optional
-        Where rank 0 reports progress (default: ``sys.stderr``).
+    progress_stream : file or None
+        Where rank 0 reports progress (default stderr; None: no report).
+    progress_bar : bool, optional
+        Redraw a bar in place (default: when the stream is a terminal).
 
     Returns
     -------
@@ -275,8 +277,8 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
                         f"preparing {parts}/")
         _warmup(job, comm)
         layout = job.layout
-        progress = (Progress(layout.n_tasks, plan.done.tasks(layout.chunk, layout.n_tasks),
-                             progress_stream or sys.stderr) if comm.rank == 0 else None)
+        progress = (Progress(layout.n_tasks, plan.done.tasks(layout.chunk, layout.n_tasks), progress_stream,
+                             progress_bar) if comm.rank == 0 and progress_stream is not None else None)
         start = time.perf_counter()
         computed = _compute(job, storage.log_path(parts, plan.run, comm.rank), plan.done, comm, progress)
         seconds = time.perf_counter() - start

@@ -71,6 +71,7 @@ BAD = {
     "num float": (("num = 3", "num = 3.0"), ["grid.delta.num = 3.0", "integer >= 1"]),
     "range key missing": (("stop = 1.5, ", ""), ["grid.delta.stop = <missing>", "required"]),
     "range unknown key": (("num = 3", "num = 3, step = 1"), ["grid.delta.step", "unknown key"]),
+    "range bad scale": (("num = 3", 'num = 3, scale = "ln"'), ["grid.delta.scale = 'ln'", '"log"']),
     "duplicates": (("delta_o = [0.2, 0.3]", "delta_o = [0.2, 0.2]"),
                    ["grid.delta_o = [0.2, 0.2]", "distinct values (0.2 repeats)"]),
     "unknown grid key": (("Omega = 2.0", "omega = 2.0"),

@@ -325,3 +325,76 @@ def test_part_write_failure_is_reported(capsys, monkeypatch, job, tmp_path):
     log = tmp_path / "r.nc.parts" / "run-0001-rank-00000.log"
     assert (f"error: writing {log}: No space left on device; free some space, then run again (with "
             "--resume to keep what is done) (on rank 0)") in err
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as info:
+        cli.main(["--version"])
+    assert info.value.code == 0 and capsys.readouterr().out.startswith("membrane-sweep ")
+
+
+@pytest.mark.parametrize("fmt", ["pdf", "svg"])
+def test_figures_in_vector_formats_leave_rcparams_alone(capsys, tmp_path, fmt):
+    import matplotlib
+
+    from sweep import figures
+
+    job = tmp_path / "static.toml"
+    job.write_text('[job]\nname = "s"\nanalysis = "static"\n[grid]\ndelta = [1.1, 1.5]\ndelta_o = 0.2\n'
+                   '[static]\nprestretch = "analytic"\nrho = {start = 0.2, stop = 1.0, num = 9}\n')
+    assert run(capsys, "run", job, "-o", tmp_path / "s.nc")[0] == 0
+    before = dict(matplotlib.rcParams)
+    code, out, err = run(capsys, "figures", tmp_path / "s.nc", "-o", tmp_path / "figs", "--format", fmt,
+                         "--dpi", "300")
+    assert code == 0, err
+    written = [tmp_path / "figs" / f"fig02_radius.{fmt}", tmp_path / "figs" / f"fig03_stresses.{fmt}"]
+    assert out.split() == [str(p) for p in written] and all(p.stat().st_size > 1000 for p in written)
+    paths = figures.draw(analyses.get("linear"), _linear_result(), tmp_path / "api", fmt=fmt)
+    assert paths and all(p.suffix == f".{fmt}" and p.stat().st_size > 1000 for p in paths)
+    assert dict(matplotlib.rcParams) == before
+
+
+def _linear_result():
+    """A small linear result, computed in-process (the frequencies of three modes)."""
+    import numpy as np
+
+    from model.params import Membrane
+    from sweep.jobspec import grid_point
+
+    linear = analyses.get("linear")
+    options = linear.parse_options({"prestretch": "analytic", "modes": [[1, 0], [2, 0], [1, 1]]},
+                                   {"delta": np.array([1.1, 1.5]), "delta_o": np.array([0.2])}, Membrane())
+    rows = [linear.compute(grid_point(Membrane(), {"delta": d, "delta_o": 0.2}), options, 0) for d in (1.1, 1.5)]
+    data = {v.name: (("delta", "delta_o", "mode"), np.stack([r[v.name] for r in rows])[:, None, :],
+                     {"units": v.units, "long_name": v.long_name}) for v in linear.variables(options)}
+    coords = {"delta": [1.1, 1.5], "delta_o": [0.2],
+              **{k: (d, val, a) for k, (d, val, a) in linear.coords(options).items()}}
+    return xr.Dataset(data, coords, attrs={"analysis": "linear", "job_file": ""})
+
+
+@pytest.mark.parametrize("mode, shown", [("none", False), ("lines", True)])
+def test_progress_switch(capsys, job, tmp_path, mode, shown):
+    code, _, err = run(capsys, "run", job, "-o", tmp_path / "r.nc", "--progress", mode)
+    assert code == 0 and ("6 / 6 tasks (100%)" in err) == shown
+
+
+def test_ctrl_c_is_one_line_with_the_way_to_continue(tmp_path):
+    import signal
+    import time
+
+    job = tmp_path / "slow.toml"
+    job.write_text(JOB.replace("scale = 1.0", "scale = 1.0\nsleep = 1.0"))
+    env = {**os.environ, "PYTHONPATH": str(os.path.dirname(__file__)), analyses.EXTRA_ENV: EXTRA}
+    proc = subprocess.Popen([sys.executable, "-m", "sweep", "run", str(job), "-o", str(tmp_path / "s.nc")],
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    lock = tmp_path / "s.nc.parts" / "lock"
+    deadline = time.monotonic() + 60
+    while not lock.exists() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    time.sleep(0.5)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130
+    assert "Traceback" not in err and "MPI_Abort" not in err
+    assert "interrupted: the finished chunks are kept" in err and "--resume to continue" in err
+    assert not lock.exists()

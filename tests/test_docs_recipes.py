@@ -54,3 +54,23 @@ def test_recipe(results, index, capsys):
         exec(compile(recipes()[index], f"docs/analysis.md recipe {index + 1}", "exec"), {})
     finally:
         os.chdir(cwd)
+
+
+API = ROOT / "docs" / "api.md"
+
+
+def api_examples():
+    return re.findall(r"```python\n(.*?)```", API.read_text(), flags=re.S)
+
+
+def test_api_examples_run_in_order(tmp_path, capsys):
+    """docs/api.md: every example, in order, in one directory (the last ones read the
+    file the in-process run writes)."""
+    cwd = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        for i, code in enumerate(api_examples()):
+            exec(compile(code, f"docs/api.md example {i + 1}", "exec"), {})
+    finally:
+        os.chdir(cwd)
+    assert len(api_examples()) == 6

@@ -101,3 +101,10 @@ def test_job_file_not_utf8(tmp_path):
     path.write_bytes(b"# \xe9\n")
     with pytest.raises(JobError, match=r"latin.toml' is invalid: a readable UTF-8 text file"):
         load_job(path)
+
+
+def test_log_spaced_grid():
+    job = parse_job(job_text(a=("Omega = 2.0", 'Omega = 2.0\nc = {start = 0.01, stop = 10.0, num = 4, scale = "log"}')))
+    np.testing.assert_allclose(job.layout.values[job.layout.dims.index("c")], [0.01, 0.1, 1.0, 10.0], rtol=1e-12)
+    with pytest.raises(JobError, match=r'start > 0 and stop > 0 with scale = "log"'):
+        parse_job(job_text(a=("Omega = 2.0", 'Omega = 2.0\nc = {start = 0.0, stop = 1.0, num = 3, scale = "log"}')))
