@@ -234,15 +234,7 @@ def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, 
     mu = pts[-1][3]
     tests = (t[-1], _pd_test(phi), _ns_test(mu))
     while len(pts) < max_points:
-        res = None
-        while ds >= ds_min:
-            res = prob.correct(x + ds * t, t, x, ds, tol)
-            if res is not None:
-                t_new = prob.tangent(res[1], t)
-                if t_new @ t >= np.cos(MAX_TURN):
-                    break
-                res = None
-            ds *= 0.5
+        res, t_new, ds = step(prob.correct, prob.tangent, x, t, ds, ds_min, tol)
         if res is None:
             return finish(False, f"step size fell below ds_min = {ds_min} at {parameter} = {prob.lam(x):.9g}")
         x_new, jac, phi, iters = res
@@ -279,24 +271,51 @@ def _test_value(prob, kind, jac, phi, normal):
     return _ns_test(sorted_multipliers(phi))
 
 
-def _locate(prob, kind, x, t, ds, fa, fb, tol):
+def step(correct, tangent, x, t, ds, ds_min, tol):
+    """One pseudo-arclength step from ``x`` along the unit tangent ``t``.
+
+    ``correct(x0, normal, anchor, sigma, tol)`` solves the system on the hyperplane
+    ``normal . (x - anchor) = sigma`` (a tuple whose second item is the Jacobian, or
+    None); ``tangent(jac, previous)`` is the new unit tangent.  A failed corrector or a
+    tangent turning by more than :data:`MAX_TURN` halves ``ds``, down to ``ds_min``.
+
+    Returns
+    -------
+    (result, t_new, ds) : the corrector's result, the new tangent and the step used;
+        ``(None, None, ds)`` when the step fell below ``ds_min``.
+    """
+    while ds >= ds_min:
+        res = correct(x + ds * t, t, x, ds, tol)
+        if res is not None:
+            t_new = tangent(res[1], t)
+            if t_new @ t >= np.cos(MAX_TURN):
+                return res, t_new, ds
+        ds *= 0.5
+    return None, None, ds
+
+
+def locate(correct, test, x, t, ds, fa, fb, tol):
     """Zero of a test function between ``x`` (arclength 0) and the next point (``ds``).
 
     Illinois (modified regula falsi) on the arclength ``sigma`` along the hyperplanes
-    ``t . (x' - x) = sigma``; returns ``(sigma, x', phi, kind)`` or None.  Complex-pair
-    crossings of the NS test that turn out to be real (neutral saddles) are discarded.
+    ``t . (x' - x) = sigma`` (``correct`` as for :func:`step`), until ``sigma`` changes
+    by less than 1e-10 ``ds``; ``test(result)`` is the test function at a corrected point.
+
+    Returns
+    -------
+    (sigma, result) or None
+        The last corrected point, or None when a corrector failed.
     """
     a, b = 0.0, ds
     best = None
     sigma_old = np.inf
     for _ in range(60):
         sigma = (a * fb - b * fa) / (fb - fa)
-        res = prob.correct(x + sigma * t, t, x, sigma, tol)
+        res = correct(x + sigma * t, t, x, sigma, tol)
         if res is None:
             return None
-        xs, jac, phi, _ = res
-        f = _test_value(prob, kind, jac, phi, t)
-        best = (sigma, xs, phi, kind)
+        f = test(res)
+        best = (sigma, res)
         if f == 0.0 or abs(sigma - sigma_old) < 1e-10 * ds:
             break
         sigma_old = sigma
@@ -305,12 +324,23 @@ def _locate(prob, kind, x, t, ds, fa, fb, tol):
         else:
             fa *= 0.5
         b, fb = sigma, f
+    return best
+
+
+def _locate(prob, kind, x, t, ds, fa, fb, tol):
+    """A fold, period doubling or Neimark-Sacker point between ``x`` and the next point;
+    ``(sigma, x', phi, kind)`` or None.  Complex-pair crossings of the NS test that turn
+    out to be real (neutral saddles) are discarded."""
+    found = locate(prob.correct, lambda res: _test_value(prob, kind, res[1], res[2], t), x, t, ds, fa, fb, tol)
+    if found is None:
+        return None
+    sigma, (xs, _, phi, _) = found
     if kind == NEIMARK_SACKER:
-        mu = sorted_multipliers(best[2])
+        mu = sorted_multipliers(phi)
         on_circle = np.abs(np.abs(mu) - 1.0) < 1e-6
         if not np.any(np.abs(mu[on_circle].imag) > 1e-8):
             return None
-    return best
+    return sigma, xs, phi, kind
 
 
 def cusp_from_folds(c, fold_value, fold_amplitude) -> tuple[float, float]:

@@ -92,9 +92,12 @@ class ForcedMap:
         return self.rom.dof
 
     def varied(self, parameter: str, value: float) -> ForcedMap:
-        """The same map with forcing ``parameter`` (``"Omega"`` or ``"P0"``) set to ``value``."""
+        """The same map with ``parameter`` set to ``value``: ``"Omega"`` (rad s-1), ``"P0"``
+        (Pa) or the damping ``"c"`` (N s m-3)."""
+        if parameter == "c":
+            return replace(self, forcing=self.forcing._replace(damping_rate=self.rom.membrane.damping_rate(float(value))))
         if parameter not in PARAMETERS:
-            raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(PARAMETERS)}")
+            raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(PARAMETERS)}, c")
         return replace(self, forcing=self.forcing._replace(**{parameter: float(value)}))
 
     def state_scale(self) -> np.ndarray:

@@ -17,6 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
+#: Units of the grid keys in axis labels.
+GRID_UNITS = {"delta": "", "delta_o": "", "Omega": "rad/s", "P0": "Pa", "c": r"N s/m$^3$"}
 #: Plot symbols of the grid keys.
 SYMBOLS = {"delta": r"$\delta$", "delta_o": r"$\delta_o$", "Omega": r"$\Omega$", "P0": "$P_0$", "c": "$c$"}
 
@@ -358,6 +360,26 @@ def continuation_figures(ds, outdir) -> list:
             fig.suptitle("Saddle-node loci versus damping", fontsize=11)
             fig.tight_layout()
             paths.append(save_figure(fig, outdir, "fold_loci_damping.png"))
+    curve = [v for v in ds.data_vars if v.startswith("fold_curve_") and v not in ("fold_curve_amplitude",
+                                                                                 f"fold_curve_{par}")]
+    if curve:
+        second = curve[0][len("fold_curve_"):]
+        cells = [sel for sel in grid_points(ds, ("point", "fold", "multiplier", "curve_point", "cusp"))
+                 if np.isfinite(ds[f"fold_curve_{par}"].sel(sel).values).any()]
+        if not cells:
+            return paths
+        fig, axes = _panel_axes(plt, len(cells))
+        for ax, sel in zip(axes, cells):
+            b = ds.sel(sel)
+            ax.plot(b[f"fold_curve_{second}"], b[f"fold_curve_{par}"], "k-", lw=1.2, label="saddle-nodes")
+            ax.plot(b[f"cusp_{second}"], b[f"cusp_{par}"], "k*", ms=10, ls="none", label="cusp")
+            ax.set(xlabel=f"{SYMBOLS.get(second, second)} ({GRID_UNITS.get(second, '')})",
+                   ylabel=f"{SYMBOLS.get(par, par)} ({GRID_UNITS.get(par, '')})")
+            ax.set_title(point_label({k: v for k, v in sel.items() if k != second}), fontsize=9)
+            ax.legend()
+        fig.suptitle("Curve of saddle-nodes (two-parameter continuation)", fontsize=11)
+        fig.tight_layout()
+        paths.append(save_figure(fig, outdir, f"fold_curve_{second}.png"))
     return paths
 
 

@@ -231,6 +231,29 @@ def section_continuation_bruteforce(results: Path) -> list[str]:
     return out
 
 
+def section_cusp(results: Path) -> list[str]:
+    out = ["## The cusp of Fig. 17: two-parameter continuation against extrapolation", "",
+           "The curve of saddle-nodes of the responses in P0 followed in the damping c through the cusp",
+           "(`fig17-cusp`, `fold_curve`, model/codim2.py), against the cusp extrapolated from the",
+           "saddle-nodes of one-parameter branches on the c grid of `fig16-17-damping` (fold amplitudes",
+           "separating like sqrt(c_cusp - c)). One mode, delta_o = 0.2.", ""]
+    curve, grid = _open(results, "fig17-cusp"), _open(results, "fig16-17-damping")
+    if curve is None or grid is None:
+        return out + _missing("fig17-cusp", "fig16-17-damping")
+    out += ["| delta | Omega (rad/s) | cusp c, continuation | cusp c, extrapolation | rel. diff. "
+            "| cusp P0 (Pa), continuation | extrapolation | rel. diff. |", "|---|---|---|---|---|---|---|---|"]
+    for delta, omega in ((1.1, 33.5), (2.0, 47.35)):
+        a = _point(curve, delta=delta, delta_o=0.2, Omega=omega)
+        b = _point(grid, delta=delta, delta_o=0.2, Omega=omega)
+        cc, cp = float(a.cusp_c.values.ravel()[0]), float(a.cusp_P0.values.ravel()[0])
+        ec, ep = float(b.cusp_c), float(b.cusp_value)
+        out.append(f"| {delta:g} | {omega:g} | {cc:.5f} | {ec:.5f} | {_rel(ec, cc)} | {cp:.5f} | {ep:.5f} "
+                   f"| {_rel(ep, cp)} |")
+    out += ["", "The extrapolation uses the last two c of the grid with two saddle-nodes, so its error is",
+            "that of a straight line through points up to one grid step from the cusp.", ""]
+    return out
+
+
 def section_basins(results: Path) -> list[str]:
     out = ["## Basins of attraction (Fig. 19)", "",
            "Basin fractions (global integrity measure: share of the lattice window) and amplitudes",
@@ -264,7 +287,7 @@ def section_basins(results: Path) -> list[str]:
 
 
 SECTIONS = (section_table1, section_table2, section_backbone_modes, section_backbone_limits,
-            section_continuation_bruteforce, section_basins)
+            section_continuation_bruteforce, section_cusp, section_basins)
 
 
 def build_report(results: Path) -> str:

@@ -56,8 +56,9 @@ def test_varied_changes_one_forcing_parameter(fmap):
     g = fmap.varied("Omega", 30.0)
     assert g.forcing == (fmap.forcing.damping_rate, fmap.forcing.P0, 30.0) and g.steps == fmap.steps
     assert fmap.varied("P0", 0.5).forcing.P0 == 0.5
-    with pytest.raises(ValueError, match="parameter = 'c' is invalid: must be one of Omega, P0"):
-        fmap.varied("c", 1.0)
+    assert fmap.varied("c", 0.5).forcing.damping_rate == 0.5 / 2.2
+    with pytest.raises(ValueError, match="parameter = 'h' is invalid: must be one of Omega, P0, c"):
+        fmap.varied("h", 1.0)
 
 
 def test_amplitude_over_several_periods_of_a_periodic_orbit_is_its_one_period_value():

@@ -33,7 +33,15 @@ Outputs (a task's branches differ in length: every ``point`` array is padded wit
 * ``fold_value``, ``fold_amplitude`` (``fold``, :data:`MAX_FOLDS` long, NaN padded): the
   saddle-node points in branch order, and ``n_points``, ``n_folds``.
 
-Fold loci versus damping (Fig. 17): put ``c`` in the grid (a dense list).  When ``c`` has
+Fold loci by two-parameter continuation (Fig. 17): ``fold_curve = {parameter = "c",
+start = 0.05, stop = 3.0}`` follows the first saddle-node of the branch as the second
+parameter (``c``, or the forcing parameter not continued) goes from ``start`` towards
+``stop``, through the cusps where two saddle-nodes merge (:mod:`model.codim2`).  Outputs
+``fold_curve_<second>``, ``fold_curve_<parameter>``, ``fold_curve_amplitude``
+(``curve_point``, ``max_points`` long, NaN padded) and ``cusp_<second>``,
+``cusp_<parameter>`` (``cusp``, :data:`MAX_CUSPS` long, NaN padded).
+
+Fold loci versus damping by extrapolation (without ``fold_curve``): put ``c`` in the grid (a dense list).  When ``c`` has
 three or more values and ``parameter = "P0"``, :meth:`ContinuationAnalysis.derived` adds,
 per combination of the other grid keys, the cusp where the two folds merge
 (:func:`model.continuation.cusp_from_folds`): ``cusp_c`` (N s/m^3) and ``cusp_value``
@@ -47,6 +55,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from model.codim2 import continue_folds
 from model.continuation import FOLD, KIND_NAMES, continue_orbits, cusp_from_folds
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
@@ -70,7 +79,29 @@ class ContinuationOptions:
     max_points: int
     ds_max: float
     steps: int
+    fold_curve: tuple[str, float, float] | None = None
 
+
+#: Length of the ``cusp`` dimension (cusps of the fold curve, NaN padded).
+MAX_CUSPS = 4
+
+
+def _fold_curve(table, section, parameter, grid):
+    """The ``fold_curve = {parameter, start, stop}`` option: ``(name, start, stop)`` or None."""
+    key = f"{section}.fold_curve"
+    value = table.get("fold_curve")
+    if value is None:
+        return None
+    if not isinstance(value, dict) or set(value) != {"parameter", "start", "stop"}:
+        raise JobError(key, value, "must be a table {parameter = , start = , stop = }")
+    allowed = tuple(p for p in ("c", "P0", "Omega") if p != parameter)
+    second = opt.choice(value, key, "parameter", allowed)
+    low_open = second == "Omega"
+    start = opt.number(value, key, "start", low=0.0, low_open=low_open)
+    stop = opt.number(value, key, "stop", low=0.0, low_open=low_open)
+    if start == stop:
+        raise JobError(f"{key}.stop", stop, f"must differ from {key}.start")
+    return second, start, stop
 
 
 class ContinuationAnalysis(Analysis):
@@ -81,7 +112,7 @@ class ContinuationAnalysis(Analysis):
     def parse_options(self, table, grid, membrane):
         s = self.name
         check_keys(table, s, ("parameter", "start", "stop", "modes", "prestretch", "max_points", "ds_max",
-                              "steps"))
+                              "steps", "fold_curve"))
         parameter = opt.forcing_parameter(table, s, grid, "is continued")
         low = 0.0
         start = opt.number(table, s, "start", low=low, low_open=parameter == "Omega")
@@ -92,13 +123,14 @@ class ContinuationAnalysis(Analysis):
             parameter, start, stop, opt.modes(table, s), opt.prestretch(table, s),
             opt.number(table, s, "max_points", 400, low=2, high=100_000, integer=True),
             opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0),
-            opt.number(table, s, "steps", DEFAULT_STEPS, low=16, high=4096, integer=True))
+            opt.number(table, s, "steps", DEFAULT_STEPS, low=16, high=4096, integer=True),
+            _fold_curve(table, s, parameter, grid))
 
     def variables(self, options):
         n, k, p = options.max_points, 2 * len(options.modes), options.parameter
         units, what = GRID_KEYS[p]
         pt = ("point",)
-        return [
+        return self._fold_curve_variables(options) + [
             Variable(p, pt, (n,), "f8", units, f"continued parameter: {what}"),
             Variable("amplitude", pt, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)|"),
             Variable("stable", pt, (n,), "i1", "1", "1 stable, 0 unstable periodic response", -1),
@@ -116,8 +148,29 @@ class ContinuationAnalysis(Analysis):
             Variable("n_folds", (), (), "i4", "1", "saddle-node points on the branch", -1),
         ]
 
+    @staticmethod
+    def _fold_curve_variables(options):
+        if options.fold_curve is None:
+            return []
+        p, q, n = options.parameter, options.fold_curve[0], options.max_points
+        cp = ("curve_point",)
+        return [
+            Variable(f"fold_curve_{q}", cp, (n,), "f8", GRID_KEYS[q][0],
+                     f"{q} along the curve of saddle-nodes (two-parameter continuation)"),
+            Variable(f"fold_curve_{p}", cp, (n,), "f8", GRID_KEYS[p][0], f"{p} at the saddle-node"),
+            Variable("fold_curve_amplitude", cp, (n,), "f8", "m", "amplitude at the saddle-node"),
+            Variable(f"cusp_{q}", ("cusp",), (MAX_CUSPS,), "f8", GRID_KEYS[q][0],
+                     f"{q} at the cusps where two saddle-nodes merge"),
+            Variable(f"cusp_{p}", ("cusp",), (MAX_CUSPS,), "f8", GRID_KEYS[p][0], f"{p} at the cusps"),
+        ]
+
     def coords(self, options):
+        extra = {} if options.fold_curve is None else {
+            "curve_point": (("curve_point",), np.arange(options.max_points, dtype=np.int32),
+                            {"long_name": "index along the curve of saddle-nodes", "units": "1"}),
+            "cusp": (("cusp",), np.arange(MAX_CUSPS, dtype=np.int32), {"long_name": "cusp index", "units": "1"})}
         return {
+            **extra,
             "point": (("point",), np.arange(options.max_points, dtype=np.int32),
                       {"long_name": "index along the branch", "units": "1"}),
             "multiplier": (("multiplier",), np.arange(2 * len(options.modes), dtype=np.int32),
@@ -156,6 +209,21 @@ class ContinuationAnalysis(Analysis):
                               if m >= options.max_points else br.message)
         if not (np.all(np.isfinite(br.state)) and np.all(np.isfinite(br.amplitude))):
             out["status"], out["message"] = STATUS_FAILED, "non-finite periodic response on the branch"
+        if options.fold_curve is not None:
+            out.update(self._compute_fold_curve(fmap, options))
+        return out
+
+    @staticmethod
+    def _compute_fold_curve(fmap, options):
+        p, (q, q_start, q_stop), n = options.parameter, options.fold_curve, options.max_points
+        curve = continue_folds(fmap, p, q, q_start, q_stop, (options.start, options.stop), max_points=n)
+        out = {f"fold_curve_{q}": np.full(n, np.nan), f"fold_curve_{p}": np.full(n, np.nan),
+               "fold_curve_amplitude": np.full(n, np.nan), f"cusp_{q}": np.full(MAX_CUSPS, np.nan),
+               f"cusp_{p}": np.full(MAX_CUSPS, np.nan)}
+        m, c = curve.p.size, min(len(curve.cusp), MAX_CUSPS)
+        out[f"fold_curve_{q}"][:m], out[f"fold_curve_{p}"][:m], out["fold_curve_amplitude"][:m] = \
+            curve.q, curve.p, curve.amplitude
+        out[f"cusp_{q}"][:c], out[f"cusp_{p}"][:c] = curve.cusp[:c, 0], curve.cusp[:c, 1]
         return out
 
     def warmup(self, options):
@@ -166,7 +234,7 @@ class ContinuationAnalysis(Analysis):
         return {"continued_parameter": options.parameter}
 
     def derived(self, ds, options):
-        if not (options.parameter == "P0" and ds.sizes.get("c", 0) >= 3):
+        if options.fold_curve is not None or not (options.parameter == "P0" and ds.sizes.get("c", 0) >= 3):
             return {}
         cusp_c, cusp_v = _cusp(ds)
         return {"cusp_c": cusp_c.assign_attrs(units=GRID_KEYS["c"][0],

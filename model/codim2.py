@@ -1,0 +1,222 @@
+"""Two-parameter continuation of folds (saddle-nodes) of periodic responses, and cusps.
+
+A fold of the branch of periodic responses in a parameter ``p`` (``P0`` or ``Omega``) is a
+fixed point of the stroboscopic map ``P(y; p, q)`` (:class:`model.forced.ForcedMap`) with
+a Floquet multiplier equal to 1.  As a second parameter ``q`` (``c``, ``P0`` or ``Omega``)
+varies, the folds form a curve in the ``(q, p)`` plane: the solutions of the extended
+system (AUTO-07p's fold continuation, ISW = 2, here in the standard rather than the
+minimally augmented form)::
+
+    P(y; p, q) - y = 0                 (2K equations)
+    det(S (Phi - I) S^-1) = 0          (1 equation; Phi = dP/dy, S of state_scale)
+
+in the unknowns ``(y, p, q)``, followed by pseudo-arclength continuation in the scaled
+unknowns ``(S y / L, p / span_p, q / span_q)``.  Its Jacobian is formed by central
+differences (2 (2K + 2) evaluations of the map and its monodromy per Newton step: cheap
+for the few modes of a ROM).  Where the two folds of a hysteresis loop merge, the curve
+turns back in ``q``: a **cusp**, located as the zero of the ``q``-component of the unit
+tangent by the secant (Illinois) method on the arclength, as :mod:`model.continuation`
+locates folds.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .continuation import FOLD, LENGTH, continue_orbits, locate, step
+from .forced import ForcedMap, state_scale
+
+
+@dataclass
+class FoldCurve:
+    """Folds of the periodic responses followed in two parameters.
+
+    Attributes
+    ----------
+    parameters : tuple of str
+        ``(p, q)``: the fold's own parameter and the second one.
+    p, q : (N,) arrays
+        Parameter values along the curve (SI units of each).
+    state : (N, 2K) array
+        ``y(0)`` of the fold orbit.
+    amplitude : (N,) array
+        ``max_t |w(0.5 Re, 0, t)|`` (m).
+    cusp : (C, 2) array
+        ``(q, p)`` of each cusp found, in curve order.
+    complete : bool
+        The curve reached the end of the ``q`` range (or came back to its start value).
+    message : str
+        Why the continuation stopped.
+    """
+
+    parameters: tuple[str, str]
+    p: np.ndarray
+    q: np.ndarray
+    state: np.ndarray
+    amplitude: np.ndarray
+    cusp: np.ndarray
+    complete: bool
+    message: str
+
+
+class _FoldSystem:
+    """The scaled extended system of a fold curve."""
+
+    def __init__(self, fmap: ForcedMap, p: str, q: str, p_span: float, q_range: tuple[float, float]):
+        self.fmap, self.p, self.q = fmap, p, q
+        self.p_span = p_span
+        self.q_lo, self.q_hi = min(q_range), max(q_range)
+        self.q_span = self.q_hi - self.q_lo
+        omega = fmap.forcing.Omega
+        self.s = state_scale(fmap.dof, omega) / LENGTH
+        self.n = 2 * fmap.dof
+
+    def pack(self, y, p, q):
+        return np.concatenate([self.s * y, [p / self.p_span, q / self.q_span]])
+
+    def unpack(self, x):
+        return x[:self.n] / self.s, x[self.n] * self.p_span, x[self.n + 1] * self.q_span
+
+    def at(self, p, q) -> ForcedMap:
+        return self.fmap.varied(self.p, p).varied(self.q, q)
+
+    def residual(self, x):
+        y, p, q = self.unpack(x)
+        yT, phi = self.at(p, q).monodromy(y)
+        a = (self.s[:, None] * (phi - np.eye(self.n))) / self.s[None, :]
+        return np.append(self.s * (yT - y), np.linalg.det(a))
+
+    def jacobian(self, x, h=1e-7):
+        cols = []
+        for i in range(x.size):
+            e = np.zeros(x.size)
+            e[i] = h
+            cols.append((self.residual(x + e) - self.residual(x - e)) / (2 * h))
+        return np.column_stack(cols)
+
+    def tangent(self, jac, previous):
+        t = np.linalg.solve(np.vstack([jac, previous]), np.append(np.zeros(self.n + 1), 1.0))
+        return t / np.linalg.norm(t)
+
+    def correct(self, x0, normal, anchor, sigma, tol, max_iter=10):
+        """Newton on the system plus ``normal . (x - anchor) = sigma``; ``(x, jac)`` or None."""
+        x = x0.copy()
+        for _ in range(max_iter):
+            r = np.append(self.residual(x), normal @ (x - anchor) - sigma)
+            jac = self.jacobian(x)
+            try:
+                dx = np.linalg.solve(np.vstack([jac, normal]), -r)
+            except np.linalg.LinAlgError:
+                return None
+            x = x + dx
+            if not np.all(np.isfinite(x)):
+                return None
+            if np.linalg.norm(dx) < tol:
+                return x, self.jacobian(x)
+        return None
+
+
+def fold_at(fmap: ForcedMap, parameter: str, second: str, value: float, guess, p_guess: float,
+            tol: float = 1e-11) -> tuple[np.ndarray, float] | None:
+    """The fold near ``(guess, p_guess)`` at ``second = value``, by Newton on the extended
+    system with ``second`` fixed.  Returns ``(y, p)`` or None."""
+    sys_ = _FoldSystem(fmap, parameter, second, max(abs(p_guess), 1e-3), (value, value + 1.0))
+    x0 = sys_.pack(np.asarray(guess, float), p_guess, value)
+    e = np.zeros(x0.size)
+    e[-1] = 1.0
+    res = sys_.correct(x0, e, x0, 0.0, tol)
+    if res is None:
+        return None
+    y, p, _ = sys_.unpack(res[0])
+    return y, p
+
+
+def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, stop: float,
+                   p_range: tuple[float, float], ds: float = 0.02, ds_min: float = 1e-7,
+                   ds_max: float = 0.05, max_points: int = 400, tol: float = 1e-10) -> FoldCurve:
+    """Follow the folds of the responses in ``parameter`` as ``second`` goes from ``start``.
+
+    The curve starts at the first fold of the one-parameter branch in ``parameter`` over
+    ``p_range`` at ``second = start`` (:func:`model.continuation.continue_orbits`), and
+    is followed towards ``stop``; it ends when ``second`` leaves ``[start, stop]`` (on
+    the far bound, or back at ``start`` after a cusp), after ``max_points`` points, or when
+    the step falls below ``ds_min``.
+
+    Parameters
+    ----------
+    fmap : ForcedMap
+        The map with the fixed parameters and the RK4 steps per period.
+    parameter : {"P0", "Omega"}
+        The fold's own parameter.
+    second : {"c", "P0", "Omega"}
+        The second parameter (different from ``parameter``).
+    start, stop : float
+        Range of ``second``.
+    p_range : (float, float)
+        Range of ``parameter`` for the starting one-parameter branch.
+    ds, ds_min, ds_max : float
+        Arclength steps in the scaled unknowns.
+    max_points : int
+        Largest number of points (cusps included).
+    tol : float
+        Newton tolerance on the scaled unknowns.
+
+    Returns
+    -------
+    FoldCurve
+    """
+    if parameter == second:
+        raise ValueError(f"second = {second!r} is invalid: it must differ from parameter")
+    if not (np.isfinite(start) and np.isfinite(stop)) or start == stop:
+        raise ValueError(f"(start, stop) = ({start!r}, {stop!r}) is invalid: need two different finite values")
+    branch = continue_orbits(fmap.varied(second, start), parameter, *p_range, ds_max=0.3, max_points=max_points)
+    folds = branch.special(FOLD)
+    if folds.size == 0:
+        return FoldCurve((parameter, second), np.zeros(0), np.zeros(0), np.zeros((0, 2 * fmap.dof)),
+                         np.zeros(0), np.zeros((0, 2)), False,
+                         f"no fold on the {parameter} branch at {second} = {start}")
+    sys_ = _FoldSystem(fmap, parameter, second, abs(p_range[1] - p_range[0]), (start, stop))
+    x = sys_.pack(branch.state[folds[0]], branch.value[folds[0]], start)
+    direction = np.sign(stop - start)
+    e = np.zeros(x.size)
+    e[-1] = direction
+    res = sys_.correct(x, e, x, 0.0, tol)
+    if res is None:
+        raise RuntimeError(f"the fold at {second} = {start} could not be refined")
+    x, jac = res
+    t = sys_.tangent(jac, e)
+    pts, cusps = [x], []
+
+    def finish(complete, message):
+        ys, ps, qs = zip(*(sys_.unpack(v) for v in pts))
+        amp = [sys_.at(p, q).amplitude(y) for y, p, q in zip(ys, ps, qs)]
+        return FoldCurve((parameter, second), np.array(ps), np.array(qs), np.array(ys), np.array(amp),
+                         np.array(cusps).reshape(-1, 2), complete, message)
+
+    while len(pts) < max_points:
+        res, t_new, ds = step(sys_.correct, sys_.tangent, x, t, ds, ds_min, tol)
+        if res is None:
+            return finish(False, f"step size fell below ds_min = {ds_min}")
+        x_new, jac = res
+        q_new = sys_.unpack(x_new)[2]
+        if t[-1] * t_new[-1] < 0:
+            cusp = _locate_cusp(sys_, x, t, ds, t[-1], t_new[-1], tol)
+            if cusp is not None:
+                _, p_c, q_c = sys_.unpack(cusp)
+                cusps.append((q_c, p_c))
+                pts.append(cusp)
+        pts.append(x_new)
+        if not sys_.q_lo <= q_new <= sys_.q_hi:
+            return finish(True, f"{second} left [{sys_.q_lo}, {sys_.q_hi}] at {q_new:.9g}")
+        x, t = x_new, t_new
+        ds = min(ds_max, ds * 1.5)
+    return finish(False, f"max_points = {max_points} reached")
+
+
+def _locate_cusp(sys_, x, t, ds, fa, fb, tol):
+    """The point between ``x`` and the next one where the second parameter's tangent
+    component vanishes (the curve turns back in it), or None."""
+    found = locate(sys_.correct, lambda res: sys_.tangent(res[1], t)[-1], x, t, ds, fa, fb, tol)
+    return None if found is None else found[1][0]
