@@ -87,8 +87,17 @@ def _run_on(comm, args: argparse.Namespace) -> int:
     stream, bar = progress.open_stream(args.progress) if comm.rank == 0 else (None, False)
     summary = runner.run(job, _output(args, job), comm, resume=args.resume, overwrite=args.overwrite,
                          allow_code_change=args.allow_code_change, break_lock=args.break_lock,
-                         progress_stream=stream, progress_bar=bar)
+                         piece=args.chunks, progress_stream=stream, progress_bar=bar)
     report = summary.report
+    if report is None:
+        if comm.rank == 0:
+            for note in summary.notes:
+                print(f"note: {note}", file=sys.stderr)
+            i, n = args.chunks
+            print(f"piece {i}/{n} of {_output(args, job)}: {summary.tasks_computed} tasks computed on "
+                  f"{comm.size} rank(s) in {summary.seconds:.2f} s; when every piece has run: "
+                  f"python -m sweep collect {_output(args, job)}")
+        return 0
     if comm.rank == 0:
         for note in summary.notes + report.notes:
             print(f"note: {note}", file=sys.stderr)
@@ -163,6 +172,17 @@ def _figures(args: argparse.Namespace) -> int:
     return 0
 
 
+def _piece(text: str) -> tuple[int, int]:
+    """``"2/8"`` -> ``(2, 8)`` for ``run --chunks``."""
+    try:
+        i, n = (int(v) for v in text.split("/"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is invalid: give I/N, two integers, 1 <= I <= N") from None
+    if not 1 <= i <= n:
+        raise argparse.ArgumentTypeError(f"{text!r} is invalid: need 1 <= I <= N")
+    return i, n
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``python -m sweep``."""
     parser = argparse.ArgumentParser(
@@ -185,6 +205,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="resume although the code differs from the earlier runs' (recorded in the result)")
     run.add_argument("--break-lock", action="store_true",
                      help="remove the lock of a run that no longer exists on another host")
+    run.add_argument("--chunks", type=_piece, metavar="I/N",
+                     help="compute piece I of N of the job (every N-th chunk; a Slurm array task); "
+                          "implies --resume; 'collect' merges the pieces")
     run.add_argument("--report-memory", action="store_true",
                      help="print the peak resident memory of each rank")
     run.add_argument("--progress", choices=progress.MODES, default="auto",
@@ -232,7 +255,10 @@ def main(argv: list[str] | None = None) -> int:
     int
         Exit status: 0, :data:`EXIT_FAILED`, :data:`EXIT_INVALID` or :data:`EXIT_TASKS_FAILED`.
     """
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if getattr(args, "chunks", None) and args.overwrite:
+        parser.error("--chunks cannot be combined with --overwrite (pieces add to one output; delete it first)")
     try:
         return args.handler(args)
     except KeyboardInterrupt:

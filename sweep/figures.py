@@ -461,6 +461,7 @@ def basins_figures(ds, outdir) -> list:
     """Basins of attraction (Fig. 19), one figure per grid point, and, over one swept grid
     key, the erosion profile of the integrity measures."""
     from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
 
     from sweep.analyses.basins import NOT_COMPUTED
 
@@ -475,22 +476,32 @@ def basins_figures(ds, outdir) -> list:
         lab = ds["label"].isel(sel).values
         if np.all(lab == NOT_COMPUTED):
             continue
-        fig, ax = plt.subplots(figsize=(5.2, 4.4))
+        fig, ax = plt.subplots(figsize=(5.4, 5.4))
         ax.pcolormesh(x, y, np.clip(lab, -2, len(colours) - 1).T + 2, cmap=cmap, vmin=0,
                       vmax=len(colours) + 1, shading="nearest", rasterized=True)
         jx, jy = (int(v) for v in ds["label"].attrs["lattice_state"])
+        handles = []
+        markers = "XPD^v<>"
         for a in range(ds["n_attractors"].isel(sel).values.item()):
             at = {**sel, "attractor": a}
             k = ds["attractor_period"].isel(at).values.item()
-            pts = ds["attractor_point"].isel({**sel, "attractor": a}).values[:k]
-            ax.plot(pts[:, jx], pts[:, jy], "kx", ms=9, mew=2,
-                    label=f"attractor {a}: amplitude "
-                          f"{ds['attractor_amplitude'].isel(at).values.item():.3g} m, "
-                          f"basin {ds['basin_fraction'].isel(at).values.item():.2f}")
+            pts = ds["attractor_point"].isel(at).values[:k]
+            shade = colours[a % len(colours)]
+            handles.append(Patch(facecolor=shade, edgecolor="k", lw=0.5,
+                                 label=f"basin of attractor {a} ({ds['basin_fraction'].isel(at).values.item():.2f} "
+                                       "of the window)"))
+            handles.append(ax.plot(pts[:, jx], pts[:, jy], ls="none", marker=markers[a % len(markers)], ms=9,
+                                   mfc="white" if a == 0 else "k", mec="k", mew=1.5,
+                                   label=f"attractor {a}: amplitude "
+                                         f"{ds['attractor_amplitude'].isel(at).values.item() * 1e3:.1f} mm, "
+                                         f"period {k}")[0])
+        if np.any(lab == -1):
+            handles.append(Patch(facecolor="#d62728", label=f"unclassified ({np.mean(lab == -1):.3f})"))
         ax.set_xlabel(f"{ds['ic_x'].attrs.get('long_name', 'ic_x')} (m)")
         ax.set_ylabel(f"{ds['ic_y'].attrs.get('long_name', 'ic_y')} (m/s)")
         ax.set_title(point_label({d: ds[d].values[i] for d, i in sel.items()}), fontsize=9)
-        ax.legend(fontsize=7, loc="upper right", framealpha=0.9)
+        ax.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2,
+                  frameon=False)
         fig.tight_layout()
         name = "basins_" + "_".join(f"{d}{float(ds[d].values[i]):g}" for d, i in sel.items())
         written.append(save_figure(fig, outdir, f"{name}.png", dpi=150))

@@ -45,8 +45,8 @@ class RunSummary:
 
     Parameters
     ----------
-    report : storage.CollectReport
-        What the final collect wrote.
+    report : storage.CollectReport or None
+        What the final collect wrote (None for a run of one piece, which does not collect).
     tasks_computed : int
         Tasks computed by this run (all ranks).
     notes : list of str
@@ -59,7 +59,7 @@ class RunSummary:
         Peak resident memory of rank 0 after the collect, MiB.
     """
 
-    report: storage.CollectReport
+    report: storage.CollectReport | None
     tasks_computed: int
     notes: list[str]
     seconds: float
@@ -192,10 +192,10 @@ def compute_chunk(job: Job, k: int) -> tuple[range, dict[str, np.ndarray], np.nd
     return tasks, arrays, status, messages
 
 
-def _compute(job: Job, log: Path, done: storage.ChunkSet, comm: MPI.Intracomm,
+def _compute(job: Job, log: Path, plan: storage.Plan, comm: MPI.Intracomm,
              progress: Progress | None) -> int:
-    """Compute the chunks not in ``done``, appending them to this rank's ``log``;
-    collective over comm.
+    """Compute the chunks of ``plan``, appending them to this rank's ``log``; collective
+    over comm.
 
     Returns the number of tasks computed by all ranks.
     """
@@ -204,7 +204,7 @@ def _compute(job: Job, log: Path, done: storage.ChunkSet, comm: MPI.Intracomm,
     try:
         writer = partlog.Writer(log, job.analysis.variables(job.options))
         while (k := counter.claim()) < job.layout.n_chunks:
-            if k in done:
+            if not plan.computes(k):
                 continue
             tasks, arrays, status, messages = compute_chunk(job, k)
             writer.append(k, tasks, status, arrays, messages)
@@ -234,7 +234,8 @@ def _compute(job: Job, log: Path, done: storage.ChunkSet, comm: MPI.Intracomm,
 
 def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
         overwrite: bool = False, allow_code_change: bool = False, break_lock: bool = False,
-        progress_stream=sys.stderr, progress_bar: bool | None = None) -> RunSummary:
+        piece: tuple[int, int] | None = None, progress_stream=sys.stderr,
+        progress_bar: bool | None = None) -> RunSummary:
     """Run a job and write its merged NetCDF file; collective over comm.
 
     Parameters
@@ -254,6 +255,9 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
         Resume although the code changed (recorded in the result).
     break_lock : bool
         Remove a lock left by a run that cannot be checked from this host.
+    piece : (int, int), optional
+        ``(I, N)``: compute piece I of N of the job (every N-th chunk, from chunk I - 1)
+        and do not collect; ``collect`` merges the pieces once all have run.
     progress_stream : file or None
         Where rank 0 reports progress (default stderr; None: no report).
     progress_bar : bool, optional
@@ -269,23 +273,24 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
         On every rank, when the run is refused or cannot write its files.
     """
     parts = storage.parts_dir(out)
-    lock = storage.Lock(parts, "run")
+    lock = storage.Lock(parts, "run", piece)
     try:
         plan = _on_root(comm, lambda: storage.prepare(job, out, lock, resume=resume, overwrite=overwrite,
                                                      allow_code_change=allow_code_change,
-                                                     break_lock=break_lock, ranks=comm.size),
+                                                     break_lock=break_lock, ranks=comm.size, piece=piece),
                         f"preparing {parts}/")
         _warmup(job, comm)
         layout = job.layout
         progress = (Progress(layout.n_tasks, plan.done.tasks(layout.chunk, layout.n_tasks), progress_stream,
                              progress_bar) if comm.rank == 0 and progress_stream is not None else None)
         start = time.perf_counter()
-        computed = _compute(job, storage.log_path(parts, plan.run, comm.rank), plan.done, comm, progress)
+        computed = _compute(job, storage.log_path(parts, plan.run, comm.rank), plan, comm, progress)
         seconds = time.perf_counter() - start
         if progress is not None:
             progress.finish(computed)
         rss = comm.allgather(peak_rss_mib())
-        report = _on_root(comm, lambda: storage.collect(out, lock_held=True), f"collecting {out}")
+        report = None if piece else _on_root(comm, lambda: storage.collect(out, lock_held=True),
+                                             f"collecting {out}")
     finally:
         lock.release()
     return RunSummary(report, computed, plan.notes, seconds, rss, comm.bcast(peak_rss_mib(), root=0))

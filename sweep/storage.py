@@ -2,9 +2,10 @@
 
 Layout next to the output ``OUT.nc``::
 
-    OUT.nc.parts/manifest.json                the job file text and its SHA-256, the chunk
-                                              layout, and every run with its provenance
-    OUT.nc.parts/lock                         held by the process writing (host, pid, start)
+    OUT.nc.parts/manifest.json                the job file text and its SHA-256, the chunk layout
+    OUT.nc.parts/run-0002.json                run 2: start, host, ranks, chunks, provenance
+    OUT.nc.parts/lock                         held by the run or collect writing (host, pid, start);
+                                              lock-piece-1-of-4 by a run of one piece
     OUT.nc.parts/run-0002-rank-00001.log      the chunks rank 1 computed in run 2
                                               (:mod:`sweep.partlog`: checksummed records)
 
@@ -17,7 +18,11 @@ the same file, ``--resume`` finds nothing to do, ``status`` reads them.
 
 One writer per output: :class:`Lock` (an ``O_EXCL`` file, safe on NFS and Lustre) is held
 by a run, or by ``collect``, for as long as it writes; a second one is refused at once
-with the holder's host, process and start time.
+with the holder's host, process and start time.  A job split into pieces (``run --chunks
+I/N``, a Slurm array) runs its pieces at once, each holding the lock of its own piece and
+computing every N-th chunk; ``collect`` merges them when all are done.  Run numbers are
+allocated by creating ``run-RRRR.json`` with ``O_EXCL``, so concurrent pieces never share
+one.
 
 :func:`collect` streams: results whose published layout is the raw one (every analysis
 but ``basins``) are written window by window of consecutive tasks straight into the
@@ -59,6 +64,7 @@ STATUS_FLAG_MEANINGS = "missing " + STATUS_MEANINGS
 MANIFEST = "manifest.json"
 LOCK = "lock"
 _LOG = re.compile(r"run-(\d+)-rank-(\d+)\.log")
+_RUN = re.compile(r"run-(\d+)\.json")
 #: Bytes of task data buffered per write window of a streaming collect.
 WINDOW_BYTES = 2**20
 
@@ -146,28 +152,35 @@ class Lock:
         The parts directory (it must exist).
     what : str
         What the holder does (``"run"``, ``"collect"``), recorded in the file.
+    piece : (int, int), optional
+        ``(I, N)``: the lock of piece I of N (``lock-piece-I-of-N``); pieces run side by
+        side, and the whole-output lock excludes them all.
     """
 
-    def __init__(self, parts: Path, what: str):
-        self.path, self.what, self.held = parts / LOCK, what, False
+    def __init__(self, parts: Path, what: str, piece: tuple[int, int] | None = None):
+        name = LOCK if piece is None else f"{LOCK}-piece-{piece[0]}-of-{piece[1]}"
+        self.path, self.what, self.piece, self.held = parts / name, what, piece, False
+
+    def _conflicting(self) -> list[Path]:
+        """Other locks that exclude this one: all others for the whole output, the
+        whole-output lock for a piece."""
+        if self.piece is None:
+            return sorted(p for p in self.path.parent.glob(f"{LOCK}-piece-*") if p != self.path)
+        whole = self.path.parent / LOCK
+        return [whole] if whole.exists() else []
 
     def acquire(self, *, break_lock: bool = False) -> Lock:
         """Take the lock or raise :class:`RunError` naming its holder."""
         me = {"host": socket.gethostname(), "pid": os.getpid(), "what": self.what,
               "started": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")}
+        for other in self._conflicting():
+            Lock._check_free(other, break_lock)
         for _ in range(2):
             try:
                 fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
             except FileExistsError:
-                holder = self._holder()
-                if break_lock or self._stale(holder):
-                    self.path.unlink(missing_ok=True)
-                    continue
-                raise RunError(
-                    f"{self.path.parent}/ is in use by a {holder.get('what', '?')} on host "
-                    f"{holder.get('host', '?')}, process {holder.get('pid', '?')}, since "
-                    f"{holder.get('started', '?')}: wait for it to finish; if that process no longer "
-                    "exists (a job killed on another node), run again with --break-lock") from None
+                Lock._check_free(self.path, break_lock)
+                continue
             except OSError as exc:
                 raise file_error(exc, "locking the parts directory") from None
             with os.fdopen(fd, "w") as f:
@@ -176,9 +189,27 @@ class Lock:
             return self
         raise RunError(f"{self.path}: could not take the lock; try again")
 
-    def _holder(self) -> dict:
+    @staticmethod
+    def _check_free(path: Path, break_lock: bool) -> None:
+        """Remove the lock file ``path`` if it is stale or broken on request, else raise
+        :class:`RunError` naming its holder."""
+        holder = Lock.holder(path)
+        if not path.exists():
+            return
+        if break_lock or Lock._stale(holder):
+            path.unlink(missing_ok=True)
+            return
+        piece = f" ({path.name[len(LOCK) + 1:]})" if path.name != LOCK else ""
+        raise RunError(
+            f"{path.parent}/ is in use by a {holder.get('what', '?')}{piece} on host {holder.get('host', '?')}, "
+            f"process {holder.get('pid', '?')}, since {holder.get('started', '?')}: wait for it to finish; if "
+            "that process no longer exists (a job killed on another node), run again with --break-lock")
+
+    @staticmethod
+    def holder(path: Path) -> dict:
+        """The contents of a lock file (empty when it cannot be read)."""
         try:
-            return json.loads(self.path.read_text())
+            return json.loads(path.read_text())
         except (OSError, ValueError):
             return {}
 
@@ -254,15 +285,23 @@ class Plan:
         Chunks already computed by earlier runs.
     notes : list of str
         Things the user should know (parts that failed verification, code changes).
+    piece : (int, int) or None
+        ``(I, N)``: this run computes the chunks ``k`` with ``k % N == I - 1`` only.
     """
 
     run: int
     done: ChunkSet
     notes: list[str] = field(default_factory=list)
+    piece: tuple[int, int] | None = None
+
+    def computes(self, k: int) -> bool:
+        """Whether this run computes chunk ``k``."""
+        return k not in self.done and (self.piece is None or k % self.piece[1] == self.piece[0] - 1)
 
 
 def prepare(job: Job, out: Path, lock: Lock, *, resume: bool, overwrite: bool,
-            allow_code_change: bool = False, break_lock: bool = False, ranks: int = 1) -> Plan:
+            allow_code_change: bool = False, break_lock: bool = False, ranks: int = 1,
+            piece: tuple[int, int] | None = None) -> Plan:
     """Set up the parts directory of a run, take its lock, find the chunks still to compute.
 
     Called on one rank only (rank 0), before any computation.  The lock is taken before
@@ -287,6 +326,9 @@ def prepare(job: Job, out: Path, lock: Lock, *, resume: bool, overwrite: bool,
         Remove a lock whose holder cannot be checked from this host.
     ranks : int
         Ranks of this run (recorded).
+    piece : (int, int), optional
+        ``(I, N)``: compute piece I of N (every N-th chunk); implies ``resume`` (pieces
+        start side by side on one output) and excludes ``overwrite``.
 
     Returns
     -------
@@ -300,15 +342,16 @@ def prepare(job: Job, out: Path, lock: Lock, *, resume: bool, overwrite: bool,
     """
     parts = parts_dir(out)
     try:
-        return _prepare(job, out, parts, lock, resume, overwrite, allow_code_change, break_lock, ranks)
+        return _prepare(job, out, parts, lock, resume or piece is not None, overwrite, allow_code_change,
+                        break_lock, ranks, piece)
     except OSError as exc:
         raise file_error(exc, f"preparing {parts}/") from None
 
 
-def _prepare(job, out, parts, lock, resume, overwrite, allow_code_change, break_lock, ranks) -> Plan:
+def _prepare(job, out, parts, lock, resume, overwrite, allow_code_change, break_lock, ranks, piece) -> Plan:
     current = provenance.provenance(job.analysis)
     started = parts.is_dir() and (parts / MANIFEST).exists()
-    if parts.is_dir() and not started and not _logs(parts):
+    if parts.is_dir() and not started and not _logs(parts) and piece is None:
         # A directory with no manifest and no results (a run that failed while starting).
         shutil.rmtree(parts)
     if parts.exists():
@@ -321,48 +364,74 @@ def _prepare(job, out, parts, lock, resume, overwrite, allow_code_change, break_
     if not parts.exists() and out.exists():
         raise RunError(f"{out} exists: use --overwrite to replace it, or -o to write elsewhere")
     notes: list[str] = []
-    if parts.exists():
-        if not resume:
-            raise RunError(f"{parts}/ holds the parts of an earlier run: add --resume to continue "
-                           "it, or --overwrite (or delete the directory) to start again")
-        manifest = read_manifest(parts)
-        if manifest["job_sha256"] != job.sha256:
-            raise RunError(f"cannot resume: {parts}/ was written by a different job file (its text "
-                           f"has sha256 {manifest['job_sha256'][:12]}..., this one {job.sha256[:12]}...); "
-                           "restore that file, or start again with --overwrite or another -o")
-        if manifest.get("format") != partlog.VERSION:
-            raise RunError(f"cannot resume: {parts}/ was written by an older version of membrane-sweep "
-                           "(one HDF5 file per chunk), whose parts this version does not read; start "
-                           "again with --overwrite, or finish it with the version that started it")
-        recorded = manifest["runs"][-1]["provenance"] if manifest.get("runs") else {}
-        changed = provenance.differences(recorded, current)
-        if changed and not allow_code_change:
-            raise RunError(f"cannot resume: the code differs from the run that wrote {parts}/ ("
-                           + "; ".join(changed) + "): resuming would mix results of two versions; run "
-                           "the code that started it, or start again with --overwrite, or pass "
-                           "--allow-code-change to resume anyway (recorded in the result)")
-        if changed:
-            notes.append("resumed with different code (--allow-code-change, recorded): " + "; ".join(changed))
+    if not parts.exists() or (piece is not None and not (parts / MANIFEST).exists()):
+        # pieces may start at the same moment: every step is safe to repeat
+        parts.mkdir(parents=True, exist_ok=True)
+        if not lock.held:
+            lock.acquire(break_lock=break_lock)
+        if not (parts / MANIFEST).exists():
+            _write_manifest(parts, {
+                "format": partlog.VERSION, "job_name": job.name, "analysis": job.analysis_name,
+                "job_sha256": job.sha256, "job_text": job.text, "n_tasks": job.layout.n_tasks,
+                "n_chunks": job.layout.n_chunks, "chunk": job.layout.chunk})
+    elif not resume:
+        raise RunError(f"{parts}/ holds the parts of an earlier run: add --resume to continue "
+                       "it, or --overwrite (or delete the directory) to start again")
+    manifest = read_manifest(parts)
+    if manifest["job_sha256"] != job.sha256:
+        raise RunError(f"cannot resume: {parts}/ was written by a different job file (its text "
+                       f"has sha256 {manifest['job_sha256'][:12]}..., this one {job.sha256[:12]}...); "
+                       "restore that file, or start again with --overwrite or another -o")
+    if manifest.get("format") != partlog.VERSION:
+        raise RunError(f"cannot resume: {parts}/ was written by an older version of membrane-sweep "
+                       "(one HDF5 file per chunk), whose parts this version does not read; start "
+                       "again with --overwrite, or finish it with the version that started it")
+    runs = read_runs(parts)
+    changed = provenance.differences(runs[-1]["provenance"], current) if runs else []
+    if changed and not allow_code_change:
+        raise RunError(f"cannot resume: the code differs from the run that wrote {parts}/ ("
+                       + "; ".join(changed) + "): resuming would mix results of two versions; run "
+                       "the code that started it, or start again with --overwrite, or pass "
+                       "--allow-code-change to resume anyway (recorded in the result)")
+    if changed:
+        notes.append("resumed with different code (--allow-code-change, recorded): " + "; ".join(changed))
+    if piece is None:
         for tmp in parts.glob(".*.tmp"):
             tmp.unlink()
-        logs = partlog.Logs(_logs(parts), job.layout.chunk, job.layout.n_tasks).scan_all()
-        notes += logs.problems()
-        done = ChunkSet(job.layout.n_chunks, logs.done)
-    else:
-        parts.mkdir(parents=True)
-        lock.acquire(break_lock=break_lock)
-        manifest = {"format": partlog.VERSION, "job_name": job.name, "analysis": job.analysis_name,
-                    "job_sha256": job.sha256, "job_text": job.text, "n_tasks": job.layout.n_tasks,
-                    "n_chunks": job.layout.n_chunks, "chunk": job.layout.chunk, "runs": []}
-        changed = []
-        done = ChunkSet(job.layout.n_chunks)
-    run = len(manifest["runs"]) + 1
-    manifest["runs"].append({
-        "run": run, "started": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-        "host": socket.gethostname(), "ranks": ranks, "provenance": current,
-        "code_changed": changed})
-    _write_manifest(parts, manifest)
-    return Plan(run, done, notes)
+    logs = partlog.Logs(_logs(parts), job.layout.chunk, job.layout.n_tasks).scan_all()
+    notes += logs.problems()
+    done = ChunkSet(job.layout.n_chunks, logs.done)
+    record = {"started": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+              "host": socket.gethostname(), "ranks": ranks, "chunks": "all" if piece is None else
+              f"{piece[0]}/{piece[1]}", "provenance": current, "code_changed": changed}
+    return Plan(_new_run(parts, record), done, notes, piece)
+
+
+def _new_run(parts: Path, record: dict) -> int:
+    """Allocate the next run number by creating ``run-RRRR.json`` exclusively; returns it."""
+    run = max((int(m.group(1)) for m in map(_RUN.fullmatch, (p.name for p in parts.iterdir())) if m),
+              default=0) + 1
+    while True:
+        try:
+            fd = os.open(parts / f"run-{run:04d}.json", os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
+        except FileExistsError:
+            run += 1
+            continue
+        with os.fdopen(fd, "w") as f:
+            json.dump({"run": run, **record}, f, indent=1)
+        return run
+
+
+def read_runs(parts: Path) -> list[dict]:
+    """The records of the runs on a parts directory, by run number (unreadable ones skipped)."""
+    runs = []
+    for path in sorted(parts.glob("run-*.json")):
+        if _RUN.fullmatch(path.name):
+            try:
+                runs.append(json.loads(path.read_text()))
+            except (OSError, ValueError):
+                continue
+    return sorted(runs, key=lambda r: r.get("run", 0))
 
 
 # -- reading the parts --------------------------------------------------------------
@@ -533,6 +602,7 @@ def _stream(tmp: Path, job: Job, logs: partlog.Logs, attrs: dict, report: Collec
     skeleton = xr.Dataset(coords=_grid_coords(job, keep_subtask), attrs=attrs)
     skeleton.to_netcdf(tmp, engine="netcdf4", encoding=_encoding(skeleton))
     non_dim = [c for c in skeleton.coords if c not in skeleton.dims]
+    as_coords = set(analysis.coordinate_variables(job.options))
     per_task = 1 + 8 + sum(np.dtype(v.dtype).itemsize * math.prod(v.shape) for v in variables)  # status, message
     window = layout.chunk * max(1, WINDOW_BYTES // (per_task * layout.chunk))
     with netCDF4.Dataset(tmp, "a") as nc:
@@ -551,6 +621,8 @@ def _stream(tmp: Path, job: Job, logs: partlog.Logs, attrs: dict, report: Collec
                                     preemption=1.0)
             var.setncatts({"units": v.units, "long_name": v.long_name, **v.attrs})
             linked = [c for c in non_dim if set(skeleton[c].dims) <= set(dims + v.dims)]
+            linked += [c.name for c in variables if c.name in as_coords and c.name != v.name
+                       and set(c.dims) <= set(v.dims)]
             if linked:
                 var.setncattr("coordinates", " ".join(linked))
             out[v.name] = var
@@ -637,7 +709,7 @@ def _collect(out: Path, parts: Path, manifest: dict) -> CollectReport:
         stale.unlink(missing_ok=True)
     logs = part_logs(job, parts)
     report = CollectReport(out, 0, job.layout.n_tasks)
-    attrs = _attributes(job, manifest)
+    attrs = _attributes(job, parts)
 
     def write(tmp: Path) -> None:
         if job.analysis.assemble is None:
@@ -651,7 +723,8 @@ def _collect(out: Path, parts: Path, manifest: dict) -> CollectReport:
             return
         raw, report.tasks_completed = merge(job, parts, logs)
         _count(report, raw["status"].values.ravel(), raw["message"].values.ravel())
-        ds = job.analysis.assemble(raw, job.options)
+        ds = job.analysis.assemble(raw, job.options).set_coords(
+            [c for c in job.analysis.coordinate_variables(job.options) if c in raw])
         ds.attrs.update(attrs, tasks_completed=report.tasks_completed)
         for name, var in ds.variables.items():
             lacking = [a for a in ("units", "long_name") if a not in var.attrs and name != "message"]
@@ -682,12 +755,13 @@ def _count(report: CollectReport, status: np.ndarray, message: np.ndarray) -> No
         report.reasons[(int(status[i]), str(message[i]))] += 1
 
 
-def _attributes(job: Job, manifest: dict) -> dict:
+def _attributes(job: Job, parts: Path) -> dict:
     """Global attributes of a result: CF, job, provenance of every run (``tasks_completed``
     is added when the parts have been read)."""
-    runs = manifest.get("runs", [])
+    runs = read_runs(parts)
     last = runs[-1]["provenance"] if runs else provenance.provenance(job.analysis)
-    history = [f"{r['started']}: run {r['run']} on {r['ranks']} rank(s) at {r['host']} with "
+    history = [f"{r['started']}: run {r['run']} ({'chunks ' + r['chunks'] if r.get('chunks', 'all') != 'all' else 'all chunks'})"
+               f" on {r['ranks']} rank(s) at {r['host']} with "
                f"{provenance.describe(r['provenance'])}"
                + (f"; resumed with different code: {'; '.join(r['code_changed'])}" if r.get("code_changed") else "")
                for r in runs]
@@ -759,10 +833,10 @@ def describe_status(out: Path) -> str:
         lines = [f"{m['job_name']} ({m['analysis']}): {logs.tasks} / {m['n_tasks']} tasks "
                  f"completed, {chunks} / {m['n_chunks']} chunks ({summarize(counts, reasons)}); "
                  f"{out}: {written}"]
-        lock = Lock(parts, "")._holder() if (parts / LOCK).exists() else None
-        if lock:
-            lines.append(f"in use by a {lock.get('what')} on host {lock.get('host')}, process "
-                         f"{lock.get('pid')}, since {lock.get('started')}")
+        for path in sorted(parts.glob(f"{LOCK}*")):
+            h = Lock.holder(path)
+            lines.append(f"in use ({path.name}) by a {h.get('what')} on host {h.get('host')}, process "
+                         f"{h.get('pid')}, since {h.get('started')}")
         return "\n".join(lines + [f"rejected part: {p}" for p in logs.problems()])
     if not out.exists():
         raise RunError(f"no run at {out}: neither {out} nor {parts}/ exists")

@@ -79,7 +79,7 @@ def test_killed_run_resumes_to_the_same_file_without_recomputing(tmp_path):
     assert resumed.returncode == 0, resumed.stderr
     assert {name: data for name, data in _logs(parts).items() if name in old_logs} == old_logs
     assert _done_chunks(parts, layout) == set(range(layout.n_chunks))
-    assert len(list(parts.iterdir())) <= 1 + 2 + 2  # manifest and one log per rank and run
+    assert len(list(parts.iterdir())) <= 1 + 2 * (1 + 2)  # manifest, per run a record and a log per rank
 
     def task_line(t):
         point, subtask = layout.task(t)

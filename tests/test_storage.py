@@ -231,9 +231,9 @@ def test_resume_after_a_code_change_is_refused_unless_allowed(tmp_path):
         assert ds.attrs["code_changed_during_run"] == 1
         assert "resumed with different code: source sha256" in ds.attrs["history"]
         assert ds.attrs["source"].startswith("membrane-sweep ")
-    manifest = json.loads((tmp_path / "out.nc.parts" / "manifest.json").read_text())
-    assert [r["run"] for r in manifest["runs"]] == [1, 2]  # the refused attempt is no run
-    first, last = manifest["runs"][0]["provenance"], manifest["runs"][-1]["provenance"]
+    runs = storage.read_runs(tmp_path / "out.nc.parts")
+    assert [r["run"] for r in runs] == [1, 2]  # the refused attempt is no run
+    first, last = runs[0]["provenance"], runs[-1]["provenance"]
     assert first["source_sha256"] != last["source_sha256"] and set(first["versions"]) >= {"numpy", "numba", "MPI"}
 
 
@@ -364,3 +364,45 @@ def test_bookkeeping_benchmark_smoke():
     lines = proc.stdout.splitlines()
     assert lines[0].strip().startswith("56 tasks:") and "files in the parts directory" in lines[0]
     assert lines[-1].startswith("ratios 120 / 56 tasks: files 1.00")  # 60 -> 7 x 8, 120 -> 10 x 12
+
+
+# -- a job split into pieces (Slurm arrays) -----------------------------------------
+
+
+def test_two_pieces_collect_into_the_file_of_one_run(capsys, job, tmp_path):
+    assert run(capsys, "run", job, "-o", tmp_path / "one.nc")[0] == 0
+    for i in (2, 1):
+        code, out, err = run(capsys, "run", job, "-o", tmp_path / "two.nc", "--chunks", f"{i}/2")
+        assert code == 0, err
+        assert f"piece {i}/2 of {tmp_path}/two.nc: " in out and "python -m sweep collect" in out
+        assert not (tmp_path / "two.nc").exists()
+    code, out, _ = run(capsys, "status", tmp_path / "two.nc")
+    assert "6 / 6 tasks completed, 3 / 3 chunks" in out
+    assert run(capsys, "collect", tmp_path / "two.nc")[0] == 0
+    assert data(tmp_path / "two.nc").identical(data(tmp_path / "one.nc"))
+    assert "chunks 2/2" in xr.open_dataset(tmp_path / "two.nc").attrs["history"]
+    with pytest.raises(SystemExit) as info:
+        cli.main(["run", str(job), "--chunks", "3/2"])
+    assert info.value.code == 2 and "'3/2' is invalid: need 1 <= I <= N" in capsys.readouterr().err
+
+
+def test_pieces_run_side_by_side_and_a_whole_run_waits_for_them(tmp_path):
+    job = tmp_path / "job.toml"
+    job.write_text(MPI_JOB.format(sleep=0.05))
+    reference = sweep("run", job, "-o", "ref.nc", ranks=0, cwd=tmp_path)
+    assert reference.returncode == 0, reference.stderr
+    launch = [sys.executable, "-m", "sweep", "run", str(job), "-o", "mpi.nc", "--progress", "none"]
+    pieces = [subprocess.Popen([*launch, "--chunks", f"{i}/3"], cwd=tmp_path, env=sweep_env(),
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for i in (1, 2, 3)]
+    parts = tmp_path / "mpi.nc.parts"
+    deadline = time.monotonic() + 60
+    while not list(parts.glob("lock-piece-*")) and time.monotonic() < deadline:
+        time.sleep(0.02)
+    whole = sweep("run", job, "-o", "mpi.nc", "--resume", ranks=0, cwd=tmp_path)
+    results = [p.communicate(timeout=TIMEOUT) for p in pieces]
+    assert all(p.returncode == 0 for p in pieces), [err for _, err in results]
+    assert whole.returncode == 1 and "(piece-" in whole.stderr and "is in use by a run" in whole.stderr
+    assert sorted(r["chunks"] for r in storage.read_runs(parts)) == ["1/3", "2/3", "3/3"]
+    assert len({r["run"] for r in storage.read_runs(parts)}) == 3
+    assert sweep("collect", "mpi.nc", ranks=0, cwd=tmp_path).returncode == 0
+    assert data(tmp_path / "mpi.nc").identical(data(tmp_path / "ref.nc"))

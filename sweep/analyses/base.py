@@ -185,6 +185,12 @@ class Analysis(ABC):
         """Global attributes the result carries for this analysis (default none)."""
         return {}
 
+    def coordinate_variables(self, options: Any) -> tuple[str, ...]:
+        """Declared variables published as (non-index) coordinates of the variables that
+        share their dimensions, e.g. the continued parameter along a branch, so that
+        ``ds.amplitude.plot.line(x="Omega")`` works (default none)."""
+        return ()
+
     def derived(self, ds, options: Any) -> dict:
         """Variables computed from the collected result ``ds`` (opened from the file) and
         appended to it: ``name -> DataArray`` (default none)."""

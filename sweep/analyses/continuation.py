@@ -128,15 +128,21 @@ class ContinuationAnalysis(Analysis):
 
     def variables(self, options):
         n, k, p = options.max_points, 2 * len(options.modes), options.parameter
+        K = len(options.modes)
         units, what = GRID_KEYS[p]
         pt = ("point",)
         return self._fold_curve_variables(options) + [
             Variable(p, pt, (n,), "f8", units, f"continued parameter: {what}"),
             Variable("amplitude", pt, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)|"),
-            Variable("stable", pt, (n,), "i1", "1", "1 stable, 0 unstable periodic response", -1),
-            Variable("point_type", pt, (n,), "i1", "1",
-                     "0 regular, 1 fold (saddle-node), 2 period doubling, 3 Neimark-Sacker", -1,
-                     {"flag_values": np.arange(4, dtype=np.int8), "flag_meanings": " ".join(KIND_NAMES)}),
+            Variable("modal_coordinate", ("point", "mode"), (n, K), "f8", "m",
+                     "modal coordinate q_mn on the stroboscopic section t = 0 mod 2 pi / Omega (A_mn axis)"),
+            Variable("modal_velocity", ("point", "mode"), (n, K), "f8", "m s-1",
+                     "modal velocity dq_mn/dt on the stroboscopic section t = 0 mod 2 pi / Omega"),
+            Variable("stable", pt, (n,), "i1", "1", "stability of the periodic response", -1,
+                     {"flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "padding unstable stable"}),
+            Variable("point_type", pt, (n,), "i1", "1", "kind of point on the branch", -1,
+                     {"flag_values": np.arange(-1, 4, dtype=np.int8),
+                      "flag_meanings": "padding " + " ".join(KIND_NAMES)}),
             Variable("multiplier_real", ("point", "multiplier"), (n, k), "f8", "1",
                      "real part of the Floquet multipliers, by decreasing modulus"),
             Variable("multiplier_imag", ("point", "multiplier"), (n, k), "f8", "1",
@@ -171,6 +177,7 @@ class ContinuationAnalysis(Analysis):
             "cusp": (("cusp",), np.arange(MAX_CUSPS, dtype=np.int32), {"long_name": "cusp index", "units": "1"})}
         return {
             **extra,
+            **opt.mode_coords(options.modes),
             "point": (("point",), np.arange(options.max_points, dtype=np.int32),
                       {"long_name": "index along the branch", "units": "1"}),
             "multiplier": (("multiplier",), np.arange(2 * len(options.modes), dtype=np.int32),
@@ -186,13 +193,16 @@ class ContinuationAnalysis(Analysis):
                              max_points=options.max_points)
         n, k = options.max_points, 2 * len(options.modes)
         m = br.value.size
+        K = len(options.modes)
         out = {options.parameter: np.full(n, np.nan), "amplitude": np.full(n, np.nan),
+               "modal_coordinate": np.full((n, K), np.nan), "modal_velocity": np.full((n, K), np.nan),
                "stable": np.full(n, -1, np.int8), "point_type": np.full(n, -1, np.int8),
                "multiplier_real": np.full((n, k), np.nan), "multiplier_imag": np.full((n, k), np.nan),
                "multiplier_modulus": np.full(n, np.nan),
                "fold_value": np.full(MAX_FOLDS, np.nan), "fold_amplitude": np.full(MAX_FOLDS, np.nan)}
         out[options.parameter][:m] = br.value
         out["amplitude"][:m] = br.amplitude
+        out["modal_coordinate"][:m], out["modal_velocity"][:m] = br.state[:, :K], br.state[:, K:]
         out["stable"][:m] = br.stable
         out["point_type"][:m] = br.kind
         out["multiplier_real"][:m] = br.multipliers.real
@@ -232,6 +242,9 @@ class ContinuationAnalysis(Analysis):
 
     def attributes(self, options):
         return {"continued_parameter": options.parameter}
+
+    def coordinate_variables(self, options):
+        return (options.parameter,)
 
     def derived(self, ds, options):
         if options.fold_curve is not None or not (options.parameter == "P0" and ds.sizes.get("c", 0) >= 3):
