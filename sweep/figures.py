@@ -93,6 +93,16 @@ def save_figure(fig, outdir, name, dpi: float | None = None) -> Path:
     return path
 
 
+def computed_points(ds, exclude):
+    """:func:`grid_points` without those left out by the job's ``[grid] cases`` (status 3
+    everywhere along the excluded dims)."""
+    from sweep.analyses.base import STATUS_SKIPPED
+
+    for sel in grid_points(ds, exclude):
+        if "status" not in ds or bool((ds["status"].sel(sel) != STATUS_SKIPPED).any()):
+            yield sel
+
+
 def grid_points(ds, exclude):
     """Iterate over the grid points of ``ds`` other than the dims in ``exclude``."""
     dims = [d for d in ("delta", "delta_o", "Omega", "P0", "c") if d in ds.dims and d not in exclude]
@@ -310,7 +320,7 @@ def continuation_figures(ds, outdir) -> list:
     plt = pyplot()
     par = ds.attrs.get("continued_parameter", "P0" if "P0" in ds.data_vars else "Omega")
     xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
-    panels = list(grid_points(ds, ("c", "point", "fold", "multiplier")))
+    panels = list(computed_points(ds, ("c", "point", "fold", "multiplier", "mode", "curve_point", "cusp")))
     cs = ds.c.values if "c" in ds.dims else [None]
     fig, axes = _panel_axes(plt, len(panels))
     many = len(cs) > 4
@@ -394,7 +404,7 @@ def response_figures(ds, outdir) -> list:
     xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
     fig, ax = plt.subplots(figsize=(6, 4.2))
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for j, sel in enumerate(grid_points(ds, (par, "direction"))):
+    for j, sel in enumerate(computed_points(ds, (par, "direction"))):
         b = ds.sel(sel)
         color = colors[j % len(colors)]
         label = ", ".join(f"{k} = {float(v):g}" for k, v in sel.items() if ds.sizes.get(k, 1) > 1)

@@ -48,12 +48,21 @@ class TaskLayout:
         Subtasks per grid point.
     chunk : int
         Tasks per chunk (the last chunk may be shorter).
+    cases : tuple of tuples of (str, float)
+        ``[grid] cases``: the grid points computed are those matching one case (every key
+        of a case equal to the point's value); empty: the whole product.
     """
 
     dims: tuple[str, ...]
     values: tuple[np.ndarray, ...]
     n_subtasks: int
     chunk: int
+    cases: tuple[tuple[tuple[str, float], ...], ...] = ()
+
+    def in_cases(self, point: dict[str, float]) -> bool:
+        """Whether the grid point ``point`` (grid key -> value) is computed."""
+        return not self.cases or any(all(math.isclose(point[k], v, rel_tol=1e-12) for k, v in case)
+                                     for case in self.cases)
 
     @property
     def shape(self) -> tuple[int, ...]:

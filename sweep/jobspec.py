@@ -147,7 +147,9 @@ def parse_job(text: str, source: str = "<job>") -> Job:
             raise JobError(key, value, f"unknown table; the tables are {allowed}")
 
     membrane = _membrane(_table(doc, "membrane", required=False))
-    grid = _grid(_table(doc, "grid", required=True))
+    grid_table = _table(doc, "grid", required=True)
+    grid = _grid({k: v for k, v in grid_table.items() if k != "cases"})
+    cases = _cases(grid_table["cases"], grid) if "cases" in grid_table else ()
     for key in analysis.required_grid:
         if key not in grid:
             raise JobError(f"grid.{key}", MISSING,
@@ -159,7 +161,7 @@ def parse_job(text: str, source: str = "<job>") -> Job:
     n_tasks = math.prod(len(v) for v in grid.values()) * n_subtasks
     chunk = (_integer("job.chunk", job["chunk"], 1, "an integer > 0 (tasks per chunk)")
              if "chunk" in job else default_chunk(n_tasks))
-    layout = TaskLayout(tuple(grid), tuple(grid.values()), n_subtasks, chunk)
+    layout = TaskLayout(tuple(grid), tuple(grid.values()), n_subtasks, chunk, cases)
     return Job(name, analysis_name, analysis, options, membrane, layout, text)
 
 
@@ -213,8 +215,29 @@ def _membrane(table: Mapping) -> Membrane:
                        for key, value in table.items()})
 
 
+def _cases(value: Any, grid: Mapping[str, np.ndarray]) -> tuple:
+    """``[grid] cases``: a non-empty list of tables of grid values, e.g. the (delta, Omega)
+    pairs of a figure, instead of the full product."""
+    key = "grid.cases"
+    if not isinstance(value, list) or not value:
+        raise JobError(key, value, "a non-empty list of tables {grid key = value}")
+    out = []
+    for case in value:
+        if not isinstance(case, Mapping) or not case:
+            raise JobError(key, case, "each case must be a non-empty table {grid key = value}")
+        for k, v in case.items():
+            if k not in grid:
+                raise JobError(key, case, f"case keys must be grid keys of this job ({', '.join(grid)}); "
+                                          f"{k!r} is not")
+            if isinstance(v, bool) or not isinstance(v, (int, float)) \
+                    or not np.any(np.isclose(grid[k], v, rtol=1e-12, atol=0.0)):
+                raise JobError(key, case, f"{k} = {v!r} is not a value of grid.{k}")
+        out.append(tuple(sorted((k, float(v)) for k, v in case.items())))
+    return tuple(out)
+
+
 def _grid(table: Mapping) -> dict[str, np.ndarray]:
-    check_keys(table, "grid", tuple(GRID_KEYS))
+    check_keys(table, "grid", (*GRID_KEYS, "cases"))
     if not table:
         raise JobError("grid", table, "at least one of the keys " + ", ".join(GRID_KEYS))
     return {key: _axis(key, table[key]) for key in GRID_KEYS if key in table}

@@ -26,7 +26,7 @@ import numpy as np
 from mpi4py import MPI
 
 from sweep import partlog, storage
-from sweep.analyses.base import STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Variable
+from sweep.analyses.base import STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, STATUS_SKIPPED, Variable
 from sweep.counter import ChunkCounter
 from sweep.errors import RunError
 from sweep.jobspec import Job
@@ -176,6 +176,9 @@ def compute_chunk(job: Job, k: int) -> tuple[range, dict[str, np.ndarray], np.nd
     messages: dict[int, str] = {}
     for i, t in enumerate(tasks):
         point, subtask = job.point(t)
+        if not job.layout.in_cases(point.grid):
+            status[i] = STATUS_SKIPPED  # the arrays keep the fill values
+            continue
         try:
             result = job.analysis.compute(point, job.options, subtask)
         except Exception as exc:  # noqa: BLE001 - a failing task is data (status failed)

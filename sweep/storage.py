@@ -52,13 +52,14 @@ import numpy as np
 import xarray as xr
 
 from sweep import partlog, provenance
-from sweep.analyses.base import GRID_KEYS, STATUS_FAILED, STATUS_MEANINGS, STATUS_NOT_CONVERGED, STATUS_OK
+from sweep.analyses.base import (GRID_KEYS, STATUS_FAILED, STATUS_MEANINGS, STATUS_NOT_CONVERGED, STATUS_OK,
+                                 STATUS_SKIPPED)
 from sweep.errors import RunError
 from sweep.jobspec import Job, parse_job
 
 #: ``status`` of a task whose chunk has not been computed (a partial collect).
 STATUS_MISSING = -1
-STATUS_FLAG_VALUES = np.array([STATUS_MISSING, 0, 1, 2], dtype=np.int8)
+STATUS_FLAG_VALUES = np.array([STATUS_MISSING, 0, 1, 2, 3], dtype=np.int8)
 STATUS_FLAG_MEANINGS = "missing " + STATUS_MEANINGS
 
 MANIFEST = "manifest.json"
@@ -489,6 +490,8 @@ def summarize(counts: Mapping[int, int], reasons: Mapping[tuple[int, str], int],
         detail = "; ".join(f"{c}: {m}" for c, m in why[:top])
         more = "" if len(why) <= top else f"; {len(why) - top} other reason(s)"
         out.append(f"{n} {name}" + (f" ({detail}{more})" if detail else ""))
+    if counts.get(STATUS_SKIPPED, 0):
+        out.append(f"{counts[STATUS_SKIPPED]} outside the cases")
     return ", ".join(out)
 
 
@@ -751,7 +754,7 @@ def _collect(out: Path, parts: Path, manifest: dict) -> CollectReport:
 def _count(report: CollectReport, status: np.ndarray, message: np.ndarray) -> None:
     """Add tasks to the counts per status and the reasons of those not ok."""
     report.counts.update(Counter(status.tolist()))
-    for i in np.flatnonzero((status != STATUS_OK) & (status != STATUS_MISSING)):
+    for i in np.flatnonzero((status != STATUS_OK) & (status != STATUS_MISSING) & (status != STATUS_SKIPPED)):
         report.reasons[(int(status[i]), str(message[i]))] += 1
 
 
@@ -825,9 +828,9 @@ def describe_status(out: Path) -> str:
                 chunks += 1
                 st = reader.read(rec, only_status=True)[0]
                 counts.update(Counter(st.tolist()))
-                if np.any(st != STATUS_OK):
+                if np.any((st != STATUS_OK) & (st != STATUS_SKIPPED)):
                     messages = reader.read(rec)[2]
-                    for i in np.flatnonzero(st != STATUS_OK):
+                    for i in np.flatnonzero((st != STATUS_OK) & (st != STATUS_SKIPPED)):
                         reasons[(int(st[i]), messages.get(int(i), ""))] += 1
         written = "written" if out.exists() else "not collected yet"
         lines = [f"{m['job_name']} ({m['analysis']}): {logs.tasks} / {m['n_tasks']} tasks "
@@ -848,7 +851,7 @@ def describe_status(out: Path) -> str:
             reasons = Counter()
             if "message" in ds:
                 for s, msg in zip(ds["status"].values.ravel(), ds["message"].values.ravel()):
-                    if s not in (STATUS_OK, STATUS_MISSING):
+                    if s not in (STATUS_OK, STATUS_MISSING, STATUS_SKIPPED):
                         reasons[(int(s), str(msg))] += 1
             return (f"{ds.attrs['job_name']} ({ds.attrs['analysis']}): {ds.attrs['tasks_completed']} / "
                     f"{ds.attrs['tasks_total']} tasks completed ({summarize(counts, reasons)}); "

@@ -150,14 +150,6 @@ def test_assemble_merges_tiles_whatever_their_order(tmp_path):
     assert len(paths) == 1 and paths[0].exists()
 
 
-def test_cases_skip_other_grid_points():
-    grid = dict(GRID, delta=np.array([1.1, 1.5]))
-    options = BASINS.parse_options({"cases": [{"delta": 1.5}], "ic_x": {"start": -0.2,
-                                    "stop": 0.2, "num": 4}}, grid, MEMBRANE)
-    out = BASINS.compute(POINT, options, 0)
-    assert np.all(out["tile_label"] == -2) and out["status"] == 0
-
-
 @pytest.mark.parametrize("table, message", [
     ({"method": "slow"}, "basins.method = 'slow' is invalid: must be one of fast, brute"),
     ({"ic_x": {"start": 1.0, "stop": 0.0, "num": 5}}, "basins.ic_x = {'start': 1.0, "
@@ -165,9 +157,6 @@ def test_cases_skip_other_grid_points():
     ({"ic_y": {"start": 0.0, "stop": 1.0, "num": 1}}, "needs stop > start and num >= 2"),
     ({"radius": 0.0}, "basins.radius = 0.0 is invalid: must be > 0.0"),
     ({"lattice_mode": 2}, "basins.lattice_mode = 2 is invalid: must be <= 1"),
-    ({"cases": [{"P1": 1.0}]}, "case keys must be grid keys of this job"),
-    ({"cases": [{"delta": 1.2}]}, "delta = 1.2 is not a value of grid.delta"),
-    ({"cases": []}, "must be a non-empty list of tables"),
     ({"colour": 1}, "basins.colour = 1 is invalid: unknown key"),
 ])
 def test_bad_options_are_rejected_with_a_message(table, message):

@@ -65,7 +65,7 @@ def test_run_status_collect(capsys, job, tmp_path):
     assert len(first.attrs["source_sha256"]) == 64 and "numpy" in first.attrs["library_versions"]
     for name, var in first.variables.items():
         assert var.attrs["long_name"] and (name == "message" or var.attrs["units"])
-    assert first["status"].attrs["flag_meanings"] == "missing ok not_converged failed"
+    assert first["status"].attrs["flag_meanings"] == "missing ok not_converged failed outside_cases"
 
     code, out, _ = run(capsys, "status", out_nc)
     assert code == 0
@@ -398,3 +398,19 @@ def test_ctrl_c_is_one_line_with_the_way_to_continue(tmp_path):
     assert "Traceback" not in err and "MPI_Abort" not in err
     assert "interrupted: the finished chunks are kept" in err and "--resume to continue" in err
     assert not lock.exists()
+
+
+def test_cases_compute_only_the_chosen_grid_points(capsys, tmp_path, monkeypatch):
+    path = tmp_path / "cases.toml"
+    path.write_text(JOB.replace("Omega = 2.0", "Omega = 2.0\ncases = [{delta = 1.1, delta_o = 0.3}, {delta = 1.5}]"))
+    log = tmp_path / "computed.log"
+    monkeypatch.setenv("FAKE_SWEEP_LOG", str(log))
+    code, out, _ = run(capsys, "run", path, "-o", tmp_path / "c.nc")
+    assert code == 0 and "3 outside the cases" in out
+    assert sorted(line.split()[:2] for line in log.read_text().splitlines()) == [
+        ["1.1", "0.3"], ["1.5", "0.2"], ["1.5", "0.3"]]
+    ds = data(tmp_path / "c.nc")
+    skipped = ds["status"] == 3
+    assert int(skipped.sum()) == 3 and bool(ds["value"].where(skipped).isnull().all())
+    assert bool(skipped.sel(delta=1.3).all()) and not bool(skipped.sel(delta=1.5).any())
+    assert ds["status"].attrs["flag_meanings"] == "missing ok not_converged failed outside_cases"

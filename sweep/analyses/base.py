@@ -28,7 +28,9 @@ from model.params import Loading, Membrane, parameter_info
 STATUS_OK = 0
 STATUS_NOT_CONVERGED = 1
 STATUS_FAILED = 2
-STATUS_MEANINGS = "ok not_converged failed"
+#: A grid point outside the job's ``[grid] cases``: not computed, the variables' fill values.
+STATUS_SKIPPED = 3
+STATUS_MEANINGS = "ok not_converged failed outside_cases"
 
 #: Grid keys a job may sweep, in canonical order, with the units and long names of the
 #: parameter records (:mod:`model.params`).

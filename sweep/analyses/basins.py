@@ -32,10 +32,10 @@ Options (table ``[basins]``):
                    0: the lattice's)
 ``max_period``     largest period of the attractors searched, in forcing periods (4)
 ``max_attractors`` attractors stored per grid point (default 6)
-``cases``          optional list of tables, e.g. ``[{delta = 1.1, Omega = 33.5}]``: only the
-                   grid points matching one of them are computed (Fig. 19 pairs delta with
-                   Omega); the others are stored with label -2 and NaN measures
 =================  =======================================================================
+
+Grid points outside the job's ``[grid] cases`` (Fig. 19 pairs delta with Omega) are not
+computed: label -2 and NaN measures.
 
 Labels: ``0..n-1`` attractor index, ``-1`` unclassified (no periodic attractor of period
 ``<= max_period`` reached within ``max_periods``: a non-periodic attractor or a very long
@@ -61,7 +61,7 @@ from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError
 _SECTION = "basins"
 _KEYS = ("modes", "prestretch", "lattice_mode", "ic_x", "ic_y", "method", "tiles", "steps",
          "max_periods", "radius", "consecutive", "guard", "cell_resolution", "max_period",
-         "max_attractors", "cases")
+         "max_attractors")
 NOT_COMPUTED = -2
 #: Largest ``num`` of ``ic_x`` and ``ic_y``.
 MAX_LATTICE = 4096
@@ -83,7 +83,6 @@ class BasinsOptions:
     steps: int
     settings: mb.Settings
     max_attractors: int
-    cases: tuple[tuple[tuple[str, float], ...], ...]
 
     @property
     def rows(self) -> int:
@@ -109,25 +108,6 @@ class BasinsOptions:
         K = len(self.modes)
         return mb.Lattice(np.linspace(*self.ic_x), np.linspace(*self.ic_y),
                           self.lattice_mode - 1, K + self.lattice_mode - 1)
-
-
-def _cases(value, grid) -> tuple:
-    key = f"{_SECTION}.cases"
-    if not isinstance(value, list) or not value:
-        raise JobError(key, value, "must be a non-empty list of tables {grid key = value}")
-    out = []
-    for case in value:
-        if not isinstance(case, Mapping) or not case:
-            raise JobError(key, case, "each case must be a non-empty table {grid key = value}")
-        for k, v in case.items():
-            if k not in grid:
-                raise JobError(key, case, f"case keys must be grid keys of this job "
-                                          f"({', '.join(grid)}); {k!r} is not")
-            if isinstance(v, bool) or not isinstance(v, (int, float)) \
-                    or not np.any(np.isclose(grid[k], v, rtol=1e-12, atol=0.0)):
-                raise JobError(key, case, f"{k} = {v!r} is not a value of grid.{k}")
-        out.append(tuple(sorted((k, float(v)) for k, v in case.items())))
-    return tuple(out)
 
 
 class Basins(Analysis):
@@ -168,8 +148,7 @@ class Basins(Analysis):
             steps=opt.number(table, _SECTION, "steps", mb.DEFAULT_STEPS, low=8, integer=True),
             settings=settings,
             max_attractors=opt.number(table, _SECTION, "max_attractors", 6, low=1, high=1000,
-                                      integer=True),
-            cases=_cases(table["cases"], grid) if "cases" in table else ())
+                                      integer=True))
 
     def n_subtasks(self, options: BasinsOptions) -> int:
         return options.tiles
@@ -196,11 +175,6 @@ class Basins(Analysis):
         return {"ic_y": (("ic_y",), np.linspace(*options.ic_y),
                          {"units": "m s-1", "long_name": "initial modal velocity"})}
 
-    def _skipped(self, point, options) -> bool:
-        return bool(options.cases) and not any(
-            all(math.isclose(point.grid[k], v, rel_tol=1e-12) for k, v in case)
-            for case in options.cases)
-
     def compute(self, point, options: BasinsOptions, subtask: int):
         R, ny, A = options.rows, options.ic_y[2], options.max_attractors
         P, S = options.settings.max_period, options.n_state
@@ -211,8 +185,6 @@ class Basins(Analysis):
                "tile_attractor_amplitude": np.full(A, np.nan),
                "tile_attractor_multiplier": np.full(A, np.nan),
                "status": STATUS_OK}
-        if self._skipped(point, options):
-            return out
         rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
         fmap = ForcedMap.from_loading(rom, point.loading, options.steps)
         lattice = options.lattice()
