@@ -106,7 +106,8 @@ def agreement(path: Path, samples: int) -> None:
         lab = ds["label"].squeeze().values
         x, y = ds["ic_x"].values, ds["ic_y"].values
         per = ds["attractor_period"].squeeze().values
-        pts = ds["attractor_point"].squeeze().values
+        pts = np.concatenate([ds["attractor_coordinate"].squeeze().values,
+                              ds["attractor_velocity"].squeeze().values], axis=-1)
     rom = build_rom(solve_prestretch(Membrane(CASE["delta"], CASE["delta_o"]), "numeric"),
                     [(1, 0)])
     fmap = ForcedMap.from_loading(rom, Loading(CASE["Omega"], CASE["P0"], CASE["c"]), BRUTE_STEPS)

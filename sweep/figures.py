@@ -489,18 +489,19 @@ def basins_figures(ds, outdir) -> list:
         fig, ax = plt.subplots(figsize=(5.4, 5.4))
         ax.pcolormesh(x, y, np.clip(lab, -2, len(colours) - 1).T + 2, cmap=cmap, vmin=0,
                       vmax=len(colours) + 1, shading="nearest", rasterized=True)
-        jx, jy = (int(v) for v in ds["label"].attrs["lattice_state"])
+        j = int(ds["label"].attrs["lattice_mode"])
         handles = []
         markers = "XPD^v<>"
         for a in range(ds["n_attractors"].isel(sel).values.item()):
             at = {**sel, "attractor": a}
             k = ds["attractor_period"].isel(at).values.item()
-            pts = ds["attractor_point"].isel(at).values[:k]
+            q = ds["attractor_coordinate"].isel(at).values[:k, j]
+            v = ds["attractor_velocity"].isel(at).values[:k, j]
             shade = colours[a % len(colours)]
             handles.append(Patch(facecolor=shade, edgecolor="k", lw=0.5,
                                  label=f"basin of attractor {a} ({ds['basin_fraction'].isel(at).values.item():.2f} "
                                        "of the window)"))
-            handles.append(ax.plot(pts[:, jx], pts[:, jy], ls="none", marker=markers[a % len(markers)], ms=9,
+            handles.append(ax.plot(q, v, ls="none", marker=markers[a % len(markers)], ms=9,
                                    mfc="white" if a == 0 else "k", mec="k", mew=1.5,
                                    label=f"attractor {a}: amplitude "
                                          f"{ds['attractor_amplitude'].isel(at).values.item() * 1e3:.1f} mm, "

@@ -74,3 +74,11 @@ def test_api_examples_run_in_order(tmp_path, capsys):
     finally:
         os.chdir(cwd)
     assert len(api_examples()) == 6
+
+
+def test_options_reference_is_in_sync():
+    """docs/options.md is what ``python -m sweep.options_doc`` writes from the analyses'
+    OPTIONS, the keys their option tables accept."""
+    from sweep import options_doc
+
+    assert (ROOT / "docs" / "options.md").read_text() == options_doc.render()

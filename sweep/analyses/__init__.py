@@ -19,7 +19,7 @@ from sweep.analyses.base import Analysis, JobError
 #: Environment variable with extra ``name=module:attribute`` entries (tests, benchmarks).
 EXTRA_ENV = "SWEEP_EXTRA_ANALYSES"
 
-_BUILTIN = {
+BUILTIN = {
     "static": "sweep.analyses.static:STATIC",
     "linear": "sweep.analyses.linear:LINEAR",
     "backbone": "sweep.analyses.backbone:BACKBONE",
@@ -48,7 +48,7 @@ def registry() -> dict[str, str]:
         ``name -> "module:attribute"``: the built-in analyses, then the entries of
         ``SWEEP_EXTRA_ANALYSES``.
     """
-    return {**_BUILTIN, **_extra_entries()}
+    return {**BUILTIN, **_extra_entries()}
 
 
 def get(name: str) -> Analysis:

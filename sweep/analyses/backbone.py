@@ -14,11 +14,7 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
 * ``omega_linear`` -- the small-amplitude limit of the ROM, and ``omega_bound`` -- the
   upper bound of Eq. (29) for the backbone's mode.
 
-Option table ``[backbone]``: ``modes`` (list of [m, n], default [[1, 0]]), ``prestretch``
-(analytic | numeric | fit, default numeric), ``amplitude`` (``{start, stop, num}``,
-targets of ``max |w(0.5, 0)|`` in m, default 1 mm to 0.4 m in 40 points) and
-``peak_damping`` (damping c of the decays of the peak-to-peak method, N s/m^3, default
-0.05).  The status is ``not_converged`` when some target has no ``omega_nl`` or no
+Options: :attr:`BackboneAnalysis.OPTIONS` (``docs/options.md``).  The status is ``not_converged`` when some target has no ``omega_nl`` or no
 ``omega_peak``; those entries are NaN.
 """
 
@@ -62,9 +58,17 @@ class BackboneAnalysis(Analysis):
     """Backbone curves by shooting and by the peak-to-peak method."""
 
     name = "backbone"
+    #: The option table ``[backbone]``: key -> description (docs/options.md).
+    OPTIONS = {
+        "modes": "list of [m, n] pairs (default [[1, 0]])",
+        "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
+        "amplitude": "{start, stop, num}: target amplitudes max |w(0.5 Re, 0, t)| (m; default 1 mm to "
+                     "0.4 m, 40 points)",
+        "peak_damping": "damping c of the decays of the peak-to-peak method (N s/m^3, > 0; default 0.05)",
+    }
 
     def parse_options(self, table, grid, membrane):
-        check_keys(table, self.name, ("modes", "prestretch", "amplitude", "peak_damping"))
+        check_keys(table, self.name, tuple(self.OPTIONS))
         return BackboneOptions(
             modes=opt.modes(table, self.name),
             prestretch=opt.prestretch(table, self.name),

@@ -132,6 +132,9 @@ class Analysis(ABC):
     """
 
     name: ClassVar[str]
+    #: The option table ``[<name>]``: key -> one-line description with the default and
+    #: units; ``parse_options`` accepts exactly these keys and docs/options.md lists them.
+    OPTIONS: ClassVar[Mapping[str, str]] = {}
     #: grid keys that must be present (each may still have length 1)
     required_grid: ClassVar[tuple[str, ...]] = ("delta", "delta_o")
 

@@ -10,29 +10,7 @@ numbers them by decreasing amplitude (attractor 0 is the largest, the resonant o
 Fig. 19), relabels the lattice and computes the integrity measures of
 :mod:`model.integrity` (``basin_fraction`` is the global integrity measure).
 
-Options (table ``[basins]``):
-
-=================  =======================================================================
-``modes``          ``[[m, n], ...]`` modes of the ROM (default ``[[1, 0]]``)
-``prestretch``     ``analytic`` | ``numeric`` (default) | ``fit``
-``lattice_mode``   1-based index in ``modes`` of the lattice coordinates (default 1)
-``ic_x``           ``{start, stop, num}`` displacement ``q_j`` (m), default -0.3..0.3, 100
-``ic_y``           ``{start, stop, num}`` velocity ``dq_j/dt`` (m s-1), default -10..10, 100
-                   (``num`` at most 4096 on each axis: a tile's memory stays below ~1 MB
-                   and rank 0 holds one 4096 x 4096 label image per grid point at collect)
-``method``         ``fast`` (cells + proximity, default) | ``brute`` (proximity only)
-``tiles``          number of tiles (default 8, at most ``ic_x.num``; raised so that no tile
-                   holds more than 65,536 initial conditions)
-``steps``          RK4 steps per forcing period (default 64)
-``max_periods``    periods before a trajectory is unclassified, label -1 (default 20000)
-``radius``         capture radius around attractor points, fraction of the lattice (0.01)
-``consecutive``    consecutive clean-cell hits to adopt a cell's label (default 8)
-``guard``          half-width of the block of equal labels around a clean cell (default 2)
-``cell_resolution`` about this many cells per axis in the cell map (default 200, at most 4096;
-                   0: the lattice's)
-``max_period``     largest period of the attractors searched, in forcing periods (4)
-``max_attractors`` attractors stored per grid point (default 6)
-=================  =======================================================================
+Options: :attr:`Basins.OPTIONS` (``docs/options.md``).
 
 Grid points outside the job's ``[grid] cases`` (Fig. 19 pairs delta with Omega) are not
 computed: label -2 and NaN measures.
@@ -45,7 +23,6 @@ transient), ``-2`` not computed (outside ``cases``).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -59,9 +36,6 @@ from . import options as opt
 from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable, check_keys
 
 _SECTION = "basins"
-_KEYS = ("modes", "prestretch", "lattice_mode", "ic_x", "ic_y", "method", "tiles", "steps",
-         "max_periods", "radius", "consecutive", "guard", "cell_resolution", "max_period",
-         "max_attractors")
 NOT_COMPUTED = -2
 #: Largest ``num`` of ``ic_x`` and ``ic_y``.
 MAX_LATTICE = 4096
@@ -114,10 +88,30 @@ class Basins(Analysis):
     """Basins of attraction on a lattice of initial conditions (Fig. 19)."""
 
     name = "basins"
+    #: The option table ``[basins]``: key -> description (docs/options.md).
+    OPTIONS = {
+        "modes": "list of [m, n] pairs (default [[1, 0]])",
+        "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
+        "lattice_mode": "1-based index in modes of the lattice coordinates (default 1)",
+        "ic_x": "{start, stop, num}: initial displacement q_j (m; default -0.3 to 0.3, 100; num <= 4096)",
+        "ic_y": "{start, stop, num}: initial velocity dq_j/dt (m/s; default -10 to 10, 100; num <= 4096)",
+        "method": "fast (cells and proximity, default) | brute (proximity only: the reference)",
+        "tiles": "tiles of interleaved ic_x rows, one task each (default 8, at most ic_x.num, raised to "
+                 "keep 65,536 initial conditions or fewer per tile)",
+        "steps": "RK4 steps per forcing period (default 64)",
+        "max_periods": "periods before a trajectory is unclassified, label -1 (default 20000)",
+        "radius": "capture radius around attractor points, fraction of the lattice window (default 0.01)",
+        "consecutive": "consecutive clean-cell hits to adopt a cell's label (default 8)",
+        "guard": "half-width of the block of equal labels around a clean cell (default 2)",
+        "cell_resolution": "about this many cells per axis in the cell map (default 200, at most 4096; "
+                           "0: the lattice's)",
+        "max_period": "largest period of the attractors searched, in forcing periods (default 4)",
+        "max_attractors": "attractors stored per grid point (default 6)",
+    }
     required_grid = ("delta", "delta_o", "Omega", "P0", "c")
 
     def parse_options(self, table, grid, membrane) -> BasinsOptions:
-        check_keys(table, _SECTION, _KEYS)
+        check_keys(table, _SECTION, tuple(self.OPTIONS))
         modes = opt.modes(table, _SECTION)
         lm = opt.number(table, _SECTION, "lattice_mode", 1, low=1, high=len(modes),
                         integer=True)
@@ -279,7 +273,7 @@ class Basins(Analysis):
                 "units": "1", "long_name": "attractor index of the initial condition",
                 "flag_values": np.array([-2, -1], np.int32),
                 "flag_meanings": "not_computed unclassified",
-                "lattice_state": np.array([lattice.ix, lattice.iy], np.int32)}),
+                "lattice_mode": np.int32(options.lattice_mode - 1)}),
             "basin_fraction": (G + ("attractor",), frac, {
                 "units": "1", "long_name": "global integrity measure: basin area fraction of "
                 "the lattice window (Soliman and Thompson 1989)"}),
@@ -293,8 +287,10 @@ class Basins(Analysis):
                 "units": "1", "long_name": "attractor period in forcing periods (0: none)"}),
             "attractor_multiplier": (G + ("attractor",), mult, {
                 "units": "1", "long_name": "largest Floquet multiplier modulus"}),
-            "attractor_point": (G + ("attractor", "phase", "state"), points, {
-                "units": "1", "long_name": "Poincare points (q in m, dq/dt in m s-1)"}),
+            "attractor_coordinate": (G + ("attractor", "phase", "mode"), points[..., :K], {
+                "units": "m", "long_name": "modal coordinates q_mn of the attractor's Poincare points"}),
+            "attractor_velocity": (G + ("attractor", "phase", "mode"), points[..., K:], {
+                "units": "m s-1", "long_name": "modal velocities dq_mn/dt of the attractor's Poincare points"}),
             "n_attractors": (G, n_att, {"units": "1", "long_name": "attractors found"}),
             "unclassified_fraction": (G, uncl, {
                 "units": "1", "long_name": "fraction of the lattice with label -1"}),
@@ -315,10 +311,7 @@ class Basins(Analysis):
                                          f"initial velocity of mode {self._mode(options)}"}),
             "attractor": ("attractor", np.arange(A, dtype=np.int32), {
                 "units": "1", "long_name": "attractor index, by decreasing amplitude"}),
-            "state": ("state", np.array([f"{p}{m}_{n}" for p in ("q", "dq")
-                                         for m, n in options.modes][:2 * K]),
-                      {"units": "1",
-                       "long_name": "state component: q (m) or dq/dt (m s-1) of mode (m, n)"}),
+            **opt.mode_coords(options.modes),
         })
         return xr.Dataset({k: xr.Variable(*v) for k, v in data.items()}, coords=coords,
                           attrs=dict(raw.attrs))

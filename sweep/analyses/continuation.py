@@ -5,25 +5,18 @@ pseudo-arclength (:func:`model.continuation.continue_orbits`) in one parameter, 
 ``P0``, from ``start`` to ``stop``; the other forcing parameters (``P0`` or ``Omega``, and
 ``c``) come from the grid, and the continued one must not be a grid key.
 
-Option table ``[continuation]``:
-
-``parameter`` (required)
-    ``"Omega"`` (rad/s) or ``"P0"`` (Pa).
-``start``, ``stop`` (required)
-    The range; the branch starts at ``start`` from rest (a unique small response there:
-    ``P0 = 0``, or ``Omega`` away from resonance).
-``modes``, ``prestretch``
-    As everywhere (default ``[[1, 0]]``, ``"numeric"``).
-``max_points`` (default 400), ``ds_max`` (default 0.1), ``steps`` (default 128)
-    Length of the ``point`` dimension, largest arclength step (scaled unknowns: the whole
-    parameter range is 1, 0.05 m of displacement is 1) and RK4 steps per forcing period.
+Options: :attr:`ContinuationAnalysis.OPTIONS` (``docs/options.md``); the branch starts at
+``start`` from rest (a unique small response there: ``P0 = 0``, or ``Omega`` away from
+resonance).
 
 Outputs (a task's branches differ in length: every ``point`` array is padded with NaN,
 ``stable`` and ``point_type`` with -1):
 
-* ``<parameter>`` (``point``): the continued parameter's value, the variable is named
-  after it (``Omega`` in rad/s or ``P0`` in Pa; the dataset attribute
-  ``continued_parameter`` names it too);
+* ``<parameter>`` (``point``): the continued parameter's value, a coordinate named after
+  it (``Omega`` in rad/s or ``P0`` in Pa; the dataset attribute ``continued_parameter``
+  names it too);
+* ``modal_coordinate``, ``modal_velocity`` (``point``, ``mode``): the state on the
+  stroboscopic section ``t = 0 mod 2 pi / Omega`` (the paper's ``A_mn`` axes);
 * ``amplitude`` (``point``): max over one period of ``|w(0.5 Re, 0, t)|`` (m);
 * ``stable`` (``point``, int8): 1 stable, 0 unstable (and at located bifurcation points);
 * ``point_type`` (``point``, int8): 0 regular, 1 fold (saddle-node), 2 period doubling,
@@ -41,8 +34,8 @@ parameter (``c``, or the forcing parameter not continued) goes from ``start`` to
 (``curve_point``, ``max_points`` long, NaN padded) and ``cusp_<second>``,
 ``cusp_<parameter>`` (``cusp``, :data:`MAX_CUSPS` long, NaN padded).
 
-Fold loci versus damping by extrapolation (without ``fold_curve``): put ``c`` in the grid (a dense list).  When ``c`` has
-three or more values and ``parameter = "P0"``, :meth:`ContinuationAnalysis.derived` adds,
+Fold loci versus damping by extrapolation (without ``fold_curve``): put ``c`` in the grid
+(a dense list).  When ``c`` has three or more values and ``parameter = "P0"``, :meth:`ContinuationAnalysis.derived` adds,
 per combination of the other grid keys, the cusp where the two folds merge
 (:func:`model.continuation.cusp_from_folds`): ``cusp_c`` (N s/m^3) and ``cusp_value``
 (Pa).  The status is ``ok`` when the branch reached ``stop``, ``not_converged`` otherwise
@@ -108,11 +101,25 @@ class ContinuationAnalysis(Analysis):
     """Pseudo-arclength continuation of periodic responses in Omega or P0 (Figs. 14-17)."""
 
     name = "continuation"
+    #: The option table ``[continuation]``: key -> description (docs/options.md).
+    OPTIONS = {
+        "parameter": "Omega | P0 (required): the continued forcing parameter, not a grid key; the "
+                     "other forcing keys must be grid keys",
+        "start": "start of the range (required; rad/s or Pa): the branch starts there from rest",
+        "stop": "end of the range (required)",
+        "modes": "list of [m, n] pairs (default [[1, 0]])",
+        "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
+        "max_points": "length of the point dimension: most points on a branch (default 400)",
+        "ds_max": "largest arclength step in scaled unknowns: the whole parameter range is 1, 0.05 m "
+                  "of displacement is 1 (default 0.1)",
+        "steps": "RK4 steps per forcing period (default 128)",
+        "fold_curve": "{parameter, start, stop}: follow the first saddle-node in a second parameter "
+                      "(c, or the forcing parameter not continued) through its cusps (default none)",
+    }
 
     def parse_options(self, table, grid, membrane):
         s = self.name
-        check_keys(table, s, ("parameter", "start", "stop", "modes", "prestretch", "max_points", "ds_max",
-                              "steps", "fold_curve"))
+        check_keys(table, s, tuple(self.OPTIONS))
         parameter = opt.forcing_parameter(table, s, grid, "is continued")
         low = 0.0
         start = opt.number(table, s, "start", low=low, low_open=parameter == "Omega")

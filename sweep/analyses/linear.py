@@ -2,9 +2,9 @@
 
 Per grid point and mode (m, n): the converged Galerkin frequency of Eq. (25)
 (``omega``), Eq. (28) (``omega_approx``) and the Eq. (29) bound (``omega_bound``).
-Option table ``[linear]``: ``modes`` (list of [m, n], default [[1, 0]]), ``prestretch``
-(default numeric) and ``basis`` (Bessel functions per wave number; default adaptive,
-converged to 1e-6, see :func:`model.linear.galerkin_frequencies`).
+Options: :attr:`LinearAnalysis.OPTIONS` (``docs/options.md``).  A task whose frequency is
+not below its Eq. 29 bound, or whose adaptive basis did not converge, is failed (the reason
+in ``message``).
 """
 
 from __future__ import annotations
@@ -32,9 +32,16 @@ class LinearAnalysis(Analysis):
     """Linear frequencies omega_mn by Galerkin (Eq. 25), Eq. (28) and Eq. (29)."""
 
     name = "linear"
+    #: The option table ``[linear]``: key -> description (docs/options.md).
+    OPTIONS = {
+        "modes": "list of [m, n] pairs (default [[1, 0]])",
+        "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
+        "basis": "Bessel functions per wave number n in the Galerkin basis (default: adaptive, doubled "
+                 "from 32 until the frequencies change by less than 2e-6, at most 256)",
+    }
 
     def parse_options(self, table, grid, membrane):
-        check_keys(table, self.name, ("modes", "prestretch", "basis"))
+        check_keys(table, self.name, tuple(self.OPTIONS))
         modes = opt.modes(table, self.name)
         basis = table.get("basis")
         if basis is not None:

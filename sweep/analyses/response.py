@@ -4,21 +4,7 @@ Per grid point, :func:`model.response.stepped_sweep` steps one parameter through
 ``values`` upwards, then downwards, each value starting from the previous steady state and
 integrated until the stroboscopic map has settled (criterion in :mod:`model.response`).
 
-Option table ``[response]``:
-
-``parameter`` (required)
-    ``"Omega"`` (rad/s) or ``"P0"`` (Pa); it must not be a grid key, and the other forcing
-    parameters (``P0`` or ``Omega``, and ``c``) must be.
-``values`` (required)
-    ``{start, stop, num}``: the swept values (a dimension named after the parameter).
-``modes``, ``prestretch``
-    As everywhere (default ``[[1, 0]]``, ``"numeric"``).
-``steps`` (128), ``tol`` (1e-6), ``consecutive`` (20), ``max_periods`` (30000)
-    RK4 steps per period and the convergence criterion: relative stroboscopic residual
-    below ``tol`` for ``consecutive`` periods in a row, at most ``max_periods`` periods.
-``refine_jumps`` (false)
-    Locate each jump to 0.1 % by an adaptive brute-force march
-    (:func:`model.response.refine_jumps`): the cross-check of the continuation's folds.
+Options: :attr:`ResponseAnalysis.OPTIONS` (``docs/options.md``).
 
 Outputs over (``<parameter>``, ``direction`` = up, down): ``amplitude`` (m, max over one
 period of ``|w(0.5 Re, 0, t)|``), ``converged`` (int8 1/0) and ``periods`` (integrated per
@@ -67,11 +53,23 @@ class ResponseAnalysis(Analysis):
     """Brute-force stepped sweeps of the forced ROM, up and down."""
 
     name = "response"
+    #: The option table ``[response]``: key -> description (docs/options.md).
+    OPTIONS = {
+        "parameter": "Omega | P0 (required): the swept forcing parameter, not a grid key; the other "
+                     "forcing keys (P0 or Omega, and c) must be grid keys",
+        "values": "{start, stop, num} (required): the swept values (rad/s or Pa)",
+        "modes": "list of [m, n] pairs (default [[1, 0]])",
+        "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
+        "steps": "RK4 steps per forcing period (default 128)",
+        "tol": "relative stroboscopic residual that counts as settled (default 1e-6)",
+        "consecutive": "periods in a row below tol to accept a steady state (default 20)",
+        "max_periods": "periods before a value is declared not converged (default 30000)",
+        "refine_jumps": "true: locate each jump to 0.1 % by an adaptive brute-force march (default false)",
+    }
 
     def parse_options(self, table, grid, membrane):
         s = self.name
-        check_keys(table, s, ("parameter", "values", "modes", "prestretch", "steps", "tol", "consecutive",
-                              "max_periods", "refine_jumps"))
+        check_keys(table, s, tuple(self.OPTIONS))
         parameter = opt.forcing_parameter(table, s, grid, "is swept by the analysis")
         values = opt.linspace(table, s, "values", low=0.0, low_open=parameter == "Omega", max_num=10_000)
         return ResponseOptions(

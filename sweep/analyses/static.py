@@ -2,9 +2,7 @@
 
 Per grid point: the deformed radius ``r_o``, the principal stresses ``sigma_1``,
 ``sigma_2`` on a common radial coordinate ``rho`` (NaN where ``rho < Ro``), and the edge
-traction of Eq. (16).  Option table ``[static]``: ``prestretch`` (analytic | numeric |
-fit, default numeric) and ``rho = {start, stop, num}`` (m; default from the smallest
-inner radius of the grid to ``Re``, 201 points).
+traction of Eq. (16).  Options: :attr:`StaticAnalysis.OPTIONS` (``docs/options.md``).
 """
 
 from __future__ import annotations
@@ -33,9 +31,15 @@ class StaticAnalysis(Analysis):
     """Static pre-stretch: ``r_o(rho)``, ``sigma_1``, ``sigma_2`` and the edge traction."""
 
     name = "static"
+    #: The option table ``[static]``: key -> description (docs/options.md).
+    OPTIONS = {
+        "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
+        "rho": "{start, stop, num}: undeformed radii of the profiles (m; default from the smallest "
+               "inner radius of the grid to Re, 201 points)",
+    }
 
     def parse_options(self, table, grid, membrane):
-        check_keys(table, self.name, ("prestretch", "rho"))
+        check_keys(table, self.name, tuple(self.OPTIONS))
         re = membrane.Re
         default = {"start": float(np.min(grid["delta_o"])) * re, "stop": re, "num": 201}
         rho = opt.linspace(table, self.name, "rho", default, low=0.0, low_open=True)
