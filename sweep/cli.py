@@ -34,6 +34,12 @@ def _error(message: str, details: str = "") -> None:
     print(f"error: {message}", file=sys.stderr)
 
 
+def _job_error(path, exc: JobError) -> None:
+    """One ``error:`` line per problem of a job file."""
+    for line in str(exc).splitlines():
+        _error(f"{path}: {line}")
+
+
 def _output(args: argparse.Namespace, job: Job) -> Path:
     return Path(args.output) if args.output else Path(f"{job.name}.nc")
 
@@ -55,7 +61,7 @@ def _run(args: argparse.Namespace) -> int:
     except (JobError, RunError) as exc:
         if comm.rank == 0:
             if isinstance(exc, JobError):
-                _error(f"{args.job}: {exc}")
+                _job_error(args.job, exc)
             else:
                 _error(exc.message, exc.details)
             sys.stderr.flush()
@@ -265,7 +271,7 @@ def main(argv: list[str] | None = None) -> int:
         print("\ninterrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     except JobError as exc:
-        _error(f"{getattr(args, 'job', None) or args.out}: {exc}")
+        _job_error(getattr(args, "job", None) or args.out, exc)
         return EXIT_INVALID
     except RunError as exc:
         _error(exc.message, exc.details)

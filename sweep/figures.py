@@ -24,8 +24,9 @@ SYMBOLS = {"delta": r"$\delta$", "delta_o": r"$\delta_o$", "Omega": r"$\Omega$",
 
 
 def point_label(sel) -> str:
-    """``"$\\delta$ = 1.1, $\\Omega$ = 33.5"`` for a dict of grid values."""
-    return ", ".join(f"{SYMBOLS.get(k, k)} = {float(v):g}" for k, v in sel.items())
+    """``"$\\delta$ = 1.1, $\\Omega$ = 33.5 rad/s"`` for a dict of grid values (with units)."""
+    return ", ".join(f"{SYMBOLS.get(k, k)} = {float(v):g}" + (f" {GRID_UNITS[k]}" if GRID_UNITS.get(k) else "")
+                     for k, v in sel.items())
 
 
 #: The house style, applied by :func:`draw` (a style file given to it comes on top).
@@ -34,6 +35,7 @@ HOUSE_STYLE = {"figure.dpi": 120, "axes.grid": True, "grid.alpha": 0.3, "font.si
 #: Output formats of :func:`draw`.
 FORMATS = ("png", "pdf", "svg")
 _OUTPUT = contextvars.ContextVar("figure_output", default=("png", None))
+_COLLECT = contextvars.ContextVar("figure_collector", default=None)
 
 
 def pyplot():
@@ -80,11 +82,48 @@ def draw(analysis, ds, outdir, *, fmt: str = "png", dpi: float | None = None, st
         _OUTPUT.reset(token)
 
 
-def save_figure(fig, outdir, name, dpi: float | None = None) -> Path:
-    """Save ``fig`` as ``outdir/name`` in the format of :func:`draw` (the suffix of ``name``
-    is replaced), close it, return the path.  ``dpi`` is this figure's default resolution."""
+def make(analysis, ds, style=None) -> dict:
+    """The standard figures of a result as matplotlib ``Figure`` objects, nothing written.
+
+    Parameters
+    ----------
+    analysis : sweep.analyses.base.Analysis
+        The analysis that wrote ``ds``.
+    ds : xarray.Dataset
+        The result.
+    style : str or path, optional
+        A matplotlib style on top of the house style (applied while drawing).
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        By file stem (``"bifurcation_P0"``, ``"backbone"``, ...), for the caller to adjust,
+        show or save; the caller's ``rcParams`` and backend are left alone.
+    """
     import matplotlib.pyplot as plt
 
+    figures: dict = {}
+    token = _COLLECT.set(figures)
+    try:
+        with plt.rc_context(HOUSE_STYLE):
+            if style is not None:
+                plt.style.use(style)
+            analysis.figures(ds, Path("."))
+    finally:
+        _COLLECT.reset(token)
+    return figures
+
+
+def save_figure(fig, outdir, name, dpi: float | None = None) -> Path:
+    """Save ``fig`` as ``outdir/name`` in the format of :func:`draw` (the suffix of ``name``
+    is replaced), close it, return the path.  ``dpi`` is this figure's default resolution.
+    Under :func:`make` the figure is handed back instead (nothing is written)."""
+    import matplotlib.pyplot as plt
+
+    collected = _COLLECT.get()
+    if collected is not None:
+        collected[Path(name).stem] = fig
+        return Path(name)
     fmt, chosen = _OUTPUT.get()
     path = (Path(outdir) / name).with_suffix("." + fmt)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -264,9 +303,11 @@ def _runs(stable):
     return runs
 
 
-def _draw_branch(ax, x, amp, stable, kind, color, label):
+def _draw_branch(ax, x, amp, stable, kind, color, label, stopped=False):
     ok = np.isfinite(x)
     x, amp, stable, kind = x[ok], amp[ok], stable[ok], kind[ok]
+    if stopped and x.size:  # the branch ended before its range did: mark where
+        ax.plot(x[-1:], amp[-1:] * 1e3, ls="none", marker="X", ms=8, color=color, mec="k")
     first = True
     for i0, i1, st in _runs(stable):
         ax.plot(x[i0:i1 + 1], amp[i0:i1 + 1] * 1e3, color=color, ls="-" if st else "--", lw=1.2,
@@ -304,7 +345,8 @@ def _style_legend(ax):
 
     handles = [Line2D([], [], color="k", ls="-", label="stable"),
                Line2D([], [], color="k", ls="--", label="unstable"),
-               Line2D([], [], color="k", ls="none", marker="o", mfc="white", label="saddle-node")]
+               Line2D([], [], color="k", ls="none", marker="o", mfc="white", label="saddle-node"),
+               Line2D([], [], color="k", ls="none", marker="X", label="branch stopped early")]
     return ax.legend(handles=handles, loc="upper left", fontsize=7)
 
 
@@ -337,7 +379,8 @@ def continuation_figures(ds, outdir) -> list:
             s = dict(sel, **({} if c is None else {"c": c}))
             b = ds.sel(s)
             _draw_branch(ax, b[par].values, b.amplitude.values, b.stable.values, b.point_type.values,
-                         colors[j], None if c is None or many else f"c = {float(c):g} N s/m$^3$")
+                         colors[j], None if c is None or many else f"c = {float(c):g} N s/m$^3$",
+                         stopped="status" in b and int(b.status) in (1, 2))
         if par == "Omega":
             b = ds.sel(sel)
             _zoom_omega(ax, b[par].values.ravel(), b.amplitude.values.ravel())

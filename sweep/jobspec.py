@@ -22,7 +22,7 @@ import numpy as np
 
 from model.params import Loading, Membrane, ParameterError, parameter_info
 from sweep import analyses
-from sweep.analyses.base import GRID_KEYS, MISSING, Analysis, JobError, Point, check_keys
+from sweep.analyses.base import GRID_KEYS, MISSING, Analysis, JobError, JobErrors, Point, check_keys
 from sweep.grid import TaskLayout, default_chunk
 
 #: Keys of the ``[membrane]`` table (the grid sets delta and delta_o).
@@ -127,16 +127,28 @@ def parse_job(text: str, source: str = "<job>") -> Job:
     Raises
     ------
     JobError
-        At the first problem, naming the key, the value and what is allowed.
+        Naming the key, the value and what is allowed; :class:`JobErrors` (one line per
+        problem) when there are several.  A malformed file, a missing ``[job]`` table or an
+        unknown analysis stop the validation at once.
     """
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise JobError("job file", source, f"TOML syntax is required: {exc}") from None
 
+    errors: list[JobError] = []
+
+    def checked(validate, *args, default=None):
+        """``validate(*args)``, or ``default`` with its JobError recorded."""
+        try:
+            return validate(*args)
+        except JobError as exc:
+            errors.append(exc)
+            return default
+
     job = _table(doc, "job", required=True)
-    check_keys(job, "job", _JOB_KEYS)
-    name = _job_name(job.get("name", MISSING))
+    checked(check_keys, job, "job", _JOB_KEYS)
+    name = checked(_job_name, job.get("name", MISSING))
     analysis_name = _string("job.analysis", job.get("analysis", MISSING))
     analysis = analyses.get(analysis_name)
 
@@ -144,24 +156,31 @@ def parse_job(text: str, source: str = "<job>") -> Job:
     for key, value in doc.items():
         if key not in tables:
             allowed = ", ".join(f"[{t}]" for t in tables)
-            raise JobError(key, value, f"unknown table; the tables are {allowed}")
+            errors.append(JobError(key, value, f"unknown table; the tables are {allowed}"))
 
-    membrane = _membrane(_table(doc, "membrane", required=False))
-    grid_table = _table(doc, "grid", required=True)
-    grid = _grid({k: v for k, v in grid_table.items() if k != "cases"})
-    cases = _cases(grid_table["cases"], grid) if "cases" in grid_table else ()
-    for key in analysis.required_grid:
-        if key not in grid:
-            raise JobError(f"grid.{key}", MISSING,
-                           f"analysis {analysis_name!r} needs grid keys "
-                           + ", ".join(analysis.required_grid))
-    options = analysis.parse_options(_table(doc, analysis_name, required=False), grid, membrane)
+    membrane = checked(lambda: _membrane(_table(doc, "membrane", required=False)))
+    grid_table = checked(lambda: _table(doc, "grid", required=True))
+    grid = None if grid_table is None else checked(lambda: _grid({k: v for k, v in grid_table.items()
+                                                                   if k != "cases"}))
+    cases = ()
+    if grid is not None:
+        cases = checked(lambda: _cases(grid_table["cases"], grid) if "cases" in grid_table else (), default=())
+        for key in analysis.required_grid:
+            if key not in grid:
+                errors.append(JobError(f"grid.{key}", MISSING, f"analysis {analysis_name!r} needs grid keys "
+                                       + ", ".join(analysis.required_grid)))
+    options = None
+    if grid is not None and membrane is not None and all(key in grid for key in analysis.required_grid):
+        options = checked(lambda: analysis.parse_options(_table(doc, analysis_name, required=False), grid,
+                                                         membrane))
+    chunk = checked(lambda: _integer("job.chunk", job["chunk"], 1, "an integer > 0 (tasks per chunk)")
+                    if "chunk" in job else None)
+    if errors:
+        raise errors[0] if len(errors) == 1 else JobErrors(errors)
 
     n_subtasks = analysis.n_subtasks(options)
     n_tasks = math.prod(len(v) for v in grid.values()) * n_subtasks
-    chunk = (_integer("job.chunk", job["chunk"], 1, "an integer > 0 (tasks per chunk)")
-             if "chunk" in job else default_chunk(n_tasks))
-    layout = TaskLayout(tuple(grid), tuple(grid.values()), n_subtasks, chunk, cases)
+    layout = TaskLayout(tuple(grid), tuple(grid.values()), n_subtasks, chunk or default_chunk(n_tasks), cases)
     return Job(name, analysis_name, analysis, options, membrane, layout, text)
 
 

@@ -176,7 +176,7 @@ def test_bad_job_run_exits_2_with_message(capsys, tmp_path, kind):
     path.write_text(job_text(a=(old, new)))
     code, out, err = run(capsys, "run", path, "-o", tmp_path / "bad.nc")
     assert code == 2
-    assert err.startswith(f"error: {path}: ") and err.count("\n") == 1
+    assert all(line.startswith(f"error: {path}: ") for line in err.splitlines())  # no traceback
     for text in expected[1:] if kind == "malformed TOML" else expected:
         assert text in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"]
@@ -351,6 +351,9 @@ def test_figures_in_vector_formats_leave_rcparams_alone(capsys, tmp_path, fmt):
     assert out.split() == [str(p) for p in written] and all(p.stat().st_size > 1000 for p in written)
     paths = figures.draw(analyses.get("linear"), _linear_result(), tmp_path / "api", fmt=fmt)
     assert paths and all(p.suffix == f".{fmt}" and p.stat().st_size > 1000 for p in paths)
+    made = figures.make(analyses.get("linear"), _linear_result())
+    assert sorted(made) == sorted(p.stem for p in paths)
+    assert all(isinstance(f, matplotlib.figure.Figure) for f in made.values())
     assert dict(matplotlib.rcParams) == before
 
 
@@ -414,3 +417,16 @@ def test_cases_compute_only_the_chosen_grid_points(capsys, tmp_path, monkeypatch
     assert int(skipped.sum()) == 3 and bool(ds["value"].where(skipped).isnull().all())
     assert bool(skipped.sel(delta=1.3).all()) and not bool(skipped.sel(delta=1.5).any())
     assert ds["status"].attrs["flag_meanings"] == "missing ok not_converged failed outside_cases"
+
+
+def test_every_job_file_error_is_reported_at_once(capsys, tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(JOB.replace('name = "good"', 'name = "good"\nnme = 1')
+                       .replace("delta_o = [0.2, 0.3]", "delta_o = [0.2, 1.3]")
+                       .replace("[fake]", "[membrane]\nh = -1.0\n\n[fake]"))
+    code, _, err = run(capsys, "run", path, "-o", tmp_path / "b.nc")
+    assert code == 2
+    lines = err.splitlines()
+    assert len(lines) == 3 and all(line.startswith(f"error: {path}: ") for line in lines)
+    for text in ("job.nme = 1 is invalid", "membrane.h = -1.0 is invalid", "grid.delta_o[1] = 1.3 is invalid"):
+        assert sum(text in line for line in lines) == 1

@@ -58,6 +58,16 @@ class JobError(ValueError):
         super().__init__(f"{key} = {value!r} is invalid: {allowed}")
 
 
+class JobErrors(JobError):
+    """Several problems of one job file, all reported at once (one line each)."""
+
+    def __init__(self, errors: list[JobError]):
+        self.errors = errors
+        first = errors[0]
+        ValueError.__init__(self, "\n".join(str(e) for e in errors))
+        self.key, self.value, self.allowed = first.key, first.value, first.allowed
+
+
 def check_keys(table: Mapping[str, Any], section: str, allowed) -> None:
     """Reject the first key of ``table`` that is not in ``allowed`` (a :class:`JobError`).
 
