@@ -215,10 +215,9 @@ def _fig06(ds, outdir, k) -> Path:
     ax.set(xlabel=r"stretch ratio $\delta$", ylabel=r"$\omega_{10}$ (rad/s)", title="(a) m = 1, n = 0; dashed: Eq. 29")
     if ax.lines:
         ax.legend()
-    import tomllib
 
-    table = tomllib.loads(ds.attrs.get("job_file", "")).get("membrane", {})
-    mem = Membrane(**{key: float(v) for key, v in table.items() if key in ("C1", "h", "Gamma", "Re")})
+    mem = Membrane(**{key: float(ds.attrs[f"membrane_{key}"]) for key in ("C1", "h", "Gamma", "Re")
+                      if f"membrane_{key}" in ds.attrs})
     fine = np.linspace(0.05, 0.9, 60)
     bx.plot(fine, [frequency_bound(mem, bessel_roots(0, d, 1)[0]) for d in fine], "k-", lw=1.2, label="Eq. 29")
     bound = ds.omega_bound.isel(mode=k)

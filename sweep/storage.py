@@ -594,7 +594,7 @@ def c_order_chunks(shape: tuple[int, ...], itemsize: int, target: int = 2**20) -
 
 def _stream(tmp: Path, job: Job, logs: partlog.Logs, attrs: dict, report: CollectReport) -> None:
     """Write the result of a raw-layout analysis window by window (bounded memory); sets
-    ``report.tasks_completed`` and the attribute ``tasks_completed``."""
+    ``report.tasks_completed``."""
     import netCDF4
 
     layout, analysis = job.layout, job.analysis
@@ -668,7 +668,6 @@ def _stream(tmp: Path, job: Job, logs: partlog.Logs, attrs: dict, report: Collec
                         values = buf[name][lo:lo + size]
                         var[box] = values.reshape(*extent, *values.shape[1:])
         report.tasks_completed = logs.tasks
-        nc.setncattr("tasks_completed", logs.tasks)
 
 
 def collect(out: Path, *, lock_held: bool = False, break_lock: bool = False) -> CollectReport:
@@ -712,7 +711,7 @@ def _collect(out: Path, parts: Path, manifest: dict) -> CollectReport:
         stale.unlink(missing_ok=True)
     logs = part_logs(job, parts)
     report = CollectReport(out, 0, job.layout.n_tasks)
-    attrs = _attributes(job, parts)
+    attrs, run_attrs = _attributes(job, parts)
 
     def write(tmp: Path) -> None:
         if job.analysis.assemble is None:
@@ -723,18 +722,20 @@ def _collect(out: Path, parts: Path, manifest: dict) -> CollectReport:
                 extra = xr.Dataset(derived)
                 encoding = {k: v for k, v in _encoding(extra).items() if k in derived}
                 extra.to_netcdf(tmp, mode="a", engine="netcdf4", encoding=encoding)
+            _write_run_group(tmp, {**run_attrs, "tasks_completed": report.tasks_completed})
             return
         raw, report.tasks_completed = merge(job, parts, logs)
         _count(report, raw["status"].values.ravel(), raw["message"].values.ravel())
         ds = job.analysis.assemble(raw, job.options).set_coords(
             [c for c in job.analysis.coordinate_variables(job.options) if c in raw])
-        ds.attrs.update(attrs, tasks_completed=report.tasks_completed)
+        ds.attrs.update(attrs)
         for name, var in ds.variables.items():
             lacking = [a for a in ("units", "long_name") if a not in var.attrs and name != "message"]
             if lacking:
                 report.notes.append(f"analysis {job.analysis_name!r}: variable {name!r} has no "
                                     + " or ".join(lacking))
         ds.to_netcdf(tmp, engine="netcdf4", encoding=_encoding(ds))
+        _write_run_group(tmp, {**run_attrs, "tasks_completed": report.tasks_completed})
 
     try:
         _replace_atomically(out, write)
@@ -758,9 +759,21 @@ def _count(report: CollectReport, status: np.ndarray, message: np.ndarray) -> No
         report.reasons[(int(status[i]), str(message[i]))] += 1
 
 
-def _attributes(job: Job, parts: Path) -> dict:
-    """Global attributes of a result: CF, job, provenance of every run (``tasks_completed``
-    is added when the parts have been read)."""
+#: The netCDF group holding the attributes of the run(s) that wrote a result.
+RUN_GROUP = "run"
+
+
+def _attributes(job: Job, parts: Path) -> tuple[dict, dict]:
+    """The global attributes of a result, and those of its ``run`` group.
+
+    The global ones are what results of one analysis computed by the same code on the same
+    membrane share (so that ``xarray.combine_by_coords`` and ``open_mfdataset`` combine runs
+    over different grid values with their defaults): CF conventions, the analysis and its
+    attributes, the package version and source hash, the membrane constants.  What is
+    particular to a run (job file, history, dates, task counts, git commit, library
+    versions) goes to the group ``run`` (:func:`run_attributes`; ``tasks_completed`` is
+    added when the parts have been read).
+    """
     runs = read_runs(parts)
     last = runs[-1]["provenance"] if runs else provenance.provenance(job.analysis)
     history = [f"{r['started']}: run {r['run']} ({'chunks ' + r['chunks'] if r.get('chunks', 'all') != 'all' else 'all chunks'})"
@@ -768,26 +781,60 @@ def _attributes(job: Job, parts: Path) -> dict:
                f"{provenance.describe(r['provenance'])}"
                + (f"; resumed with different code: {'; '.join(r['code_changed'])}" if r.get("code_changed") else "")
                for r in runs]
-    attrs = {
+    shared = {
         "Conventions": "CF-1.8",
-        "title": f"membrane-sweep job {job.name!r}, analysis {job.analysis_name!r}",
-        "source": provenance.describe(last),
-        "history": "\n".join(history),
-        "job_name": job.name,
+        "title": f"membrane-sweep results of the {job.analysis_name} analysis",
+        "source": f"membrane-sweep {last['package_version']}, source sha256 {last['source_sha256'][:12]}",
         "analysis": job.analysis_name,
-        "job_file": job.text,
-        "job_sha256": job.sha256,
         "software": "membrane-sweep",
         "software_version": last["package_version"],
         "source_sha256": last["source_sha256"],
+        **{f"membrane_{k}": getattr(job.membrane, k) for k in ("C1", "h", "Gamma", "Re")},
+        **job.analysis.attributes(job.options),
+    }
+    run = {
+        "job_name": job.name,
+        "job_file": job.text,
+        "job_sha256": job.sha256,
+        "history": "\n".join(history),
+        "provenance": provenance.describe(last),
         "git_commit": last.get("git_commit") or "unknown",
         "library_versions": json.dumps(last["versions"]),
         "code_changed_during_run": int(any(r.get("code_changed") for r in runs)),
         "tasks_total": job.layout.n_tasks,
         "date_created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
     }
-    attrs.update(job.analysis.attributes(job.options))
-    return attrs
+    return shared, run
+
+
+def _write_run_group(path: Path, attrs: dict) -> None:
+    import netCDF4
+
+    with netCDF4.Dataset(path, "a") as nc:
+        nc.createGroup(RUN_GROUP).setncatts(attrs)
+
+
+def run_attributes(path: Path) -> dict:
+    """The attributes of the run(s) that wrote the result ``path`` (its ``run`` group):
+    ``job_name``, ``job_file``, ``job_sha256``, ``history``, ``date_created``,
+    ``tasks_total``, ``tasks_completed``, ``git_commit``, ``library_versions``, ...
+
+    Raises
+    ------
+    RunError
+        If ``path`` is not a readable result of this package.
+    """
+    import netCDF4
+
+    try:
+        with netCDF4.Dataset(path) as nc:
+            if RUN_GROUP not in nc.groups:
+                raise RunError(f"{path} is not a membrane-sweep result (no '{RUN_GROUP}' group)")
+            group = nc.groups[RUN_GROUP]
+            return {a: group.getncattr(a) for a in group.ncattrs()}
+    except OSError as exc:
+        raise RunError(f"{path} is not a readable NetCDF result ({type(exc).__name__}); give the "
+                       "output file of a run (OUT.nc), not a job file") from None
 
 
 def _encoding(ds: xr.Dataset) -> dict[str, dict]:
@@ -843,18 +890,17 @@ def describe_status(out: Path) -> str:
         return "\n".join(lines + [f"rejected part: {p}" for p in logs.problems()])
     if not out.exists():
         raise RunError(f"no run at {out}: neither {out} nor {parts}/ exists")
+    run = run_attributes(out)
     try:
         with xr.open_dataset(out, engine="netcdf4") as ds:
-            if "tasks_total" not in ds.attrs:
-                raise RunError(f"{out} is not a membrane-sweep result (no tasks_total attribute)")
             counts = Counter(ds["status"].values.ravel().tolist()) if "status" in ds else Counter()
             reasons = Counter()
             if "message" in ds:
                 for s, msg in zip(ds["status"].values.ravel(), ds["message"].values.ravel()):
                     if s not in (STATUS_OK, STATUS_MISSING, STATUS_SKIPPED):
                         reasons[(int(s), str(msg))] += 1
-            return (f"{ds.attrs['job_name']} ({ds.attrs['analysis']}): {ds.attrs['tasks_completed']} / "
-                    f"{ds.attrs['tasks_total']} tasks completed ({summarize(counts, reasons)}); "
+            return (f"{run['job_name']} ({ds.attrs['analysis']}): {run['tasks_completed']} / "
+                    f"{run['tasks_total']} tasks completed ({summarize(counts, reasons)}); "
                     f"{parts}/ deleted")
     except (OSError, ValueError) as exc:
         raise RunError(f"{out} is not a readable NetCDF result ({type(exc).__name__}); give the "

@@ -19,6 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from model.continuation import stable_amplitudes_at
+from sweep.errors import RunError
+from sweep.storage import run_attributes
 
 from .reference import TABLE1, TABLE2, TOL_AN, TOL_APP, TOL_FEM
 
@@ -314,6 +316,10 @@ def section_provenance(results: Path) -> list[str]:
     for path in sorted(results.glob("*.nc")):
         with xr.open_dataset(path) as ds:
             attrs = dict(ds.attrs)
+        try:
+            attrs.update(run_attributes(path))
+        except RunError:
+            pass  # a result of an earlier version: its run attributes are global
         job = root / path.with_suffix(".toml").name
         same = job.exists() and job.read_text() == attrs.get("job_file")
         out.append(f"| `{path.name}` | {'as committed' if same else 'modified'} | "

@@ -8,7 +8,7 @@ import sys
 import pytest
 import xarray as xr
 
-from sweep import analyses, cli
+from sweep import analyses, cli, storage
 from sweep.progress import Progress, format_duration
 from jobfiles import BAD, EXTRA, GOOD, job_text
 
@@ -38,10 +38,7 @@ def run(capsys, *argv):
 
 def data(path):
     with xr.open_dataset(path) as ds:
-        ds = ds.load()
-    for run_dependent in ("date_created", "history"):
-        del ds.attrs[run_dependent]
-    return ds
+        return ds.load()
 
 
 def test_plan_prints_layout_and_computes_nothing(capsys, job, tmp_path):
@@ -60,9 +57,10 @@ def test_run_status_collect(capsys, job, tmp_path):
     assert f"wrote {out_nc}: 6 / 6 tasks: " in out and ", 0 failed; 6 computed by this run on 1 rank(s)" in out
     assert "6 / 6 tasks (100%)" in err and "memory: peak RSS per rank" in err
     first = data(out_nc)
-    assert first.attrs["job_file"] == JOB and first.attrs["analysis"] == "fake"
-    assert first.attrs["tasks_completed"] == 6 and first.attrs["software_version"]
-    assert len(first.attrs["source_sha256"]) == 64 and "numpy" in first.attrs["library_versions"]
+    run_attrs = storage.run_attributes(out_nc)
+    assert run_attrs["job_file"] == JOB and first.attrs["analysis"] == "fake"
+    assert run_attrs["tasks_completed"] == 6 and first.attrs["software_version"]
+    assert len(first.attrs["source_sha256"]) == 64 and "numpy" in run_attrs["library_versions"]
     for name, var in first.variables.items():
         assert var.attrs["long_name"] and (name == "message" or var.attrs["units"])
     assert first["status"].attrs["flag_meanings"] == "missing ok not_converged failed outside_cases"
@@ -230,7 +228,7 @@ def test_figures_errors(capsys, tmp_path):
     code, _, err = run(capsys, "figures", tmp_path / "other.nc")
     assert code == 1 and "is not a membrane-sweep result (no analysis attribute)" in err
     code, _, err = run(capsys, "status", tmp_path / "other.nc")
-    assert code == 1 and "is not a membrane-sweep result (no tasks_total attribute)" in err
+    assert code == 1 and "is not a membrane-sweep result (no 'run' group)" in err
 
 
 def test_resume_and_overwrite_are_exclusive(capsys, job):
@@ -430,3 +428,17 @@ def test_every_job_file_error_is_reported_at_once(capsys, tmp_path):
     assert len(lines) == 3 and all(line.startswith(f"error: {path}: ") for line in lines)
     for text in ("job.nme = 1 is invalid", "membrane.h = -1.0 is invalid", "grid.delta_o[1] = 1.3 is invalid"):
         assert sum(text in line for line in lines) == 1
+
+
+def test_runs_over_disjoint_grid_values_combine_by_coordinates(capsys, tmp_path):
+    parts = []
+    for i, deltas in enumerate(("[1.1, 1.3]", "[1.5, 1.7]")):
+        path = tmp_path / f"part{i}.toml"
+        path.write_text(JOB.replace("delta = {start = 1.1, stop = 1.5, num = 3}", f"delta = {deltas}")
+                           .replace('name = "good"', f'name = "part{i}"'))
+        assert run(capsys, "run", path, "-o", tmp_path / f"part{i}.nc")[0] == 0
+        parts.append(data(tmp_path / f"part{i}.nc"))
+    combined = xr.combine_by_coords(parts)
+    assert list(combined.delta.values) == [1.1, 1.3, 1.5, 1.7]
+    assert combined.attrs == parts[0].attrs
+    xr.testing.assert_equal(combined.value.sel(delta=[1.5, 1.7]), parts[1].value)
