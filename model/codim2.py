@@ -8,7 +8,7 @@ system (AUTO-07p's fold continuation, ISW = 2, here in the standard rather than 
 minimally augmented form)::
 
     P(y; p, q) - y = 0                 (2K equations)
-    det(S (Phi - I) S^-1) = 0          (1 equation; Phi = dP/dy, S of state_scale)
+    det(Phi - I) = 0                   (1 equation; Phi = dP/dy)
 
 in the unknowns ``(y, p, q)``, followed by pseudo-arclength continuation in the scaled
 unknowns ``(S y / L, p / span_p, q / span_q)``.  Its Jacobian is formed by central
@@ -113,7 +113,7 @@ class _FoldSystem:
             x = x + dx
             if not np.all(np.isfinite(x)):
                 return None
-            if np.linalg.norm(dx) < tol:
+            if np.linalg.norm(dx) < tol and np.linalg.norm(r) < 1e3 * tol:
                 return x, self.jacobian(x)
         return None
 
@@ -140,9 +140,9 @@ def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, s
 
     The curve starts at the first fold of the one-parameter branch in ``parameter`` over
     ``p_range`` at ``second = start`` (:func:`model.continuation.continue_orbits`), and
-    is followed towards ``stop``; it ends when ``second`` leaves ``[start, stop]`` (on
-    the far bound, or back at ``start`` after a cusp), after ``max_points`` points, or when
-    the step falls below ``ds_min``.
+    is followed towards ``stop``; it ends at the first point past either end of
+    ``[start, stop]`` (the far end, or back past ``start`` after a cusp), after
+    ``max_points`` points, or when the step falls below ``ds_min``.
 
     Parameters
     ----------
@@ -169,6 +169,8 @@ def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, s
     """
     if parameter == second:
         raise ValueError(f"second = {second!r} is invalid: it must differ from parameter")
+    if not 0 < ds_min <= ds <= ds_max:
+        raise ValueError(f"(ds_min, ds, ds_max) = ({ds_min}, {ds}, {ds_max}) is invalid: need 0 < ds_min <= ds <= ds_max")
     if not (np.isfinite(start) and np.isfinite(stop)) or start == stop:
         raise ValueError(f"(start, stop) = ({start!r}, {stop!r}) is invalid: need two different finite values")
     branch = continue_orbits(fmap.varied(second, start), parameter, *p_range, ds_max=0.3, max_points=max_points)
@@ -201,7 +203,7 @@ def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, s
             return finish(False, f"step size fell below ds_min = {ds_min}")
         x_new, jac = res
         q_new = sys_.unpack(x_new)[2]
-        if t[-1] * t_new[-1] < 0:
+        if t[-1] * t_new[-1] < 0 and len(pts) < max_points - 1:
             cusp = _locate_cusp(sys_, x, t, ds, t[-1], t_new[-1], tol)
             if cusp is not None:
                 _, p_c, q_c = sys_.unpack(cusp)

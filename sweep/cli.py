@@ -54,8 +54,9 @@ def _run(args: argparse.Namespace) -> int:
         # Every rank gets the signal; the runner released the lock on its way out.  Leave
         # without MPI_Abort's notice and without a traceback.
         if comm.rank == 0:
-            print(f"\ninterrupted: the finished chunks are kept in {args.output or 'OUT.nc'}.parts/; "
-                  f"run the same command with --resume to continue", file=sys.stderr)
+            where = f"{args.output}.parts/" if args.output else "the parts directory of the output"
+            print(f"\ninterrupted: the finished chunks are kept in {where}; run the same command with "
+                  "--resume to continue", file=sys.stderr)
             sys.stderr.flush()
         os._exit(EXIT_INTERRUPTED)
     except (JobError, RunError) as exc:
@@ -91,9 +92,13 @@ def _run_on(comm, args: argparse.Namespace) -> int:
         raise JobError(*value)
     job = parse_job(value, args.job)
     stream, bar = progress.open_stream(args.progress) if comm.rank == 0 else (None, False)
-    summary = runner.run(job, _output(args, job), comm, resume=args.resume, overwrite=args.overwrite,
-                         allow_code_change=args.allow_code_change, break_lock=args.break_lock,
-                         piece=args.chunks, progress_stream=stream, progress_bar=bar)
+    try:
+        summary = runner.run(job, _output(args, job), comm, resume=args.resume, overwrite=args.overwrite,
+                             allow_code_change=args.allow_code_change, break_lock=args.break_lock,
+                             piece=args.chunks, progress_stream=stream, progress_bar=bar)
+    finally:
+        if stream is not None and stream is not sys.stderr:
+            stream.close()
     report = summary.report
     if report is None:
         if comm.rank == 0:

@@ -3,7 +3,8 @@
 A job file is TOML with the tables ``[job]``, ``[membrane]`` (optional), ``[grid]`` and
 ``[<analysis>]`` (the analysis' options).  Every problem raises
 :class:`~sweep.analyses.base.JobError` naming the dotted key, the value and what is
-allowed; the first problem found is the one reported.
+allowed; every problem found is reported (a malformed file, a missing ``[job]`` table or
+an unknown analysis stop the validation at once).
 """
 
 from __future__ import annotations

@@ -1,7 +1,8 @@
 """Append-only part logs: the results of finished chunks, one log file per rank and run.
 
-A log is a sequence of records, one per chunk, each written with a single ``write`` call
-and flushed before the next chunk starts::
+A log is a sequence of records, one per chunk, each handed to the operating system with a
+single ``write`` call before the next chunk starts (it survives a killed process; the file
+is synced to disk when the log is closed)::
 
     header  <4s H H q q q q I>  magic b"MSWP", format version, 0, chunk number,
                                 first task, task count, payload length, CRC-32
@@ -102,14 +103,17 @@ class Writer:
             view = view[os.write(self._fd, view):]
 
     def close(self) -> None:
-        """Flush to disk and close."""
+        """Sync to disk and close; a log with no record is removed."""
         if self._fd >= 0:
             os.fsync(self._fd)
+            empty = os.fstat(self._fd).st_size == 0
             os.close(self._fd)
             self._fd = -1
+            if empty:
+                self.path.unlink(missing_ok=True)
 
 
-def scan(path: Path, chunk_size: int, n_tasks: int, problems: list) -> Iterator[Record]:
+def scan(path: Path, chunk_size: int, n_tasks: int, problems: list, fixed_size=None) -> Iterator[Record]:
     """The verified records of one log, in file order; what is wrong goes to ``problems``.
 
     Each record's CRC is checked and its task range compared with the job's chunk layout
@@ -117,6 +121,8 @@ def scan(path: Path, chunk_size: int, n_tasks: int, problems: list) -> Iterator[
     increasing order, so a record out of that order is rejected too.  A rejected record
     is skipped; an unreadable header ends the scan (nothing after it can be located).
     ``problems`` receives ``(chunk or -1, one line naming the file and the offset)``.
+    ``fixed_size(count)``, when given, is the size of the arrays of a record of ``count``
+    tasks: a shorter payload does not hold this analysis' variables.
     """
     size = path.stat().st_size
     last = -1
@@ -133,11 +139,11 @@ def scan(path: Path, chunk_size: int, n_tasks: int, problems: list) -> Iterator[
                 problems.append((-1, f"{path}: unreadable record header at byte {pos}; the rest of the "
                                      "file is ignored and its chunks will be recomputed"))
                 return
-            payload = f.read(length)
-            if len(payload) < length:
+            if length > size - pos - _HEADER.size:
                 problems.append((chunk, f"{path}: chunk {chunk} truncated at byte {pos} (a run killed "
-                                        "while writing); it will be recomputed"))
+                                        "while writing, or a damaged length); it will be recomputed"))
                 return
+            payload = f.read(length)
             zero = _HEADER.pack(magic, version, 0, chunk, start, count, length, 0)
             if zlib.crc32(payload, zlib.crc32(zero)) != crc:
                 problems.append((chunk, f"{path}: chunk {chunk} at byte {pos} fails its checksum "
@@ -146,6 +152,9 @@ def scan(path: Path, chunk_size: int, n_tasks: int, problems: list) -> Iterator[
                 problems.append((-1, f"{path}: record at byte {pos} claims chunk {chunk} with tasks "
                                      f"{start}..{start + count - 1}, which is not that chunk of this job; "
                                      "ignored"))
+            elif fixed_size is not None and length < fixed_size(count):
+                problems.append((chunk, f"{path}: chunk {chunk} at byte {pos} is shorter than the variables of "
+                                        "this analysis (written by other code); it will be recomputed"))
             elif chunk <= last:
                 problems.append((-1, f"{path}: record at byte {pos} (chunk {chunk}) is out of order "
                                      "(a rank writes its chunks in increasing order); ignored"))
@@ -173,8 +182,10 @@ class Logs:
         The job's chunk layout.
     """
 
-    def __init__(self, paths, chunk_size: int, n_tasks: int):
+    def __init__(self, paths, chunk_size: int, n_tasks: int, variables: Sequence | None = None):
         self.paths, self.chunk_size, self.n_tasks = list(paths), chunk_size, n_tasks
+        self.fixed_size = None if variables is None else (
+            lambda count: sum(f[3] for f in _fields(variables, count)))
         self.n_chunks = -(-n_tasks // chunk_size)
         self.done = np.zeros((self.n_chunks + 7) // 8, np.uint8)
         self.tasks = 0
@@ -184,7 +195,7 @@ class Logs:
         self.done[:] = 0
         self.tasks = 0
         self._problems = []
-        streams = [scan(p, self.chunk_size, self.n_tasks, self._problems) for p in self.paths]
+        streams = [scan(p, self.chunk_size, self.n_tasks, self._problems, self.fixed_size) for p in self.paths]
         last = -1
         for rec in heapq.merge(*streams, key=lambda r: r.chunk):
             if rec.chunk == last:
@@ -213,6 +224,9 @@ class Reader:
     """Reads records, keeping each log open once (the records of a collect alternate
     between the ranks' logs).  Use as a context manager."""
 
+    #: Logs kept open at once (the least recently used is closed beyond this).
+    MAX_OPEN = 64
+
     def __init__(self, variables: Sequence):
         self.variables = list(variables)
         self._files: dict[Path, object] = {}
@@ -237,9 +251,12 @@ class Reader:
             Message of the tasks that have one, by offset in the chunk (empty with
             ``only_status``).
         """
-        f = self._files.get(record.path)
+        f = self._files.pop(record.path, None)
         if f is None:
-            f = self._files[record.path] = open(record.path, "rb")
+            if len(self._files) >= self.MAX_OPEN:
+                self._files.pop(next(iter(self._files))).close()
+            f = open(record.path, "rb")
+        self._files[record.path] = f  # most recently used last
         f.seek(record.offset)
         fields = _fields(self.variables, record.task_count)
         if only_status:

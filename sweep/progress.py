@@ -87,18 +87,25 @@ class Progress:
         filled = self.BAR_WIDTH * n // self.total
         return f"[{'#' * filled}{'.' * (self.BAR_WIDTH - filled)}] {text}"
 
+    def _write(self, text: str) -> None:
+        # A progress report is never worth a run: a terminal gone (a closed SSH session, a
+        # hang-up) switches the reports off.
+        if self.stream is None:
+            return
+        try:
+            self.stream.write(text)
+            self.stream.flush()
+        except (OSError, ValueError):
+            self.stream = None
+
     def update(self, done: int) -> None:
         """Report, if the interval has passed, that ``done`` tasks of this run are done."""
         now = time.monotonic()
         if now - self.last < self.interval:
             return
         self.last = now
-        self.stream.write(("\r" + self._line(done) + "\x1b[K") if self.tty
-                          else self._line(done) + "\n")
-        self.stream.flush()
+        self._write(("\r" + self._line(done) + "\x1b[K") if self.tty else self._line(done) + "\n")
 
     def finish(self, done: int) -> None:
         """Final report: ``done`` tasks of this run are done."""
-        self.stream.write(("\r" + self._line(done) + "\x1b[K\n") if self.tty
-                          else self._line(done) + "\n")
-        self.stream.flush()
+        self._write(("\r" + self._line(done) + "\x1b[K\n") if self.tty else self._line(done) + "\n")

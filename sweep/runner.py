@@ -284,8 +284,13 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
                         f"preparing {parts}/")
         _warmup(job, comm)
         layout = job.layout
-        progress = (Progress(layout.n_tasks, plan.done.tasks(layout.chunk, layout.n_tasks), progress_stream,
-                             progress_bar) if comm.rank == 0 and progress_stream is not None else None)
+        total, done = layout.n_tasks, plan.done.tasks(layout.chunk, layout.n_tasks)
+        if piece is not None:  # this piece's chunks only
+            own = np.arange(piece[0] - 1, layout.n_chunks, piece[1])
+            total = int(np.minimum(layout.chunk, layout.n_tasks - own * layout.chunk).sum())
+            done = sum(len(layout.chunk_tasks(int(k))) for k in own if int(k) in plan.done)
+        progress = (Progress(total, done, progress_stream, progress_bar)
+                    if comm.rank == 0 and progress_stream is not None else None)
         start = time.perf_counter()
         computed = _compute(job, storage.log_path(parts, plan.run, comm.rank), plan, comm, progress)
         seconds = time.perf_counter() - start

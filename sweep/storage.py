@@ -171,12 +171,14 @@ class Lock:
         return [whole] if whole.exists() else []
 
     def acquire(self, *, break_lock: bool = False) -> Lock:
-        """Take the lock or raise :class:`RunError` naming its holder."""
+        """Take the lock or raise :class:`RunError` naming its holder.
+
+        The lock file is created first, then the conflicting locks are checked: of two
+        processes starting at once at least one sees the other and backs off.
+        """
         me = {"host": socket.gethostname(), "pid": os.getpid(), "what": self.what,
               "started": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")}
-        for other in self._conflicting():
-            Lock._check_free(other, break_lock)
-        for _ in range(2):
+        for _ in range(3):
             try:
                 fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
             except FileExistsError:
@@ -184,9 +186,19 @@ class Lock:
                 continue
             except OSError as exc:
                 raise file_error(exc, "locking the parts directory") from None
-            with os.fdopen(fd, "w") as f:
-                json.dump(me, f)
+            try:
+                with os.fdopen(fd, "w") as f:
+                    json.dump(me, f)
+            except OSError as exc:
+                self.path.unlink(missing_ok=True)
+                raise file_error(exc, f"writing {self.path}") from None
             self.held = True
+            try:
+                for other in self._conflicting():
+                    Lock._check_free(other, break_lock)
+            except RunError:
+                self.release()
+                raise
             return self
         raise RunError(f"{self.path}: could not take the lock; try again")
 
@@ -198,7 +210,17 @@ class Lock:
         if not path.exists():
             return
         if break_lock or Lock._stale(holder):
-            path.unlink(missing_ok=True)
+            # Rename, then delete: of two processes taking over one stale lock, only one
+            # succeeds, and neither can delete a fresh lock the other just created.
+            aside = path.with_name(f".{path.name}.stale-{os.getpid()}")
+            try:
+                path.rename(aside)
+            except FileNotFoundError:
+                return
+            if Lock.holder(aside) != holder:  # replaced by a fresh lock in between: put it back
+                aside.rename(path)
+                raise RunError(f"{path}: taken by another process; try again")
+            aside.unlink(missing_ok=True)
             return
         piece = f" ({path.name[len(LOCK) + 1:]})" if path.name != LOCK else ""
         raise RunError(
@@ -351,15 +373,17 @@ def prepare(job: Job, out: Path, lock: Lock, *, resume: bool, overwrite: bool,
 
 def _prepare(job, out, parts, lock, resume, overwrite, allow_code_change, break_lock, ranks, piece) -> Plan:
     current = provenance.provenance(job.analysis)
-    started = parts.is_dir() and (parts / MANIFEST).exists()
-    if parts.is_dir() and not started and not _logs(parts) and piece is None:
-        # A directory with no manifest and no results (a run that failed while starting).
-        shutil.rmtree(parts)
+    if parts.is_dir() and piece is None and not any(parts.iterdir()):
+        parts.rmdir()  # left empty by a run that failed while starting
     if parts.exists():
         lock.acquire(break_lock=break_lock)
         if overwrite:
-            lock.release()
-            shutil.rmtree(parts)
+            # Move the directory aside with our lock in it, so that no other run can start
+            # on it while it is deleted.
+            doomed = parts.with_name(f".{parts.name}.deleted-{os.getpid()}")
+            parts.rename(doomed)
+            lock.held = False
+            shutil.rmtree(doomed)
     if overwrite:
         out.unlink(missing_ok=True)
     if not parts.exists() and out.exists():
@@ -374,7 +398,7 @@ def _prepare(job, out, parts, lock, resume, overwrite, allow_code_change, break_
             _write_manifest(parts, {
                 "format": partlog.VERSION, "job_name": job.name, "analysis": job.analysis_name,
                 "job_sha256": job.sha256, "job_text": job.text, "n_tasks": job.layout.n_tasks,
-                "n_chunks": job.layout.n_chunks, "chunk": job.layout.chunk})
+                "n_chunks": job.layout.n_chunks, "chunk": job.layout.chunk, "variables": _layout(job)})
     elif not resume:
         raise RunError(f"{parts}/ holds the parts of an earlier run: add --resume to continue "
                        "it, or --overwrite (or delete the directory) to start again")
@@ -399,7 +423,8 @@ def _prepare(job, out, parts, lock, resume, overwrite, allow_code_change, break_
     if piece is None:
         for tmp in parts.glob(".*.tmp"):
             tmp.unlink()
-    logs = partlog.Logs(_logs(parts), job.layout.chunk, job.layout.n_tasks).scan_all()
+    check_layout(job, manifest, parts)
+    logs = part_logs(job, parts).scan_all()
     notes += logs.problems()
     done = ChunkSet(job.layout.n_chunks, logs.done)
     record = {"started": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
@@ -438,10 +463,25 @@ def read_runs(parts: Path) -> list[dict]:
 # -- reading the parts --------------------------------------------------------------
 
 
+def _layout(job: Job) -> list:
+    """The variables a task stores, as the manifest records them: ``[name, dtype, shape]``."""
+    return [[v.name, np.dtype(v.dtype).str, list(v.shape)] for v in job.analysis.variables(job.options)]
+
+
+def check_layout(job: Job, manifest: dict, parts: Path) -> None:
+    """Refuse to read parts written by code that stores other variables (RunError)."""
+    if manifest.get("variables") is not None and manifest["variables"] != _layout(job):
+        runs = read_runs(parts)
+        commit = runs[-1]["provenance"].get("git_commit") if runs else None
+        raise RunError(f"the parts in {parts}/ were written by code that stores other variables than this "
+                       "code: read them with the code that wrote them"
+                       + (f" (git {commit})" if commit else "") + ", or run the job again with --overwrite")
+
+
 def part_logs(job: Job, parts: Path) -> partlog.Logs:
     """The part logs of a parts directory, to be streamed (:class:`sweep.partlog.Logs`)."""
     try:
-        return partlog.Logs(_logs(parts), job.layout.chunk, job.layout.n_tasks)
+        return partlog.Logs(_logs(parts), job.layout.chunk, job.layout.n_tasks, job.analysis.variables(job.options))
     except OSError as exc:
         raise file_error(exc, "listing the part logs") from None
 
@@ -707,8 +747,11 @@ def collect(out: Path, *, lock_held: bool = False, break_lock: bool = False) -> 
 
 def _collect(out: Path, parts: Path, manifest: dict) -> CollectReport:
     job = parse_job(manifest["job_text"], str(parts / MANIFEST))
+    check_layout(job, manifest, parts)
+    temporary = re.compile(re.escape(f".{out.name}.") + r"\d+\.tmp")
     for stale in out.parent.glob(f".{out.name}.*.tmp"):
-        stale.unlink(missing_ok=True)
+        if temporary.fullmatch(stale.name):
+            stale.unlink(missing_ok=True)
     logs = part_logs(job, parts)
     report = CollectReport(out, 0, job.layout.n_tasks)
     attrs, run_attrs = _attributes(job, parts)
@@ -739,6 +782,8 @@ def _collect(out: Path, parts: Path, manifest: dict) -> CollectReport:
 
     try:
         _replace_atomically(out, write)
+    except RunError:
+        raise
     except OSError as exc:
         raise file_error(exc, f"writing {out}") from None
     except RuntimeError as exc:  # netCDF4 reports a full disk as "NetCDF: HDF error"
@@ -866,6 +911,7 @@ def describe_status(out: Path) -> str:
     if parts.exists():
         m = read_manifest(parts)
         job = parse_job(m["job_text"], str(parts / MANIFEST))
+        check_layout(job, m, parts)
         logs = part_logs(job, parts)
         counts: Counter[int] = Counter()
         reasons: Counter = Counter()

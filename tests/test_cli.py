@@ -17,11 +17,6 @@ import fake_analysis
 JOB = GOOD.replace('analysis = "fake"', 'analysis = "fake"\nchunk = 2')
 
 
-@pytest.fixture(autouse=True)
-def fake_registered(monkeypatch):
-    monkeypatch.setenv(analyses.EXTRA_ENV, EXTRA)
-
-
 @pytest.fixture
 def job(tmp_path):
     path = tmp_path / "job.toml"

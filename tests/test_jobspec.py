@@ -6,18 +6,13 @@ import sys
 
 import numpy as np
 import pytest
-from jobfiles import BAD, EXTRA, GOOD, job_text
+from jobfiles import BAD, GOOD, job_text
 
 from model.params import Loading, Membrane
 from sweep import analyses
 from sweep.analyses.base import JobError
 from sweep.grid import MAX_DEFAULT_CHUNKS, default_chunk
 from sweep.jobspec import load_job, parse_job
-
-@pytest.fixture(autouse=True)
-def fake_registered(monkeypatch):
-    monkeypatch.setenv(analyses.EXTRA_ENV, EXTRA)
-
 
 def test_layout_is_canonical_c_order_with_membrane_defaults():
     job = parse_job(GOOD)

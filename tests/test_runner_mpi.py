@@ -9,18 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sweep import analyses, partlog
+from sweep import partlog
 from sweep.jobspec import parse_job
-from jobfiles import BAD, EXTRA, MPI_JOB, data, job_text, sweep
+from jobfiles import BAD, MPI_JOB, data, job_text, sweep
 
 JOB = MPI_JOB
 
 pytestmark = pytest.mark.mpi
-
-
-@pytest.fixture(autouse=True)
-def fake_registered(monkeypatch):
-    monkeypatch.setenv(analyses.EXTRA_ENV, EXTRA)
 
 
 @pytest.fixture

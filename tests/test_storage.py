@@ -17,15 +17,10 @@ import zlib
 import numpy as np
 import pytest
 import xarray as xr
-from jobfiles import EXTRA, GOOD, MPI_JOB, TESTS, TIMEOUT, data, sweep, sweep_env
+from jobfiles import GOOD, MPI_JOB, TESTS, TIMEOUT, data, sweep, sweep_env
 
-from sweep import analyses, cli, partlog, storage
+from sweep import cli, partlog, storage
 from sweep.launch import find_mpiexec
-
-@pytest.fixture(autouse=True)
-def fake_registered(monkeypatch):
-    monkeypatch.setenv(analyses.EXTRA_ENV, EXTRA)
-
 
 def run(capsys, *argv):
     code = cli.main([str(a) for a in argv])
@@ -407,3 +402,55 @@ def test_pieces_run_side_by_side_and_a_whole_run_waits_for_them(tmp_path):
     assert len({r["run"] for r in storage.read_runs(parts)}) == 3
     assert sweep("collect", "mpi.nc", ranks=0, cwd=tmp_path).returncode == 0
     assert data(tmp_path / "mpi.nc").identical(data(tmp_path / "ref.nc"))
+
+
+def test_a_damaged_length_and_foreign_layouts_are_reported_not_crashed(capsys, job, tmp_path):
+    from sweep.analyses.base import Variable
+
+    variables = [Variable("x", (), (), "f8", "m", "x")]
+    log = tmp_path / "a.log"
+    w = partlog.Writer(log, variables)
+    w.append(0, range(0, 2), np.zeros(2, np.int8), {"x": np.ones(2)}, {})
+    w.close()
+    raw = bytearray(log.read_bytes())
+    head = list(partlog._HEADER.unpack(raw[:partlog._HEADER.size]))
+    head[6] = 2**40                                                  # a flipped high bit of the length
+    (tmp_path / "b.log").write_bytes(partlog._HEADER.pack(*head) + raw[partlog._HEADER.size:])
+    chunks, problems = _chunks_and_problems_of(tmp_path / "b.log", variables)
+    assert chunks == [] and "damaged length" in problems[0]
+    bigger = [Variable("x", ("r",), (4,), "f8", "m", "x")]
+    chunks, problems = _chunks_and_problems_of(log, bigger)          # records of other code
+    assert chunks == [] and "shorter than the variables of this analysis" in problems[0]
+
+    assert run(capsys, "run", job, "-o", tmp_path / "r.nc")[0] == 0
+    manifest = tmp_path / "r.nc.parts" / "manifest.json"
+    m = json.loads(manifest.read_text())
+    m["variables"][0][2] = [7]
+    manifest.write_text(json.dumps(m))
+    code, _, err = run(capsys, "collect", tmp_path / "r.nc")
+    assert code == 1 and "written by code that stores other variables" in err and err.count("\n") == 1
+
+
+def _chunks_and_problems_of(path, variables):
+    logs = partlog.Logs([path], 2, 2, variables)
+    return [r.chunk for r in logs], logs.problems()
+
+
+def test_a_terminal_that_goes_away_does_not_stop_the_progress_or_the_run():
+    from sweep.progress import Progress
+
+    class Gone:
+        def write(self, text):
+            raise OSError(5, "Input/output error")
+
+        def flush(self):
+            pass
+
+        def isatty(self):
+            return True
+
+    progress = Progress(10, 0, Gone())
+    progress.last -= 10
+    progress.update(3)
+    progress.finish(10)
+    assert progress.stream is None

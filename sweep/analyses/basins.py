@@ -250,12 +250,15 @@ class Basins(Analysis):
             for t, idx in enumerate(index):
                 rows = options.tile_rows(t)
                 tile = tl[g][t, :rows.size]
+                if np.all(tile == NOT_COMPUTED):  # a tile not computed (yet): not unclassified
+                    lab[rows] = NOT_COMPUTED
+                    continue
                 lut = np.full(A + 1, -1, np.int32)
                 lut[:idx.size] = np.where(idx < A, idx, -1)
                 lab[rows] = np.where(tile >= 0, lut[np.clip(tile, 0, A)], -1)
             label[g] = lab
             n_att[g] = min(len(merged), A)
-            uncl[g] = float(np.mean(lab < 0))
+            uncl[g] = float(np.mean(lab == -1))
             for r, (att, a_amp) in enumerate(merged[:A]):
                 k = att.period
                 points[g][r, :k] = att.points
@@ -265,7 +268,10 @@ class Basins(Analysis):
                 frac[g][r] = global_integrity_measure(lab, r)
                 proj = att.points[:, [lattice.ix, lattice.iy]]
                 intf[g][r] = integrity_factor(lab, lattice.x, lattice.y, proj, r)
-        status = raw["status"].max("subtask").values if "status" in raw else None
+        status = None
+        if "status" in raw:  # a missing tile makes the point missing, else the worst tile's status
+            st = raw["status"]
+            status = xr.where((st == -1).any("subtask"), -1, st.max("subtask")).astype(np.int8).values
         G = tuple(grid_dims)
         K = len(options.modes)
         data = {

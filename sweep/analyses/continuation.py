@@ -227,21 +227,29 @@ class ContinuationAnalysis(Analysis):
         if not (np.all(np.isfinite(br.state)) and np.all(np.isfinite(br.amplitude))):
             out["status"], out["message"] = STATUS_FAILED, "non-finite periodic response on the branch"
         if options.fold_curve is not None:
-            out.update(self._compute_fold_curve(fmap, options))
+            curve, problem = self._compute_fold_curve(fmap, options)
+            out.update(curve)
+            if problem and out["status"] == STATUS_OK:
+                out["status"], out["message"] = STATUS_NOT_CONVERGED, problem
         return out
 
     @staticmethod
     def _compute_fold_curve(fmap, options):
+        """The fold-curve outputs, and why the curve is incomplete ("" when it is not)."""
         p, (q, q_start, q_stop), n = options.parameter, options.fold_curve, options.max_points
-        curve = continue_folds(fmap, p, q, q_start, q_stop, (options.start, options.stop), max_points=n)
         out = {f"fold_curve_{q}": np.full(n, np.nan), f"fold_curve_{p}": np.full(n, np.nan),
                "fold_curve_amplitude": np.full(n, np.nan), f"cusp_{q}": np.full(MAX_CUSPS, np.nan),
                f"cusp_{p}": np.full(MAX_CUSPS, np.nan)}
-        m, c = curve.p.size, min(len(curve.cusp), MAX_CUSPS)
+        try:
+            curve = continue_folds(fmap, p, q, q_start, q_stop, (options.start, options.stop), max_points=n)
+        except (RuntimeError, ArithmeticError, np.linalg.LinAlgError) as exc:
+            return out, f"fold curve: {type(exc).__name__}: {exc}"
+        m, c = min(curve.p.size, n), min(len(curve.cusp), MAX_CUSPS)
         out[f"fold_curve_{q}"][:m], out[f"fold_curve_{p}"][:m], out["fold_curve_amplitude"][:m] = \
-            curve.q, curve.p, curve.amplitude
+            curve.q[:m], curve.p[:m], curve.amplitude[:m]
         out[f"cusp_{q}"][:c], out[f"cusp_{p}"][:c] = curve.cusp[:c, 0], curve.cusp[:c, 1]
-        return out
+        no_fold = curve.p.size == 0
+        return out, "" if curve.complete or no_fold else f"fold curve: {curve.message}"
 
     def warmup(self, options):
         rom = opt.rom_for(Membrane(), "analytic", options.modes)
