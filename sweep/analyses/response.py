@@ -7,8 +7,9 @@ integrated until the stroboscopic map has settled (criterion in :mod:`model.resp
 Options: :attr:`ResponseAnalysis.OPTIONS` (``docs/options.md``).
 
 Outputs over (``<parameter>``, ``direction`` = up, down): ``amplitude`` (m, max over one
-period of ``|w(0.5 Re, 0, t)|``), ``converged`` (int8 1/0) and ``periods`` (integrated per
-value); ``jump_value`` over (``direction``, ``jump``): the located jumps, NaN padded (all NaN
+period of ``|w(0.5 Re, 0, t)|``), ``converged`` (int8 1/0, flags declared), ``periods``
+(integrated per value) and, over ``mode`` too, ``modal_coordinate`` and ``modal_velocity``: the
+steady state on the stroboscopic section (the paper's ``A_mn`` axes); ``jump_value`` over (``direction``, ``jump``): the located jumps, NaN padded (all NaN
 unless ``refine_jumps``).  The task status is ``not_converged`` if any value did not settle.
 """
 
@@ -83,10 +84,17 @@ class ResponseAnalysis(Analysis):
     def variables(self, options):
         dims = (options.parameter, "direction")
         shape = (options.values[2], 2)
+        K = len(options.modes)
         return [
             Variable("amplitude", dims, shape, "f8", "m",
                      "steady-state max over one period of |w(0.5 Re, 0, t)|"),
-            Variable("converged", dims, shape, "i1", "1", "1 if the steady-state criterion was met", -1),
+            Variable("converged", dims, shape, "i1", "1", "whether the steady-state criterion was met", -1,
+                     {"flag_values": np.array([-1, 0, 1], np.int8),
+                      "flag_meanings": "not_computed not_settled settled"}),
+            Variable("modal_coordinate", (*dims, "mode"), (*shape, K), "f8", "m",
+                     "modal coordinate q_mn of the steady state on the stroboscopic section t = 0 mod 2 pi / Omega"),
+            Variable("modal_velocity", (*dims, "mode"), (*shape, K), "f8", "m s-1",
+                     "modal velocity dq_mn/dt of the steady state on the stroboscopic section"),
             Variable("periods", dims, shape, "i4", "1", "forcing periods integrated at this value", -1),
             Variable("jump_value", ("direction", "jump"), (2, MAX_JUMPS), "f8", GRID_KEYS[options.parameter][0],
                      f"{options.parameter} at which the sweep jumps to another branch (adaptive brute force)"),
@@ -95,6 +103,7 @@ class ResponseAnalysis(Analysis):
     def coords(self, options):
         units, what = GRID_KEYS[options.parameter]
         return {
+            **opt.mode_coords(options.modes),
             options.parameter: ((options.parameter,), options.swept_values, {"units": units, "long_name": what}),
             "direction": (("direction",), np.array(["up", "down"]),
                           {"units": "1", "long_name": "sweep direction of the parameter"}),
@@ -112,7 +121,10 @@ class ResponseAnalysis(Analysis):
         if options.refine_jumps:
             jumps = refine_jumps(fmap, options.parameter, res, max_jumps=MAX_JUMPS, tol=options.tol,
                                  consecutive=options.consecutive, max_periods=options.max_periods)
+        K = len(options.modes)
+        state = res.state.transpose(1, 0, 2)  # (value, direction, 2K)
         out = {"amplitude": res.amplitude.T.copy(), "converged": conv.astype(np.int8),
+               "modal_coordinate": state[..., :K].copy(), "modal_velocity": state[..., K:].copy(),
                "periods": res.periods.T.astype(np.int32), "jump_value": jumps,
                "status": STATUS_OK if conv.all() else STATUS_NOT_CONVERGED}
         if not conv.all():
