@@ -114,9 +114,7 @@ def _galerkin(prestretch, n, count, basis, quad_points):
     m = prestretch.membrane
     rho, wq = gauss_radial(m, quad_points or 4 * basis + 40)
     alpha = bessel_roots(n, m.delta_o, basis)
-    phi, dphi = np.empty((basis, rho.size)), np.empty((basis, rho.size))
-    for k, a in enumerate(alpha):
-        phi[k], dphi[k] = mode_shape(rho, a, n, m.Re, m.delta_o)
+    phi, dphi = mode_shape(rho, alpha, n, m.Re, m.delta_o)  # (basis, points), all roots at once
     # Scale the basis to unit norm for conditioning; undone on the eigenvectors.
     scale = 1.0 / np.sqrt((phi**2 * rho * wq).sum(axis=1))
     phi *= scale[:, None]

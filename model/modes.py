@@ -64,18 +64,18 @@ def bessel_roots(n: int, delta_o: float, count: int) -> np.ndarray:
     return np.array(roots)
 
 
-def shape_constant(alpha: float, n: int, delta_o: float) -> float:
+def shape_constant(alpha, n: int, delta_o: float):
     """``C = Y_n(alpha)/J_n(alpha)`` of Eq. (26), evaluated where it is well conditioned.
 
     At a root of Eq. (27) ``C`` also equals ``Y_n(delta_o alpha)/J_n(delta_o alpha)``.
     For a small hole and large n, ``J_n(alpha)`` is itself close to a zero of ``J_n`` and
     the outer quotient loses all its digits, so the quotient is taken at the edge where
-    ``|J_n|`` is largest relative to ``|Y_n|``.
+    ``|J_n|`` is largest relative to ``|Y_n|``.  ``alpha`` may be an array (one ``C`` each).
     """
-    out = (jv(n, alpha), yv(n, alpha))
-    inn = (jv(n, delta_o * alpha), yv(n, delta_o * alpha))
-    use = inn if abs(inn[0]) / np.hypot(*inn) > abs(out[0]) / np.hypot(*out) else out
-    return use[1] / use[0]
+    oj, oy = jv(n, alpha), yv(n, alpha)
+    ij, iy = jv(n, delta_o * np.asarray(alpha)), yv(n, delta_o * np.asarray(alpha))
+    inner = np.abs(ij) / np.hypot(ij, iy) > np.abs(oj) / np.hypot(oj, oy)
+    return np.where(inner, iy / ij, oy / oj)[()]
 
 
 def mode_shape(rho, alpha: float, n: int, Re: float = 1.0, delta_o: float | None = None):
@@ -85,8 +85,8 @@ def mode_shape(rho, alpha: float, n: int, Re: float = 1.0, delta_o: float | None
     ----------
     rho : array_like
         Undeformed radius (m).
-    alpha : float
-        Root of Eq. (27) for this n.
+    alpha : float or (B,) array
+        Root(s) of Eq. (27) for this n; with B roots the shapes come as ``(B, *rho.shape)``.
     n : int
         Circumferential wave number.
     Re : float
@@ -100,6 +100,9 @@ def mode_shape(rho, alpha: float, n: int, Re: float = 1.0, delta_o: float | None
     phi, dphi : numpy.ndarray
         ``phi(rho)`` (1) and ``d phi / d rho`` (m-1).
     """
-    x = alpha * np.asarray(rho, dtype=float) / Re
-    c = yv(n, alpha) / jv(n, alpha) if delta_o is None else shape_constant(alpha, n, delta_o)
-    return c * jv(n, x) - yv(n, x), (alpha / Re) * (c * jvp(n, x) - yvp(n, x))
+    rho = np.asarray(rho, dtype=float)
+    alpha = np.asarray(alpha, dtype=float)
+    a = alpha.reshape(alpha.shape + (1,) * rho.ndim)  # roots along a leading axis
+    x = a * rho / Re
+    c = yv(n, a) / jv(n, a) if delta_o is None else np.asarray(shape_constant(alpha, n, delta_o)).reshape(a.shape)
+    return c * jv(n, x) - yv(n, x), (a / Re) * (c * jvp(n, x) - yvp(n, x))
