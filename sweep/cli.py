@@ -105,10 +105,10 @@ def _run_on(comm, args: argparse.Namespace) -> int:
             for note in summary.notes:
                 print(f"note: {note}", file=sys.stderr)
             i, n = args.chunks
-            print(f"piece {i}/{n} of {_output(args, job)}: {summary.tasks_computed} tasks computed on "
-                  f"{comm.size} rank(s) in {summary.seconds:.2f} s; when every piece has run: "
-                  f"python -m sweep collect {_output(args, job)}")
-        return 0
+            print(f"piece {i}/{n} of {_output(args, job)}: {summary.tasks_computed} tasks computed "
+                  f"({summary.tasks_failed} failed) on {comm.size} rank(s) in {summary.seconds:.2f} s; when "
+                  f"every piece has run: python -m sweep collect {_output(args, job)}")
+        return EXIT_TASKS_FAILED if summary.tasks_failed else 0
     if comm.rank == 0:
         for note in summary.notes + report.notes:
             print(f"note: {note}", file=sys.stderr)

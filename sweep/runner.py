@@ -49,6 +49,8 @@ class RunSummary:
         What the final collect wrote (None for a run of one piece, which does not collect).
     tasks_computed : int
         Tasks computed by this run (all ranks).
+    tasks_failed : int
+        Of those, the tasks with status failed.
     notes : list of str
         What the preparation found (rejected parts, a resume with changed code).
     seconds : float
@@ -61,6 +63,7 @@ class RunSummary:
 
     report: storage.CollectReport | None
     tasks_computed: int
+    tasks_failed: int
     notes: list[str]
     seconds: float
     peak_rss_mib: list[float]
@@ -200,10 +203,10 @@ def _compute(job: Job, log: Path, plan: storage.Plan, comm: MPI.Intracomm,
     """Compute the chunks of ``plan``, appending them to this rank's ``log``; collective
     over comm.
 
-    Returns the number of tasks computed by all ranks.
+    Returns the numbers of tasks computed and of those that failed, by all ranks.
     """
     counter = ChunkCounter(comm)
-    failure, mine, writer = None, 0, None
+    failure, mine, failed, writer = None, 0, 0, None
     try:
         writer = partlog.Writer(log, job.analysis.variables(job.options))
         while (k := counter.claim()) < job.layout.n_chunks:
@@ -212,6 +215,7 @@ def _compute(job: Job, log: Path, plan: storage.Plan, comm: MPI.Intracomm,
             tasks, arrays, status, messages = compute_chunk(job, k)
             writer.append(k, tasks, status, arrays, messages)
             mine += len(tasks)
+            failed += int(np.count_nonzero(status == STATUS_FAILED))
             n = counter.add_done(len(tasks))
             if progress is not None:
                 progress.update(n)
@@ -232,7 +236,7 @@ def _compute(job: Job, log: Path, plan: storage.Plan, comm: MPI.Intracomm,
                 failure = failure or (storage.file_error(exc, f"closing {log}").message, "")
     counter.free()
     _agree(comm, failure)
-    return comm.allreduce(mine)
+    return comm.allreduce(mine), comm.allreduce(failed)
 
 
 def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
@@ -292,7 +296,7 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
         progress = (Progress(total, done, progress_stream, progress_bar)
                     if comm.rank == 0 and progress_stream is not None else None)
         start = time.perf_counter()
-        computed = _compute(job, storage.log_path(parts, plan.run, comm.rank), plan, comm, progress)
+        computed, failed = _compute(job, storage.log_path(parts, plan.run, comm.rank), plan, comm, progress)
         seconds = time.perf_counter() - start
         if progress is not None:
             progress.finish(computed)
@@ -301,4 +305,4 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
                                              f"collecting {out}")
     finally:
         lock.release()
-    return RunSummary(report, computed, plan.notes, seconds, rss, comm.bcast(peak_rss_mib(), root=0))
+    return RunSummary(report, computed, failed, plan.notes, seconds, rss, comm.bcast(peak_rss_mib(), root=0))

@@ -370,13 +370,17 @@ def test_two_pieces_collect_into_the_file_of_one_run(capsys, job, tmp_path):
     for i in (2, 1):
         code, out, err = run(capsys, "run", job, "-o", tmp_path / "two.nc", "--chunks", f"{i}/2")
         assert code == 0, err
-        assert f"piece {i}/2 of {tmp_path}/two.nc: " in out and "python -m sweep collect" in out
+        assert f"piece {i}/2 of {tmp_path}/two.nc: " in out and "(0 failed)" in out and "python -m sweep collect" in out
         assert not (tmp_path / "two.nc").exists()
     code, out, _ = run(capsys, "status", tmp_path / "two.nc")
     assert "6 / 6 tasks completed, 3 / 3 chunks" in out
     assert run(capsys, "collect", tmp_path / "two.nc")[0] == 0
     assert data(tmp_path / "two.nc").identical(data(tmp_path / "one.nc"))
     assert "chunks 2/2" in storage.run_attributes(tmp_path / "two.nc")["history"]
+    failing = tmp_path / "failing.toml"
+    failing.write_text(job.read_text().replace("scale = 1.0", "scale = 1.0\nfail_delta = 1.1"))
+    code, out, _ = run(capsys, "run", failing, "-o", tmp_path / "f.nc", "--chunks", "1/2")
+    assert code == cli.EXIT_TASKS_FAILED and "(2 failed)" in out  # an afterok collect waits
     with pytest.raises(SystemExit) as info:
         cli.main(["run", str(job), "--chunks", "3/2"])
     assert info.value.code == 2 and "'3/2' is invalid: need 1 <= I <= N" in capsys.readouterr().err
