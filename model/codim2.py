@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .continuation import FOLD, LENGTH, continue_orbits, locate, step
+from .continuation import FOLD, LENGTH, bordered_newton, continue_orbits, locate, step, unit_tangent
 from .forced import ForcedMap, state_scale
 
 
@@ -96,26 +96,17 @@ class _FoldSystem:
             cols.append((self.residual(x + e) - self.residual(x - e)) / (2 * h))
         return np.column_stack(cols)
 
+    def evaluate(self, x):
+        """The residual and its Jacobian (for :func:`model.continuation.bordered_newton`)."""
+        return self.residual(x), self.jacobian(x)
+
     def tangent(self, jac, previous):
-        t = np.linalg.solve(np.vstack([jac, previous]), np.append(np.zeros(self.n + 1), 1.0))
-        return t / np.linalg.norm(t)
+        return unit_tangent(jac, previous)
 
     def correct(self, x0, normal, anchor, sigma, tol, max_iter=10):
         """Newton on the system plus ``normal . (x - anchor) = sigma``; ``(x, jac)`` or None."""
-        x = x0.copy()
-        for _ in range(max_iter):
-            r = np.append(self.residual(x), normal @ (x - anchor) - sigma)
-            jac = self.jacobian(x)
-            try:
-                dx = np.linalg.solve(np.vstack([jac, normal]), -r)
-            except np.linalg.LinAlgError:
-                return None
-            x = x + dx
-            if not np.all(np.isfinite(x)):
-                return None
-            if np.linalg.norm(dx) < tol and np.linalg.norm(r) < 1e3 * tol:
-                return x, self.jacobian(x)
-        return None
+        res = bordered_newton(self.evaluate, x0, normal, anchor, sigma, tol, max_iter)
+        return None if res is None else (res[0], res[1][1])
 
 
 def fold_at(fmap: ForcedMap, parameter: str, second: str, value: float, guess, p_guess: float,

@@ -123,30 +123,15 @@ class _Problem:
 
     def tangent(self, jac, previous):
         """Unit null vector of ``jac`` with a positive projection on ``previous``."""
-        a = np.vstack([jac, previous])
-        rhs = np.zeros(self.n + 1)
-        rhs[-1] = 1.0
-        t = np.linalg.solve(a, rhs)
-        return t / np.linalg.norm(t)
+        return unit_tangent(jac, previous)
 
     def correct(self, x0, normal, anchor, sigma, tol, max_iter=8):
         """Newton on ``G(x) = 0``, ``normal . (x - anchor) = sigma``; ``(x, jac, phi, iters)`` or None."""
-        x = x0.copy()
-        for it in range(1, max_iter + 1):
-            g, jac, phi = self.evaluate(x)
-            a = np.vstack([jac, normal])
-            r = np.append(g, normal @ (x - anchor) - sigma)
-            try:
-                dx = np.linalg.solve(a, -r)
-            except np.linalg.LinAlgError:
-                return None
-            x = x + dx
-            if not np.all(np.isfinite(x)):
-                return None
-            if np.linalg.norm(dx) < tol and np.linalg.norm(g) < 1e3 * tol:
-                g, jac, phi = self.evaluate(x)
-                return x, jac, phi, it
-        return None
+        res = bordered_newton(self.evaluate, x0, normal, anchor, sigma, tol, max_iter)
+        if res is None:
+            return None
+        x, (_, jac, phi), it = res
+        return x, jac, phi, it
 
 
 def _pd_test(phi):
@@ -269,6 +254,42 @@ def _test_value(prob, kind, jac, phi, normal):
     if kind == PERIOD_DOUBLING:
         return _pd_test(phi)
     return _ns_test(sorted_multipliers(phi))
+
+
+def unit_tangent(jac, previous):
+    """Unit null vector of ``jac`` (``(n, n+1)``) with a positive projection on ``previous``:
+    the solution of ``[jac; previous] t = (0, ..., 0, 1)``, normalised."""
+    rhs = np.zeros(jac.shape[0] + 1)
+    rhs[-1] = 1.0
+    t = np.linalg.solve(np.vstack([jac, previous]), rhs)
+    return t / np.linalg.norm(t)
+
+
+def bordered_newton(evaluate, x0, normal, anchor, sigma, tol, max_iter):
+    """Newton on ``G(x) = 0`` together with ``normal . (x - anchor) = sigma``.
+
+    ``evaluate(x)`` returns ``(G, dG/dx, *extra)``.  Converged when the step is below
+    ``tol`` and ``|G|`` below ``1e3 tol``.
+
+    Returns
+    -------
+    (x, evaluate(x), iterations) or None
+        None when a linear solve fails, the iterate is not finite, or ``max_iter`` passes.
+    """
+    x = x0.copy()
+    for it in range(1, max_iter + 1):
+        g, jac, *_ = evaluate(x)
+        r = np.append(g, normal @ (x - anchor) - sigma)
+        try:
+            dx = np.linalg.solve(np.vstack([jac, normal]), -r)
+        except np.linalg.LinAlgError:
+            return None
+        x = x + dx
+        if not np.all(np.isfinite(x)):
+            return None
+        if np.linalg.norm(dx) < tol and np.linalg.norm(g) < 1e3 * tol:
+            return x, evaluate(x), it
+    return None
 
 
 def step(correct, tangent, x, t, ds, ds_min, tol):
