@@ -22,6 +22,13 @@ response and a change of the parameter alike.  The steps follow AUTO-07p/Bifurca
   parameter value is then exact to ~1e-12 relative, the test function being quadratic in it);
   the located point is inserted into the branch.
 
+With asymmetric mode families (:mod:`model.families`) the multipliers of each family's
+block are computed at every point of the axisymmetric branch, and three more test functions
+per family are watched: ``det(Phi_n - I)`` (a real multiplier crosses +1: a
+symmetry-breaking branch point, the pitchfork of the O(2)-symmetric membrane),
+``det(Phi_n + I)`` (period doubling) and the Neimark-Sacker test of the block.  They are
+located like the others; the point records the family's wave number ``n``.
+
 The branch ends when the parameter leaves ``[min(start, stop), max(start, stop)]`` (the last
 point is placed exactly on the bound), after ``max_points`` points, or when ``ds`` falls
 below ``ds_min``.
@@ -29,10 +36,12 @@ below ``ds_min``.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
+from .families import Family, family_monodromy
 from .forced import PARAMETERS, ForcedMap, sorted_multipliers, state_scale
 from .shooting import shoot
 
@@ -41,8 +50,8 @@ LENGTH = 0.05
 #: Largest angle (rad) between consecutive tangents before a step is rejected.
 MAX_TURN = 0.3
 #: Labels of the points of a branch.
-REGULAR, FOLD, PERIOD_DOUBLING, NEIMARK_SACKER = 0, 1, 2, 3
-KIND_NAMES = ("regular", "fold", "period_doubling", "neimark_sacker")
+REGULAR, FOLD, PERIOD_DOUBLING, NEIMARK_SACKER, BRANCH_POINT = 0, 1, 2, 3, 4
+KIND_NAMES = ("regular", "fold", "period_doubling", "neimark_sacker", "branch_point")
 
 
 @dataclass
@@ -62,9 +71,17 @@ class Branch:
     multipliers : (N, 2K) complex array
         Floquet multipliers, sorted by decreasing modulus.
     stable : (N,) bool array
-        All multipliers inside the unit circle (False at located bifurcation points).
+        All multipliers, the families' included, inside the unit circle (False at located
+        bifurcation points).
     kind : (N,) int array
-        :data:`REGULAR`, :data:`FOLD`, :data:`PERIOD_DOUBLING` or :data:`NEIMARK_SACKER`.
+        :data:`REGULAR`, :data:`FOLD`, :data:`PERIOD_DOUBLING`, :data:`NEIMARK_SACKER` or
+        :data:`BRANCH_POINT`.
+    family : (N,) int array
+        Wave number of the block a located point belongs to: 0 for the axisymmetric block
+        (and at regular points), ``n`` for a point of the family ``n``.
+    family_multipliers : (N, F, 2 M_max) complex array
+        Multipliers of each family's block (the order of ``families``), by decreasing
+        modulus, NaN padded to the largest block; ``(N, 0, 0)`` without families.
     complete : bool
         The branch reached the end of the parameter range.
     message : str
@@ -78,6 +95,8 @@ class Branch:
     multipliers: np.ndarray
     stable: np.ndarray
     kind: np.ndarray
+    family: np.ndarray
+    family_multipliers: np.ndarray
     complete: bool
     message: str
 
@@ -89,8 +108,8 @@ class Branch:
 class _Problem:
     """The scaled fixed-point problem ``G(x) = 0`` of one continuation."""
 
-    def __init__(self, fmap, parameter, start, stop):
-        self.fmap, self.parameter = fmap, parameter
+    def __init__(self, fmap, parameter, start, stop, families=()):
+        self.fmap, self.parameter, self.families = fmap, parameter, tuple(families)
         self.start, self.stop = start, stop
         self.span = abs(stop - start)
         self.lo, self.hi = min(start, stop), max(start, stop)
@@ -120,6 +139,15 @@ class _Problem:
         h = 1e-6 * self.span
         jac[:, -1] = self.s * (self.at(lam + h).advance(y) - self.at(lam - h).advance(y)) / (2 * h) * self.span
         return g, jac, phi
+
+    def family_blocks(self, x, which=None):
+        """Monodromy blocks of the families (or of family number ``which`` only) at the
+        corrected point ``x``."""
+        y, lam = self.unpack(x)
+        f = self.at(lam)
+        chosen = self.families if which is None else (self.families[which],)
+        return [family_monodromy(y, 0.0, f.period, f.steps, f.rom.tables, f.forcing, fam.tables)
+                for fam in chosen]
 
     def tangent(self, jac, previous):
         """Unit null vector of ``jac`` with a positive projection on ``previous``."""
@@ -151,7 +179,8 @@ def _ns_test(mu):
 
 def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, guess=None,
                     ds: float = 0.01, ds_min: float = 1e-6, ds_max: float = 0.05,
-                    max_points: int = 400, tol: float = 1e-10) -> Branch:
+                    max_points: int = 400, tol: float = 1e-10,
+                    families: Sequence[Family] = ()) -> Branch:
     """Follow the periodic responses of the forced ROM from ``start`` to ``stop``.
 
     Parameters
@@ -174,6 +203,9 @@ def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, 
         Largest number of points (located bifurcation points included).
     tol : float
         Corrector tolerance on the scaled unknowns.
+    families : sequence of Family
+        Asymmetric mode families (:func:`model.families.build_family` for the axisymmetric
+        ROM of ``fmap``) whose stability is followed along the branch.
 
     Returns
     -------
@@ -190,34 +222,46 @@ def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, 
         raise ValueError(f"(ds_min, ds, ds_max) = ({ds_min}, {ds}, {ds_max}) is invalid: need 0 < ds_min <= ds <= ds_max")
     if max_points < 2:
         raise ValueError(f"max_points = {max_points} is invalid: must be >= 2")
-    prob = _Problem(fmap, parameter, float(start), float(stop))
+    prob = _Problem(fmap, parameter, float(start), float(stop), families)
     first = shoot(prob.at(float(start)), np.zeros(prob.n) if guess is None else guess)
+    width = max((f.size for f in prob.families), default=0)
     pts: list[tuple] = []
 
-    def record(x, phi, kind):
+    def record(x, phi, kind, family=0, blocks=None):
         y, lam = prob.unpack(x)
         mu = sorted_multipliers(phi)
-        stable = kind == REGULAR and bool(np.max(np.abs(mu)) < 1.0)
+        fam_mu = np.full((len(prob.families), width), np.nan + 0j)
+        for i, block in enumerate(prob.family_blocks(x) if blocks is None else blocks):
+            fam_mu[i, :block.shape[0]] = sorted_multipliers(block)
+        moduli = np.concatenate([np.abs(mu), np.abs(fam_mu[~np.isnan(fam_mu)])])
+        stable = kind == REGULAR and bool(moduli.max() < 1.0)
         amp = prob.at(lam).amplitude(y)
-        pts.append((lam, y, amp, mu, stable, kind))
+        pts.append((lam, y, amp, mu, stable, kind, family, fam_mu))
 
     def finish(complete, message):
-        lam, y, amp, mu, st, kind = (list(v) for v in zip(*pts))
+        lam, y, amp, mu, st, kind, fam, fam_mu = (list(v) for v in zip(*pts))
         return Branch(parameter, np.array(lam), np.array(y), np.array(amp), np.array(mu),
-                      np.array(st, dtype=bool), np.array(kind, dtype=np.int8), complete, message)
+                      np.array(st, dtype=bool), np.array(kind, dtype=np.int8), np.array(fam, dtype=np.int16),
+                      np.array(fam_mu).reshape(len(pts), len(prob.families), width), complete, message)
+
+    def tests(t, phi, blocks):
+        # (fold, PD, NS) of the axisymmetric block, then (BP, PD, NS) of each family.
+        out = [(FOLD, 0, t[-1]), (PERIOD_DOUBLING, 0, _pd_test(phi)), (NEIMARK_SACKER, 0, _ns_test(sorted_multipliers(phi)))]
+        for fam, block in zip(prob.families, blocks):
+            out += [(BRANCH_POINT, fam.n, _bp_test(block)), (PERIOD_DOUBLING, fam.n, _pd_test(block)),
+                    (NEIMARK_SACKER, fam.n, _ns_test(sorted_multipliers(block)))]
+        return out
 
     x = prob.pack(first.state, float(start))
-    if not first.converged:
-        g, jac, phi = prob.evaluate(x)
-        record(x, phi, REGULAR)
-        return finish(False, f"no periodic response found at {parameter} = {start}")
     g, jac, phi = prob.evaluate(x)
-    record(x, phi, REGULAR)
+    blocks = prob.family_blocks(x)
+    record(x, phi, REGULAR, blocks=blocks)
+    if not first.converged:
+        return finish(False, f"no periodic response found at {parameter} = {start}")
     e = np.zeros(prob.n + 1)
     e[-1] = 1.0
     t = prob.tangent(jac, e)
-    mu = pts[-1][3]
-    tests = (t[-1], _pd_test(phi), _ns_test(mu))
+    values = tests(t, phi, blocks)
     while len(pts) < max_points:
         res, t_new, ds = step(prob.correct, prob.tangent, x, t, ds, ds_min, tol)
         if res is None:
@@ -232,28 +276,40 @@ def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, 
                 return finish(False, f"could not place the last point on {parameter} = {bound}")
             record(end[0], end[2], REGULAR)
             return finish(True, f"reached {parameter} = {bound}")
-        mu_new = sorted_multipliers(phi)
-        new_tests = (t_new[-1], _pd_test(phi), _ns_test(mu_new))
+        blocks = prob.family_blocks(x_new)
+        new_values = tests(t_new, phi, blocks)
         found = []
-        for kind, a, b in zip((FOLD, PERIOD_DOUBLING, NEIMARK_SACKER), tests, new_tests):
+        for index, ((kind, n, a), (_, _, b)) in enumerate(zip(values, new_values)):
             if a * b < 0 and len(pts) + len(found) < max_points - 1:
-                loc = _locate(prob, kind, x, t, ds, a, b, tol)
+                loc = _locate(prob, kind, index, x, t, ds, a, b, tol)
                 if loc is not None:
-                    found.append(loc)
-        for sigma, xs, phis, kind in sorted(found, key=lambda f: f[0]):
-            record(xs, phis, kind)
-        record(x_new, phi, REGULAR)
-        x, t, tests = x_new, t_new, new_tests
+                    found.append(loc + (n,))
+        for sigma, xs, phis, kind, n in sorted(found, key=lambda f: f[0]):
+            record(xs, phis, kind, n)
+        record(x_new, phi, REGULAR, blocks=blocks)
+        x, t, values = x_new, t_new, new_values
         ds = min(ds_max, ds * 1.5) if iters <= 3 else ds
     return finish(False, f"max_points = {max_points} reached at {parameter} = {prob.lam(x):.9g}")
 
 
-def _test_value(prob, kind, jac, phi, normal):
-    if kind == FOLD:
-        return prob.tangent(jac, normal)[-1]
-    if kind == PERIOD_DOUBLING:
-        return _pd_test(phi)
-    return _ns_test(sorted_multipliers(phi))
+def _bp_test(phi):
+    return float(np.linalg.det(phi - np.eye(phi.shape[0])))
+
+
+def _test_value(prob, index, jac, phi, x, normal):
+    # The test function number ``index`` of ``tests`` in :func:`continue_orbits`.
+    if index < 3:
+        if index == 0:
+            return prob.tangent(jac, normal)[-1]
+        block = phi
+    else:
+        block = prob.family_blocks(x, (index - 3) // 3)[0]
+    kind = index % 3
+    if index >= 3 and kind == 0:
+        return _bp_test(block)
+    if kind == 1:
+        return _pd_test(block)
+    return _ns_test(sorted_multipliers(block))
 
 
 def unit_tangent(jac, previous):
@@ -348,16 +404,19 @@ def locate(correct, test, x, t, ds, fa, fb, tol):
     return best
 
 
-def _locate(prob, kind, x, t, ds, fa, fb, tol):
-    """A fold, period doubling or Neimark-Sacker point between ``x`` and the next point;
-    ``(sigma, x', phi, kind)`` or None.  Complex-pair crossings of the NS test that turn
-    out to be real (neutral saddles) are discarded."""
-    found = locate(prob.correct, lambda res: _test_value(prob, kind, res[1], res[2], t), x, t, ds, fa, fb, tol)
+def _locate(prob, kind, index, x, t, ds, fa, fb, tol):
+    """The zero of test function ``index`` (a fold, period doubling, Neimark-Sacker or
+    branch point) between ``x`` and the next point; ``(sigma, x', phi, kind)`` or None.
+    Complex-pair crossings of an NS test that turn out to be real (neutral saddles) are
+    discarded."""
+    found = locate(prob.correct, lambda res: _test_value(prob, index, res[1], res[2], res[0], t),
+                   x, t, ds, fa, fb, tol)
     if found is None:
         return None
     sigma, (xs, _, phi, _) = found
     if kind == NEIMARK_SACKER:
-        mu = sorted_multipliers(phi)
+        block = phi if index < 3 else prob.family_blocks(xs, (index - 3) // 3)[0]
+        mu = sorted_multipliers(block)
         on_circle = np.abs(np.abs(mu) - 1.0) < 1e-6
         if not np.any(np.abs(mu[on_circle].imag) > 1e-8):
             return None

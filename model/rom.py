@@ -216,42 +216,55 @@ def _force_table(tab: RomTables, q_max: float) -> dict:
     """Piecewise Chebyshev tables of the one-mode force, built from the exact quadrature.
 
     For one axisymmetric mode the force is a scalar odd function, ``g(q) = q s(q)`` with
-    ``s`` even and smooth; ``s`` and ``dg/dq`` are interpolated on ``[0, q_max]`` by
-    ``2^j`` equal pieces of degree :data:`_TABLE_DEGREE`, ``j`` doubled until the error
-    at points between the nodes is below :data:`TABLE_TOL` relative.  One evaluation
-    then costs a Clenshaw sum instead of a quadrature; the tables reproduce the
-    quadrature to ~1e-13, far below every tolerance in use (tests).  Beyond ``q_max``
-    the kernels fall back to the quadrature.
+    ``s`` even and smooth; ``s`` and ``dg/dq`` are tabulated on ``[0, q_max]`` by
+    :func:`piecewise_chebyshev` to :data:`TABLE_TOL` relative.  One evaluation then costs
+    a Clenshaw sum instead of a quadrature; the tables reproduce the quadrature to ~1e-13,
+    far below every tolerance in use (tests).  Beyond ``q_max`` the kernels fall back to
+    the quadrature.
     """
-    deg = _TABLE_DEGREE
-    nodes = np.cos(np.pi * (np.arange(deg + 1) + 0.5) / (deg + 1))
     g = np.zeros(1)
     jac = np.zeros((1, 1))
 
     def exact(q):
         elastic_force(np.array([q]), tab, g)
         force_jacobian(np.array([q]), tab, jac)
-        return g[0] / q, jac[0, 0]
+        return np.array([g[0] / q, jac[0, 0]])
 
+    coef = piecewise_chebyshev(exact, q_max, np.abs)
+    return {"table_max": float(q_max), "stiffness_table": coef[0].copy(), "slope_table": coef[1].copy()}
+
+
+def piecewise_chebyshev(exact, q_max: float, scale) -> np.ndarray:
+    """Tables of smooth functions of ``|q|`` on ``[0, q_max]`` for :func:`table_eval`.
+
+    ``2^j`` equal pieces of degree :data:`_TABLE_DEGREE` interpolate ``exact(q)`` (a
+    ``(V,)`` vector) at Chebyshev nodes; ``j`` is doubled from 16 pieces until the error
+    at points between the nodes, divided by ``scale(exact(q))``, is below
+    :data:`TABLE_TOL` (or 4096 pieces are reached).
+
+    Returns
+    -------
+    (V, pieces, degree + 1) array
+        Chebyshev coefficients of each function on each piece.
+    """
+    deg = _TABLE_DEGREE
+    nodes = np.cos(np.pi * (np.arange(deg + 1) + 0.5) / (deg + 1))
     pieces = 16
     while True:
         width = q_max / pieces
-        coef = np.empty((2, pieces, deg + 1))
-        for i in range(pieces):
-            vals = np.array([exact(i * width + 0.5 * width * (1 + t)) for t in nodes])
-            coef[0, i] = C.chebfit(nodes, vals[:, 0], deg)
-            coef[1, i] = C.chebfit(nodes, vals[:, 1], deg)
+        vals = np.array([[exact(i * width + 0.5 * width * (1 + t)) for t in nodes] for i in range(pieces)])
+        coef = np.stack([np.stack([C.chebfit(nodes, vals[i, :, v], deg) for i in range(pieces)])
+                         for v in range(vals.shape[2])])
         check = (np.arange(pieces)[:, None] + np.array([0.17, 0.5, 0.83])).ravel() * width
         err = 0.0
         for q in check:
             i = min(int(q / width), pieces - 1)
             t = 2.0 * (q - i * width) / width - 1.0
             ref = exact(q)
-            err = max(err, abs(C.chebval(t, coef[0, i]) / ref[0] - 1), abs(C.chebval(t, coef[1, i]) / ref[1] - 1))
+            err = max(err, float(np.max(np.abs(C.chebval(t, coef[:, i].T) - ref) / scale(ref))))
         if err < TABLE_TOL or pieces >= 4096:
-            break
+            return coef
         pieces *= 2
-    return {"table_max": float(q_max), "stiffness_table": coef[0].copy(), "slope_table": coef[1].copy()}
 
 
 @nb.njit(cache=True, fastmath=True, inline="always")

@@ -1,0 +1,333 @@
+"""Stability of axisymmetric motion with respect to the asymmetric mode families.
+
+On an axisymmetric state ``w0(rho, t) = sum_k q_k(t) phi_k0(rho)`` (``w_theta = 0``) the
+linearised dynamics of a perturbation ``dw = sum_j u_j(t) phi_jn(rho) cos(n theta)`` does
+not couple to the axisymmetric modes or to another wave number: every cross term carries
+``int cos(n theta) dtheta = 0`` or ``int cos(n theta) cos(n' theta) dtheta = 0``.  The
+sine companions ``phi_jn(rho) sin(n theta)`` obey the same equations (rotation by
+``pi / (2n)``).  So the monodromy matrix of a mixed mode set at an axisymmetric orbit splits
+into the axisymmetric block and one block per *family* ``n``, twice each (docs/model.md,
+"Symmetry families").
+
+The block of family ``n`` follows from the Hessian of the transverse energy
+(:func:`model.rom.force_jacobian`) at ``w_theta = 0`` with the theta integrals done in
+closed form (``int cos^2 = int sin^2 = pi``)::
+
+    J_jl(q) = pi int rho [I_aa phi_j' phi_l' + n^2 I_bb phi_j phi_l] drho
+    I_aa = 2 - 2 rho^2 r^2 / D^2 + 8 rho^2 r^4 a^2 / D^3
+    I_bb = 2 / rho^2 - 2 rho^2 r'^2 / D^2,       D = r^2 (r'^2 + a^2),  a = w0_rho
+
+and the perturbation obeys ``u'' + (c / Gamma h) u' + diag(C1 / (Gamma M_j)) J(q(t)) u = 0``
+with ``M_j = pi int rho phi_j^2 drho``.  Only a radial quadrature is needed, whatever ``n``.
+
+:func:`family_monodromy` integrates this block along the axisymmetric orbit with the RK4
+steps of :class:`model.forced.ForcedMap`, so that it is the exact derivative of the discrete
+stroboscopic map restricted to the family, as :func:`model.integrate.monodromy` is for the
+axisymmetric block.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numba as nb
+import numpy as np
+
+from .linear import gauss_radial
+from .modes import bessel_roots, mode_shape
+from .prestretch import Prestretch
+from .integrate import _accel
+from .rom import Rom, piecewise_chebyshev, rhs
+
+
+class FamilyTables(NamedTuple):
+    """Radial quadrature tables of one family block, as the kernels take them.
+
+    Attributes
+    ----------
+    weight : (P,) ``pi rho`` times the Gauss weight (m2)
+    rho2, r2, dr2 : (P,) ``rho^2`` (m2), ``r_o^2`` (m2), ``r_o'^2`` (1)
+    axis_slope : (Ka, P) ``phi_k0'`` of the axisymmetric modes of the ROM (m-1)
+    slope : (M, P) ``phi_jn'`` of the family's modes (m-1)
+    hoop : (M, P) ``n phi_jn`` (1), the amplitude of the theta slope ``psi_theta``
+    k_force : (M,) ``C1 / (Gamma M_j)`` (m2 s-2 per unit of ``J u``)
+    table_max : float, ``|q|`` covered by the table of ``J`` (one-mode ROMs; 0: no table)
+    jacobian_table : (M * M, pieces, degree + 1) piecewise Chebyshev coefficients of the
+        entries of ``J`` (row-major) on ``[0, table_max]`` (``J`` is even in ``q``);
+        empty otherwise
+    """
+
+    weight: np.ndarray
+    rho2: np.ndarray
+    r2: np.ndarray
+    dr2: np.ndarray
+    axis_slope: np.ndarray
+    slope: np.ndarray
+    hoop: np.ndarray
+    k_force: np.ndarray
+    table_max: float
+    jacobian_table: np.ndarray
+
+
+@dataclass(frozen=True)
+class Family:
+    """The perturbations of wave number ``n`` carried by radial modes ``radial``.
+
+    Build with :func:`build_family`.
+    """
+
+    n: int
+    radial: tuple[int, ...]
+    alpha: np.ndarray
+    tables: FamilyTables
+
+    @property
+    def modes(self) -> tuple[tuple[int, int], ...]:
+        """The ``(m, n)`` pairs of the family (cosine companions)."""
+        return tuple((m, self.n) for m in self.radial)
+
+    @property
+    def size(self) -> int:
+        """Dimension ``2 M`` of the family's block of the monodromy matrix."""
+        return 2 * len(self.radial)
+
+
+def build_family(prestretch: Prestretch, rom: Rom, n: int, radial, radial_points: int | None = None) -> Family:
+    """The family block of wave number ``n`` for the axisymmetric ``rom``.
+
+    Parameters
+    ----------
+    prestretch : Prestretch
+        The static solution ``rom`` was built on.
+    rom : Rom
+        An axisymmetric ROM (every ``n = 0``); its orbits carry the family.
+    n : int
+        Wave number, ``n >= 1``.
+    radial : int or sequence of int
+        Radial indices ``m`` of the family's modes; an integer ``M`` means ``1..M``.
+    radial_points : int, optional
+        Gauss-Legendre points on ``[Ro, Re]``; default: the ROM's own radial count, and at
+        least ``16 + 8 M`` for ``M = max(radial)``.  Measured on the Fig. 14a resonant
+        branch (|w(0.5 Re)| = 0.45 m, n = 1, 3, 5, 8, M = 2 and 8): the largest multiplier
+        changes by less than 1e-12 from 48 to 256 points.
+    """
+    if any(nn for _, nn in rom.modes):
+        raise ValueError(f"modes = {list(rom.modes)} is invalid here: the family blocks need an axisymmetric ROM (every n = 0)")
+    if isinstance(n, bool) or int(n) != n or n < 1:
+        raise ValueError(f"n = {n!r} is invalid: a family needs a wave number n >= 1")
+    n = int(n)
+    radial = tuple(range(1, int(radial) + 1)) if np.ndim(radial) == 0 else tuple(int(m) for m in radial)
+    if not radial or min(radial) < 1 or len(set(radial)) != len(radial):
+        raise ValueError(f"radial = {list(radial)} is invalid: need distinct radial indices m >= 1")
+    m = prestretch.membrane
+    nr = radial_points or max(rom.radial_points, 16 + 8 * max(radial))
+    rho, wr = gauss_radial(m, nr)
+    alpha = bessel_roots(n, m.delta_o, max(radial))[np.array(radial) - 1]
+    phi, dphi = mode_shape(rho, alpha, n, m.Re, m.delta_o)
+    _, axis_slope = mode_shape(rho, rom.alpha, 0, m.Re, m.delta_o)
+    weight = np.pi * rho * wr
+    mass = (phi**2 * weight).sum(axis=1)
+    r, dr = prestretch.radius(rho), prestretch.slope(rho)
+    tables = FamilyTables(weight=weight, rho2=rho**2, r2=r**2, dr2=dr**2,
+                          axis_slope=np.ascontiguousarray(axis_slope), slope=np.ascontiguousarray(dphi),
+                          hoop=np.ascontiguousarray(n * phi), k_force=m.C1 / (m.Gamma * mass),
+                          table_max=0.0, jacobian_table=np.zeros((0, 0, 1)))
+    if rom.tables.table_max > 0.0:
+        tables = tables._replace(table_max=rom.tables.table_max,
+                                 jacobian_table=_jacobian_table(tables, rom.tables.table_max))
+    return Family(n, radial, alpha, tables)
+
+
+def _jacobian_table(fam: FamilyTables, q_max: float) -> np.ndarray:
+    """Piecewise Chebyshev tables of ``J(q)`` for a one-mode axisymmetric ROM.
+
+    ``J`` depends on ``q`` through ``a^2`` only (even, smooth); its entries are tabulated
+    by :func:`model.rom.piecewise_chebyshev` to :data:`model.rom.TABLE_TOL` relative to the
+    largest entry, so that one evaluation costs ``M^2`` Clenshaw sums instead of a
+    quadrature.
+    """
+    M = fam.k_force.size
+    P = fam.weight.size
+    iaa, ibb, jac = np.empty(P), np.empty(P), np.empty((M, M))
+
+    def exact(q):
+        _quadrature_jacobian(np.array([q]), fam, iaa, ibb, jac)
+        return jac.ravel().copy()
+
+    return piecewise_chebyshev(exact, q_max, lambda v: np.abs(v).max())
+
+
+@nb.njit(cache=True, error_model="numpy")
+def family_jacobian(q, fam, iaa, ibb, out):
+    """``out[j, l] = J_jl(q)`` (m2 per unit of ``u``) of the family ``fam`` at the
+    axisymmetric modal coordinates ``q``; ``iaa``, ``ibb`` are ``(P,)`` work arrays.
+
+    One-mode ROMs read the table within its range, every other case the quadrature.
+    """
+    if fam.table_max > 0.0 and abs(q[0]) < fam.table_max:
+        _table_jacobian(fam.jacobian_table, fam.table_max, abs(q[0]), out)
+        return
+    _quadrature_jacobian(q, fam, iaa, ibb, out)
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy")
+def _table_jacobian(coef, q_max, x, out):
+    # J from its table at |q| = x < q_max: one piece lookup, a Clenshaw sum per entry of
+    # the upper triangle.
+    M = out.shape[0]
+    pieces = coef.shape[1]
+    width = q_max / pieces
+    i = min(int(x / width), pieces - 1)
+    t = 2.0 * (x - i * width) / width - 1.0
+    for j in range(M):
+        for l in range(j, M):
+            c = coef[j * M + l, i]
+            b1 = 0.0
+            b2 = 0.0
+            for k in range(c.size - 1, 0, -1):
+                b1, b2 = 2.0 * t * b1 - b2 + c[k], b1
+            out[j, l] = t * b1 - b2 + c[0]
+            out[l, j] = out[j, l]
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy")
+def _quadrature_jacobian(q, fam, iaa, ibb, out):
+    P = fam.weight.size
+    for p in range(P):
+        a = 0.0
+        for k in range(q.size):
+            a += q[k] * fam.axis_slope[k, p]
+        r2 = fam.r2[p]
+        rho2 = fam.rho2[p]
+        D = r2 * (fam.dr2[p] + a * a)
+        s = rho2 / (D * D)
+        iaa[p] = (2.0 - 2.0 * s * r2 + 8.0 * s * r2 * r2 * a * a / D) * fam.weight[p]
+        ibb[p] = (2.0 / rho2 - 2.0 * s * fam.dr2[p]) * fam.weight[p]
+    M = out.shape[0]
+    for j in range(M):
+        for l in range(j, M):
+            acc = 0.0
+            for p in range(P):
+                acc += iaa[p] * fam.slope[j, p] * fam.slope[l, p] + ibb[p] * fam.hoop[j, p] * fam.hoop[l, p]
+            out[j, l] = acc
+            out[l, j] = acc
+
+
+@nb.njit(cache=True, fastmath=True)
+def _stage_coordinates(y0, t0, h, steps, tab, forcing, out):
+    # The axisymmetric modal coordinates at the four RK4 stages of every step,
+    # out[i, s, :] (steps, 4, K), exactly as rk4_steps meets them.  One-mode ROMs run the
+    # scalar table loop while the stages stay in the table's range (returns False when
+    # they leave it: the caller then takes the general loop).
+    n = y0.size
+    K = n // 2
+    if tab.table_max > 0.0:
+        coef, q_max, k_force, load = tab.stiffness_table, tab.table_max, tab.k_force[0], tab.load[0]
+        c_damp, p_load, omega = forcing.damping_rate, forcing.P0, forcing.Omega
+        q = y0[0]
+        v = y0[1]
+        inside = True
+        for i in range(steps):
+            t = t0 + i * h
+            c_half = np.cos(omega * (t + 0.5 * h))
+            out[i, 0, 0] = q
+            a1 = _accel(q, v, np.cos(omega * t), coef, q_max, k_force, load, c_damp, p_load)
+            q2 = q + 0.5 * h * v
+            v2 = v + 0.5 * h * a1
+            out[i, 1, 0] = q2
+            a2 = _accel(q2, v2, c_half, coef, q_max, k_force, load, c_damp, p_load)
+            q3 = q + 0.5 * h * v2
+            v3 = v + 0.5 * h * a2
+            out[i, 2, 0] = q3
+            a3 = _accel(q3, v3, c_half, coef, q_max, k_force, load, c_damp, p_load)
+            q4 = q + h * v3
+            v4 = v + h * a3
+            out[i, 3, 0] = q4
+            a4 = _accel(q4, v4, np.cos(omega * (t + h)), coef, q_max, k_force, load, c_damp, p_load)
+            inside = inside and max(abs(q), abs(q2), abs(q3), abs(q4)) < q_max
+            q += h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
+            v += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
+        if inside:
+            return
+    y = y0.copy()
+    ys = np.empty(n)
+    k = np.empty((4, n))
+    g = np.empty(K)
+    for i in range(steps):
+        t = t0 + i * h
+        for s in range(4):
+            f = 0.0 if s == 0 else (h if s == 3 else 0.5 * h)
+            for a in range(n):
+                ys[a] = y[a] + f * k[s - 1, a] if s > 0 else y[a]
+            for a in range(K):
+                out[i, s, a] = ys[a]
+            rhs(t + f, ys, tab, forcing, g, k[s])
+        for a in range(n):
+            y[a] += h / 6.0 * (k[0, a] + 2.0 * k[1, a] + 2.0 * k[2, a] + k[3, a])
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy")
+def family_monodromy(y0, t0, period, steps, tab, forcing, fam):
+    """Monodromy block ``(2M, 2M)`` of family ``fam`` along the axisymmetric orbit from ``y0``.
+
+    The axisymmetric state is advanced by the same RK4 steps as
+    :func:`model.integrate.rk4_steps` (``period / steps`` each); the block's variational
+    equations are integrated with it, stage by stage.
+
+    Parameters
+    ----------
+    y0 : (2K,) array
+        Axisymmetric state ``(q, q')`` at ``t0``.
+    t0, period : float
+        Start time and forcing period (s).
+    steps : int
+        RK4 steps per period.
+    tab : model.rom.RomTables
+        Tables of the axisymmetric ROM.
+    forcing : model.rom.Forcing
+    fam : FamilyTables
+
+    Returns
+    -------
+    (2M, 2M) array
+        ``d u(t0 + T) / d u(t0)`` for ``u = (u, u')`` of the family.
+    """
+    K = y0.size // 2
+    M = fam.k_force.size
+    P = fam.weight.size
+    m = 2 * M
+    h = period / steps
+    stages = np.empty((steps, 4, K))
+    _stage_coordinates(y0, t0, h, steps, tab, forcing, stages)
+    c_damp = forcing.damping_rate
+    phi = np.eye(m)
+    kp = np.empty((4, m, m))
+    ps = np.empty((m, m))
+    iaa = np.empty(P)
+    ibb = np.empty(P)
+    jac = np.empty((M, M))
+    table = fam.table_max > 0.0
+    coef = fam.jacobian_table
+    for i in range(steps):
+        for s in range(4):
+            f = 0.0 if s == 0 else (h if s == 3 else 0.5 * h)
+            for a in range(m):
+                for b in range(m):
+                    ps[a, b] = phi[a, b] + f * kp[s - 1, a, b] if s > 0 else phi[a, b]
+            if table and abs(stages[i, s, 0]) < fam.table_max:
+                _table_jacobian(coef, fam.table_max, abs(stages[i, s, 0]), jac)
+            else:
+                family_jacobian(stages[i, s], fam, iaa, ibb, jac)
+            for r in range(M):
+                for c in range(m):
+                    kp[s, r, c] = ps[M + r, c]
+                    kp[s, M + r, c] = -c_damp * ps[M + r, c]
+                for l in range(M):
+                    kj = fam.k_force[r] * jac[r, l]
+                    for c in range(m):
+                        kp[s, M + r, c] -= kj * ps[l, c]
+        for a in range(m):
+            for b in range(m):
+                phi[a, b] += h / 6.0 * (kp[0, a, b] + 2.0 * kp[1, a, b] + 2.0 * kp[2, a, b] + kp[3, a, b])
+    return phi
