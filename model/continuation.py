@@ -104,6 +104,30 @@ class Branch:
         """Indices of the points of type ``kind`` (e.g. :data:`FOLD`)."""
         return np.flatnonzero(self.kind == kind)
 
+    def unstable_intervals(self, family: int, end: int | None = None) -> list[tuple[float, float]]:
+        """Parameter intervals where family number ``family`` (an index into the
+        ``families`` of the continuation) has a multiplier outside the unit circle.
+
+        Over points ``0..end-1`` (default: all).  An interval runs between the points that
+        bound a run of unstable points: the located bifurcation points where the run starts
+        and ends, or the ends of the stretch.
+        """
+        mod = np.abs(self.family_multipliers[:end, family]).max(axis=1)
+        unstable = mod > 1.0 + 1e-9
+        out = []
+        i = 0
+        while i < unstable.size:
+            if unstable[i]:
+                j = i
+                while j + 1 < unstable.size and unstable[j + 1]:
+                    j += 1
+                lo, hi = max(i - 1, 0), min(j + 1, unstable.size - 1)
+                out.append((float(self.value[lo]), float(self.value[hi])))
+                i = j + 1
+            else:
+                i += 1
+        return out
+
 
 class _Problem:
     """The scaled fixed-point problem ``G(x) = 0`` of one continuation."""

@@ -312,9 +312,68 @@ def _draw_branch(ax, x, amp, stable, kind, color, label, stopped=False):
         ax.plot(x[i0:i1 + 1], amp[i0:i1 + 1] * 1e3, color=color, ls="-" if st else "--", lw=1.2,
                 label=label if first else None)
         first = False
-    for k, marker in ((1, "o"), (2, "s"), (3, "D")):
+    for k, marker in BIFURCATION_MARKERS.items():
         sel = kind == k
         ax.plot(x[sel], amp[sel] * 1e3, ls="none", marker=marker, mfc="white", color=color, ms=5)
+
+
+#: Marker of each located point type (``point_type``): fold, period doubling,
+#: Neimark-Sacker, branch point.
+BIFURCATION_MARKERS = {1: "o", 2: "s", 3: "D", 4: "^"}
+
+
+def family_figures(ds, outdir, par: str) -> list:
+    """Stability of the axisymmetric branches to the asymmetric families.
+
+    Per grid point, two panels: the branch (amplitude versus the continued parameter) with
+    each unstable stretch coloured by the family whose multiplier is largest there (grey:
+    unstable in the axisymmetric block only), and the largest multiplier modulus of each
+    family along the branch, with the stability limit 1.
+    """
+    plt = pyplot()
+    panels = list(computed_points(ds, ("c", "point", "fold", "multiplier", "mode", "family", "family_multiplier",
+                                       "curve_point", "cusp")))
+    panels = [dict(sel, **({"c": c} if "c" in ds.dims else {})) for sel in panels
+              for c in (ds.c.values if "c" in ds.dims else [None])]
+    families = ds.family.values
+    cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    colors = {int(n): cycle[(j + 1) % len(cycle)] for j, n in enumerate(families)}
+    fig, axes = plt.subplots(2, len(panels), figsize=(max(4.6 * len(panels), 6.0), 7.0), squeeze=False,
+                             sharex="col")
+    for j, sel in enumerate(panels):
+        b = ds.sel({k: v for k, v in sel.items() if v is not None})
+        x, amp = b[par].values, b.amplitude.values * 1e3
+        mod = b.family_multiplier_modulus.values
+        axi = b.multiplier_modulus.values
+        ok = np.isfinite(x)
+        top, bottom = axes[0, j], axes[1, j]
+        top.plot(x[ok], amp[ok], color="k", lw=0.8)
+        worst = np.where(np.isfinite(mod[ok]).all(axis=1), np.nanargmax(np.nan_to_num(mod[ok], nan=-1.0), axis=1), 0)
+        unstable_family = mod[ok][np.arange(ok.sum()), worst] > 1.0
+        for n in families:
+            sel_n = unstable_family & (families[worst] == n)
+            top.plot(x[ok][sel_n], amp[ok][sel_n], ls="none", marker=".", ms=4, color=colors[int(n)],
+                     label=f"unstable to n = {n}")
+            bottom.plot(x[ok], mod[ok][:, list(families).index(n)], lw=1.0, color=colors[int(n)], label=f"n = {n}")
+        axi_only = (axi[ok] > 1.0) & ~unstable_family
+        top.plot(x[ok][axi_only], amp[ok][axi_only], ls="none", marker=".", ms=4, color="0.6",
+                 label="unstable (axisymmetric)")
+        kind = b.point_type.values[ok]
+        for k, marker in BIFURCATION_MARKERS.items():
+            top.plot(x[ok][kind == k], amp[ok][kind == k], ls="none", marker=marker, mfc="white", color="k", ms=5)
+        bottom.axhline(1.0, color="k", lw=0.6, ls=":")
+        if par == "Omega":
+            _zoom_omega(top, x, b.amplitude.values)
+        top.set(ylabel=r"amplitude of $w(0.5, 0)$ (mm)")
+        top.set_title(point_label({k: v for k, v in sel.items() if v is not None}), fontsize=9)
+        bottom.set(xlabel=f"{SYMBOLS.get(par, par)} ({GRID_UNITS.get(par, '')})",
+                   ylabel="largest multiplier modulus")
+    axes[0, 0].legend(fontsize=7, loc="upper left", markerscale=2)
+    axes[1, 0].legend(fontsize=7, loc="upper left", ncol=2)
+    fig.suptitle("Stability of the axisymmetric responses to the asymmetric mode families\n"
+                 "(triangles: branch points, diamonds: Neimark-Sacker, circles: saddle-nodes)", fontsize=10)
+    fig.tight_layout()
+    return [save_figure(fig, outdir, f"family_stability_{par}.png")]
 
 
 def _panel_axes(plt, n):
@@ -345,6 +404,7 @@ def _style_legend(ax):
     handles = [Line2D([], [], color="k", ls="-", label="stable"),
                Line2D([], [], color="k", ls="--", label="unstable"),
                Line2D([], [], color="k", ls="none", marker="o", mfc="white", label="saddle-node"),
+               Line2D([], [], color="k", ls="none", marker="^", mfc="white", label="branch point"),
                Line2D([], [], color="k", ls="none", marker="X", label="branch stopped early")]
     return ax.legend(handles=handles, loc="upper left", fontsize=7)
 
@@ -361,7 +421,8 @@ def continuation_figures(ds, outdir) -> list:
     plt = pyplot()
     par = ds.attrs.get("continued_parameter", "P0" if "P0" in ds.data_vars else "Omega")
     xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
-    panels = list(computed_points(ds, ("c", "point", "fold", "multiplier", "mode", "curve_point", "cusp")))
+    panels = list(computed_points(ds, ("c", "point", "fold", "multiplier", "mode", "curve_point", "cusp",
+                                       "family", "family_multiplier")))
     cs = ds.c.values if "c" in ds.dims else [None]
     fig, axes = _panel_axes(plt, len(panels))
     many = len(cs) > 4
@@ -396,6 +457,8 @@ def continuation_figures(ds, outdir) -> list:
         fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=list(axes),
                      label=r"damping $c$ (N s/m$^3$)", shrink=0.8)
     paths = [save_figure(fig, outdir, f"bifurcation_{par}.png")]
+    if "family_multiplier_modulus" in ds:
+        paths += family_figures(ds, outdir, par)
     if par == "P0" and ds.sizes.get("c", 0) >= 3:
         with_folds = [sel for sel in panels if np.isfinite(ds.fold_value.sel(sel).values).any()]
         if with_folds:

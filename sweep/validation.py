@@ -288,8 +288,157 @@ def section_basins(results: Path) -> list[str]:
     return out + [""]
 
 
+#: Families of the asymmetric-stability sections and the Omega values (rad/s) where the
+#: perturbation growth is checked by time integration on the Fig. 14a resonant branch.
+FAMILIES = (1, 2, 3, 4, 5, 6)
+GROWTH_OMEGAS = (36.0, 40.0, 42.0, 44.0, 45.5)
+
+
+def _resonant_end(br) -> int:
+    """Number of points of the resonant stretch of a branch in Omega (up to its first fold)."""
+    from model.continuation import FOLD
+
+    folds = br.special(FOLD)
+    return int(folds[0]) + 1 if folds.size else br.value.size
+
+
+def _fmt_intervals(intervals) -> str:
+    return ", ".join(f"{a:.2f}-{b:.2f}" for a, b in intervals) or "none"
+
+
+def section_families(results: Path) -> list[str]:
+    out = ["## Asymmetric families: symmetry-breaking instabilities of the Fig. 14 branches", "",
+           "Floquet multipliers of the asymmetric mode families n = 1..6 (radial modes 1..2 each) along the",
+           "axisymmetric one-mode branches of Fig. 14 (`fig14-families`, P0 = 1 Pa, c = 0.05 N s/m^3,",
+           "delta_o = 0.2; model/families.py). Located points on the resonant stretch (from Omega = 25 rad/s",
+           "up to the upper saddle-node): BP = branch point (a real multiplier of the family crosses +1),",
+           "NS = Neimark-Sacker (a complex pair crosses the unit circle), PD = period doubling.", ""]
+    ds = _open(results, "fig14-families")
+    if ds is None:
+        return out + _missing("fig14-families")
+    names = {2: "PD", 3: "NS", 4: "BP"}
+    out += ["| delta | upper saddle-node Omega (rad/s) | family n | located points on the resonant stretch, Omega (rad/s) "
+            "| largest multiplier modulus |", "|---|---|---|---|---|"]
+    for delta in ds.delta.values:
+        b = _point(ds, delta=delta, delta_o=0.2, P0=1.0, c=0.05)
+        kind, fam, om = b.point_type.values.ravel(), b.point_family.values.ravel(), b.Omega.values.ravel()
+        end = int(np.flatnonzero(kind == 1)[0]) + 1 if (kind == 1).any() else int(np.isfinite(om).sum())
+        unstable = False
+        for j, n in enumerate(b.family.values):
+            at = [f"{names[int(k)]} {o:.4f}" for k, f, o in zip(kind[:end], fam[:end], om[:end]) if f == n and k > 1]
+            modulus = float(np.nanmax(b.family_multiplier_modulus.values.reshape(-1, b.sizes["family"])[:end, j]))
+            if at or n == b.family.values[0]:
+                unstable |= bool(at)
+                out.append(f"| {delta:g} | {om[end - 1]:.4f} | {n} | {', '.join(at) or 'none'} | {modulus:.4f} |")
+        if not unstable:
+            out[-1] = out[-1].replace(f"| {b.family.values[0]} |", "| 1..6 |")
+    out += ["", "At delta = 1.1 the resonant response loses stability to the n = 1 family by a branch point",
+            "(a symmetry-breaking pitchfork), to n = 5 by branch points and to n = 3 by Neimark-Sacker",
+            "points, all well below the saddle-node; at delta = 1.5 and 2.0 no family is unstable.", ""]
+    return out + _family_convergence() + _family_growth()
+
+
+def _family_convergence() -> list[str]:
+    from model.continuation import continue_orbits
+    from model.families import build_family
+    from model.forced import ForcedMap
+    from model.params import Loading, Membrane
+    from model.prestretch import solve_prestretch
+    from model.rom import build_rom
+
+    out = ["### Convergence with the radial modes per family", "",
+           "Intervals of Omega (rad/s) on the resonant stretch at delta = 1.1 where each family is",
+           "unstable, with M radial modes per family (computed on the spot; M = 2 is the job's setting).", "",
+           "| M | " + " | ".join(f"n = {n}" for n in FAMILIES) + " |", "|---|" + "---|" * len(FAMILIES)]
+    ps = solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric")
+    rom = build_rom(ps, [(1, 0)])
+    fmap = ForcedMap.from_loading(rom, Loading(Omega=25.0, P0=1.0, c=0.05))
+    for M in (2, 4, 6, 8):
+        fams = [build_family(ps, rom, n, M) for n in FAMILIES]
+        br = continue_orbits(fmap, "Omega", 25.0, 55.0, ds_max=0.3, max_points=1000, families=fams)
+        end = _resonant_end(br)
+        cells = []
+        for j in range(len(FAMILIES)):
+            mod = np.abs(br.family_multipliers[:end, j]).max()
+            cells.append(f"{_fmt_intervals(br.unstable_intervals(j, end))} ({mod:.3f})")
+        out.append(f"| {M} | " + " | ".join(cells) + " |")
+    return out + ["", "In brackets: the largest multiplier modulus of the family on the stretch. The n = 1 onset",
+                  "moves down as radial modes are added and the n = 3, 4, 5, 6 intervals change shape and",
+                  "number; the table states whether they have settled at M = 8.", ""]
+
+
+def _family_growth() -> list[str]:
+    from model.continuation import continue_orbits
+    from model.families import build_family, family_monodromy, perturbation_growth
+    from model.forced import ForcedMap, sorted_multipliers
+    from model.params import Loading, Membrane
+    from model.prestretch import solve_prestretch
+    from model.rom import build_rom
+
+    out = ["### Time integration against the Floquet prediction", "",
+           "Nonlinear mixed ROMs with the 2-D quadrature, (1,0) + (1,n) + (2,n), started on the",
+           "resonant axisymmetric orbit with 1e-9 m in each asymmetric coordinate: growth per period of",
+           "the asymmetric part (least-squares slope of its log-norm over periods 20..120, or until it",
+           "reaches 1e-5 m; `model.families.perturbation_growth`), against the largest multiplier modulus",
+           "of the family's block (M = 2) at the same point of the branch (delta = 1.1).", "",
+           "| Omega (rad/s) | amplitude (m) | n | Floquet | integrated | rel. diff. |", "|---|---|---|---|---|---|"]
+    ps = solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric")
+    rom = build_rom(ps, [(1, 0)])
+    fmap = ForcedMap.from_loading(rom, Loading(Omega=25.0, P0=1.0, c=0.05))
+    fams = {n: build_family(ps, rom, n, 2) for n in (1, 3)}
+    br = continue_orbits(fmap, "Omega", 25.0, 55.0, ds_max=0.3, max_points=1000,
+                         families=[fams[1], fams[3]])
+    end = _resonant_end(br)
+    mixed = {n: build_rom(ps, [(1, 0)] + list(f.modes)) for n, f in fams.items()}
+    for target in GROWTH_OMEGAS:
+        i = int(np.argmin(np.abs(br.value[:end] - target)))
+        at = fmap.varied("Omega", br.value[i])
+        for n, fam in fams.items():
+            block = family_monodromy(br.state[i], 0.0, at.period, at.steps, rom.tables, at.forcing, fam.tables)
+            mu = float(np.abs(sorted_multipliers(block)[0]))
+            grown = perturbation_growth(ForcedMap(mixed[n], at.forcing, at.steps), br.state[i], (1, 2))
+            out.append(f"| {br.value[i]:.3f} | {br.amplitude[i]:.4f} | {n} | {mu:.5f} | {grown:.5f} | {_rel(grown, mu)} |")
+    return out + ["", "Growth inside the predicted intervals and decay outside. A real dominant multiplier (n = 1",
+                  "inside its interval) and the unstable n = 3 pair are reproduced to 1e-4; where several",
+                  "multipliers share the modulus of the damping alone, exp(-c T / (2 Gamma h)) = 0.998, the",
+                  "fitted rate carries their beats (up to 0.5 % here).", ""] + _family_outcome(br, end)
+
+
+def _family_outcome(br, end) -> list[str]:
+    from model.forced import ForcedMap
+    from model.params import Loading, Membrane
+    from model.prestretch import solve_prestretch
+    from model.rom import build_rom
+
+    out = ["### Where the perturbed resonant response goes", "",
+           "The mixed ROM (1,0) + (1,1) + (2,1) from the resonant orbit with 1e-6 m in (1,1), 600 periods:",
+           "range of the stroboscopic samples over the last 100 periods of the axisymmetric coordinate and",
+           "of the asymmetric displacement w_asym(0.5 Re, 0) = sum over n = 1 modes of q_mn phi_mn(0.5 Re).", "",
+           "| Omega (rad/s) | n = 1 multiplier | q_10 (m), last 100 periods | w_asym (m), last 100 periods |",
+           "|---|---|---|---|"]
+    ps = solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric")
+    mixed = build_rom(ps, [(1, 0), (1, 1), (2, 1)])
+    for target in (43.0, 44.0):
+        i = int(np.argmin(np.abs(br.value[:end] - target)))
+        fmap = ForcedMap.from_loading(mixed, Loading(Omega=float(br.value[i]), P0=1.0, c=0.05))
+        z = np.zeros(6)
+        z[0], z[3], z[1] = br.state[i, 0], br.state[i, 1], 1e-6
+        z = fmap.advance(z, 500)
+        samples = []
+        for _ in range(100):
+            z = fmap.advance(z)
+            samples.append((z[0], mixed.tables.probe[1:] @ z[1:3]))
+        q, w = np.array(samples).T
+        mu = float(np.abs(br.family_multipliers[i, 0]).max()) if br.family_multipliers.shape[1] else float("nan")
+        out.append(f"| {br.value[i]:.3f} | {mu:.4f} | {q.min():+.4f} .. {q.max():+.4f} | {w.min():+.4f} .. {w.max():+.4f} |")
+    return out + ["", "A period-one orbit would give a single value per column; a spread means the state is",
+                  "not (or not yet) periodic. The asymmetric deflection stays finite, at the millimetre to",
+                  "centimetre level, while the axisymmetric amplitude remains on the resonant level. Following",
+                  "the bifurcated (asymmetric) branch by continuation is not implemented yet.", ""]
+
+
 SECTIONS = (section_table1, section_table2, section_backbone_modes, section_backbone_limits,
-            section_continuation_bruteforce, section_cusp, section_basins)
+            section_continuation_bruteforce, section_cusp, section_families, section_basins)
 
 
 def build_report(results: Path) -> str:

@@ -19,12 +19,20 @@ Outputs (a task's branches differ in length: every ``point`` array is padded wit
   stroboscopic section ``t = 0 mod 2 pi / Omega`` (the paper's ``A_mn`` axes);
 * ``amplitude`` (``point``): max over one period of ``|w(0.5 Re, 0, t)|`` (m);
 * ``stable`` (``point``, int8): 1 stable, 0 unstable (and at located bifurcation points);
+  with ``families``, stable means stable to the families' perturbations too;
 * ``point_type`` (``point``, int8): 0 regular, 1 fold (saddle-node), 2 period doubling,
-  3 Neimark-Sacker; bifurcation points are located to ~1e-10 in arclength and inserted;
+  3 Neimark-Sacker, 4 branch point (a family's multiplier crosses +1: symmetry breaking);
+  bifurcation points are located to ~1e-10 in arclength and inserted;
 * ``multiplier_real``, ``multiplier_imag`` (``point``, ``multiplier``): Floquet
   multipliers by decreasing modulus, and ``multiplier_modulus`` (``point``) the largest;
 * ``fold_value``, ``fold_amplitude`` (``fold``, :data:`MAX_FOLDS` long, NaN padded): the
   saddle-node points in branch order, and ``n_points``, ``n_folds``.
+
+Asymmetric families (``families = {n = [1, 3], radial = 4}``, axisymmetric ``modes`` only):
+the Floquet multipliers of each family's block (:mod:`model.families`) along the branch,
+``family_multiplier_modulus`` (``point``, ``family``) and ``family_multiplier_real``/``_imag``
+(``point``, ``family``, ``family_multiplier``), and ``point_family`` (``point``): the wave
+number of the block of a located point (0 for the axisymmetric block).
 
 Fold loci by two-parameter continuation (Fig. 17): ``fold_curve = {parameter = "c",
 start = 0.05, stop = 3.0}`` follows the first saddle-node of the branch as the second
@@ -73,6 +81,7 @@ class ContinuationOptions:
     ds_max: float
     steps: int
     fold_curve: tuple[str, float, float] | None = None
+    families: tuple[tuple[int, ...], int] | None = None
 
 
 #: Length of the ``cusp`` dimension (cusps of the fold curve, NaN padded).
@@ -115,6 +124,10 @@ class ContinuationAnalysis(Analysis):
         "steps": "RK4 steps per forcing period (default 128)",
         "fold_curve": "{parameter, start, stop}: follow the first saddle-node in a second parameter "
                       "(c, or the forcing parameter not continued) through its cusps (default none)",
+        "families": "{n = [wave numbers], radial = M}: Floquet multipliers of the asymmetric mode families "
+                    "(radial modes 1..M of each n) along the axisymmetric branch; branch points, period "
+                    "doublings and Neimark-Sacker points of each family are located (default none; needs "
+                    "axisymmetric modes)",
     }
 
     def parse_options(self, table, grid, membrane):
@@ -131,14 +144,14 @@ class ContinuationAnalysis(Analysis):
             opt.number(table, s, "max_points", 400, low=2, high=100_000, integer=True),
             opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0),
             opt.number(table, s, "steps", DEFAULT_STEPS, low=16, high=4096, integer=True),
-            _fold_curve(table, s, parameter, grid))
+            _fold_curve(table, s, parameter, grid), opt.families(table, s, opt.modes(table, s)))
 
     def variables(self, options):
         n, k, p = options.max_points, 2 * len(options.modes), options.parameter
         K = len(options.modes)
         units, what = GRID_KEYS[p]
         pt = ("point",)
-        return self._fold_curve_variables(options) + [
+        return self._fold_curve_variables(options) + self._family_variables(options) + [
             Variable(p, pt, (n,), "f8", units, f"continued parameter: {what}"),
             Variable("amplitude", pt, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)|"),
             Variable("modal_coordinate", ("point", "mode"), (n, K), "f8", "m",
@@ -148,7 +161,7 @@ class ContinuationAnalysis(Analysis):
             Variable("stable", pt, (n,), "i1", "1", "stability of the periodic response", -1,
                      {"flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "padding unstable stable"}),
             Variable("point_type", pt, (n,), "i1", "1", "kind of point on the branch", -1,
-                     {"flag_values": np.arange(-1, 4, dtype=np.int8),
+                     {"flag_values": np.arange(-1, len(KIND_NAMES), dtype=np.int8),
                       "flag_meanings": "padding " + " ".join(KIND_NAMES)}),
             Variable("multiplier_real", ("point", "multiplier"), (n, k), "f8", "1",
                      "real part of the Floquet multipliers, by decreasing modulus"),
@@ -159,6 +172,24 @@ class ContinuationAnalysis(Analysis):
             Variable("fold_amplitude", ("fold",), (MAX_FOLDS,), "f8", "m", "amplitude at the saddle-node points"),
             Variable("n_points", (), (), "i4", "1", "points on the branch", -1),
             Variable("n_folds", (), (), "i4", "1", "saddle-node points on the branch", -1),
+        ]
+
+    @staticmethod
+    def _family_variables(options):
+        if options.families is None:
+            return []
+        n, F, w = options.max_points, len(options.families[0]), 2 * options.families[1]
+        pf, pfm = ("point", "family"), ("point", "family", "family_multiplier")
+        return [
+            Variable("family_multiplier_modulus", pf, (n, F), "f8", "1",
+                     "largest Floquet multiplier modulus of the family's block"),
+            Variable("family_multiplier_real", pfm, (n, F, w), "f8", "1",
+                     "real part of the family's Floquet multipliers, by decreasing modulus"),
+            Variable("family_multiplier_imag", pfm, (n, F, w), "f8", "1",
+                     "imaginary part of the family's Floquet multipliers, by decreasing modulus"),
+            Variable("point_family", ("point",), (n,), "i2", "1",
+                     "wave number n of the block a located point belongs to (0: axisymmetric block "
+                     "and regular points)", -1),
         ]
 
     @staticmethod
@@ -178,12 +209,18 @@ class ContinuationAnalysis(Analysis):
         ]
 
     def coords(self, options):
-        extra = {} if options.fold_curve is None else {
+        families = {} if options.families is None else {
+            "family": (("family",), np.array(options.families[0], dtype=np.int32),
+                       {"long_name": "circumferential wave number n of the asymmetric mode family", "units": "1"}),
+            "family_multiplier": (("family_multiplier",), np.arange(2 * options.families[1], dtype=np.int32),
+                                  {"long_name": "Floquet multiplier index within the family's block", "units": "1"})}
+        curve = {} if options.fold_curve is None else {
             "curve_point": (("curve_point",), np.arange(options.max_points, dtype=np.int32),
                             {"long_name": "index along the curve of saddle-nodes", "units": "1"}),
             "cusp": (("cusp",), np.arange(MAX_CUSPS, dtype=np.int32), {"long_name": "cusp index", "units": "1"})}
         return {
-            **extra,
+            **families,
+            **curve,
             **opt.mode_coords(options.modes),
             "point": (("point",), np.arange(options.max_points, dtype=np.int32),
                       {"long_name": "index along the branch", "units": "1"}),
@@ -196,8 +233,10 @@ class ContinuationAnalysis(Analysis):
     def compute(self, point, options, subtask):
         rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
         fmap = ForcedMap.from_loading(rom, point.loading, options.steps).varied(options.parameter, options.start)
+        families = () if options.families is None else opt.families_for(
+            point.membrane, options.prestretch, options.modes, *options.families)
         br = continue_orbits(fmap, options.parameter, options.start, options.stop, ds_max=options.ds_max,
-                             max_points=options.max_points)
+                             max_points=options.max_points, families=families)
         n, k = options.max_points, 2 * len(options.modes)
         m = br.value.size
         K = len(options.modes)
@@ -218,6 +257,16 @@ class ContinuationAnalysis(Analysis):
         folds = br.special(FOLD)[:MAX_FOLDS]
         out["fold_value"][:folds.size] = br.value[folds]
         out["fold_amplitude"][:folds.size] = br.amplitude[folds]
+        if families:
+            F, w = len(families), 2 * options.families[1]
+            mu = br.family_multipliers
+            out["family_multiplier_modulus"] = np.full((n, F), np.nan)
+            out["family_multiplier_modulus"][:m] = np.abs(mu).max(axis=2)
+            out["family_multiplier_real"] = np.full((n, F, w), np.nan)
+            out["family_multiplier_imag"] = np.full((n, F, w), np.nan)
+            out["family_multiplier_real"][:m], out["family_multiplier_imag"][:m] = mu.real, mu.imag
+            out["point_family"] = np.full(n, -1, np.int16)
+            out["point_family"][:m] = br.family
         out["n_points"] = np.int32(m)
         out["n_folds"] = np.int32(br.special(FOLD).size)
         out["status"] = STATUS_OK if br.complete else STATUS_NOT_CONVERGED

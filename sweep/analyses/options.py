@@ -12,6 +12,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from model.families import Family, build_family
 from model.forced import PARAMETERS as FORCING_PARAMETERS
 from model.params import Membrane
 from model.prestretch import KINDS, solve_prestretch
@@ -124,7 +125,45 @@ def mode_coords(mode_list) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict]
 
 
 @functools.lru_cache(maxsize=8)
+def _prestretch_for(membrane: Membrane, prestretch: str):
+    return solve_prestretch(membrane, prestretch)
+
+
+@functools.lru_cache(maxsize=8)
 def rom_for(membrane: Membrane, prestretch: str, modes: tuple[tuple[int, int], ...]) -> Rom:
     """The ROM of ``modes`` on the ``prestretch`` solution of ``membrane`` (cached: the
     tiles of a basins lattice and the tasks of a grid often share a membrane)."""
-    return build_rom(solve_prestretch(membrane, prestretch), modes)
+    return build_rom(_prestretch_for(membrane, prestretch), modes)
+
+
+@functools.lru_cache(maxsize=8)
+def families_for(membrane: Membrane, prestretch: str, modes: tuple[tuple[int, int], ...],
+                 wave_numbers: tuple[int, ...], radial: int) -> tuple[Family, ...]:
+    """The family blocks (:func:`model.families.build_family`) of wave numbers
+    ``wave_numbers``, radial modes ``1..radial`` each, for the ROM of :func:`rom_for`."""
+    ps = _prestretch_for(membrane, prestretch)
+    rom = rom_for(membrane, prestretch, modes)
+    return tuple(build_family(ps, rom, n, radial) for n in wave_numbers)
+
+
+def families(table, section: str, mode_list) -> tuple[tuple[int, ...], int] | None:
+    """The ``families = {n = [..], radial = M}`` option: ``(wave numbers, M)`` or None.
+
+    The families need an axisymmetric mode set (their blocks are taken on axisymmetric
+    orbits).
+    """
+    value = table.get("families")
+    if value is None:
+        return None
+    key = f"{section}.families"
+    if not isinstance(value, Mapping) or set(value) != {"n", "radial"}:
+        raise JobError(key, value, "must be a table {n = [wave numbers >= 1], radial = radial modes per family}")
+    ns = value["n"]
+    if (not isinstance(ns, list) or not ns or any(isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in ns)
+            or len(set(ns)) != len(ns)):
+        raise JobError(f"{key}.n", ns, "must be a non-empty list of distinct integers >= 1")
+    radial = number(value, key, "radial", integer=True, low=1, high=32)
+    if any(n for _, n in mode_list):
+        raise JobError(f"{section}.modes", [list(p) for p in mode_list],
+                       "must be axisymmetric (every n = 0) when families are given")
+    return tuple(ns), radial
