@@ -1,22 +1,32 @@
-"""Two-parameter continuation of folds (saddle-nodes) of periodic responses, and cusps.
+"""Two-parameter continuation of bifurcation points of periodic responses, and cusps.
 
-A fold of the branch of periodic responses in a parameter ``p`` (``P0`` or ``Omega``) is a
-fixed point of the stroboscopic map ``P(y; p, q)`` (:class:`model.forced.ForcedMap`) with
-a Floquet multiplier equal to 1.  As a second parameter ``q`` (``c``, ``P0`` or ``Omega``)
-varies, the folds form a curve in the ``(q, p)`` plane: the solutions of the extended
-system (AUTO-07p's fold continuation, ISW = 2, here in the standard rather than the
-minimally augmented form)::
+A bifurcation point of the branch of periodic responses in a parameter ``p`` (``P0`` or
+``Omega``) is a fixed point of the stroboscopic map ``P(y; p, q)``
+(:class:`model.forced.ForcedMap`) where one scalar condition on the monodromy matrix holds.
+As a second parameter ``q`` (``c``, ``P0`` or ``Omega``) varies, such points form a curve in
+the ``(q, p)`` plane: the solutions of the extended system (AUTO-07p's continuation of
+folds, period doublings and tori, ISW = 2, here in the standard rather than the minimally
+augmented form)::
 
     P(y; p, q) - y = 0                 (2K equations)
-    det(Phi - I) = 0                   (1 equation; Phi = dP/dy)
+    condition(y; p, q) = 0             (1 equation)
 
-in the unknowns ``(y, p, q)``, followed by pseudo-arclength continuation in the scaled
-unknowns ``(S y / L, p / span_p, q / span_q)``.  Its Jacobian is formed by central
-differences (2 (2K + 2) evaluations of the map and its monodromy per Newton step: cheap
-for the few modes of a ROM).  Where the two folds of a hysteresis loop merge, the curve
-turns back in ``q``: a **cusp**, located as the zero of the ``q``-component of the unit
-tangent by the secant (Illinois) method on the arclength, as :mod:`model.continuation`
-locates folds.
+in the unknowns ``(y, p, q)``, with the condition
+
+* fold (saddle-node): ``det(Phi - I)`` (``Phi = dP/dy``);
+* branch point of an asymmetric family (:mod:`model.families`): ``det(Phi_n - I)``;
+* period doubling: ``det(B + I)`` for ``B = Phi`` or a family's block ``Phi_n``;
+* Neimark-Sacker: ``Re prod_{i<j} (mu_i mu_j - 1)`` over the complex multipliers of ``B``
+  (``|mu|^2 - 1`` for a single pair),
+
+followed by pseudo-arclength continuation in the scaled unknowns
+``(S y / L, p / span_p, q / span_q)``.  Its Jacobian is formed by central differences
+(2 (2K + 2) evaluations of the map and its monodromy per Newton step: cheap for the few
+modes of a ROM).  Where the curve turns back in ``q`` it is located as the zero of the
+``q``-component of the unit tangent by the secant (Illinois) method on the arclength, as
+:mod:`model.continuation` locates folds; on a fold curve such a turn is a **cusp** (two
+folds of a hysteresis loop merge), on a branch-point curve the end of an instability
+interval.
 """
 
 from __future__ import annotations
@@ -25,47 +35,68 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .continuation import FOLD, LENGTH, bordered_newton, continue_orbits, locate, step, unit_tangent
-from .forced import ForcedMap, state_scale
+from .continuation import (BRANCH_POINT, FOLD, KIND_NAMES, LENGTH, NEIMARK_SACKER, PERIOD_DOUBLING, _ns_test,
+                           bordered_newton, continue_orbits, locate, step, unit_tangent)
+from .families import Family, family_monodromy
+from .forced import ForcedMap, sorted_multipliers, state_scale
 
 
 @dataclass
-class FoldCurve:
-    """Folds of the periodic responses followed in two parameters.
+class BifurcationCurve:
+    """Bifurcation points of the periodic responses followed in two parameters.
 
     Attributes
     ----------
+    kind : int
+        :data:`model.continuation.FOLD`, ``BRANCH_POINT``, ``PERIOD_DOUBLING`` or
+        ``NEIMARK_SACKER``.
+    family : int
+        Wave number of the block the condition is on (0: the axisymmetric block).
     parameters : tuple of str
-        ``(p, q)``: the fold's own parameter and the second one.
+        ``(p, q)``: the point's own parameter and the second one.
     p, q : (N,) arrays
         Parameter values along the curve (SI units of each).
     state : (N, 2K) array
-        ``y(0)`` of the fold orbit.
+        ``y(0)`` of the orbit.
     amplitude : (N,) array
         ``max_t |w(0.5 Re, 0, t)|`` (m).
-    cusp : (C, 2) array
-        ``(q, p)`` of each cusp found, in curve order.
+    turns : (C, 2) array
+        ``(q, p)`` of each point where the curve turns back in ``q``, in curve order.
     complete : bool
         The curve reached the end of the ``q`` range (or came back to its start value).
     message : str
         Why the continuation stopped.
     """
 
+    kind: int
+    family: int
     parameters: tuple[str, str]
     p: np.ndarray
     q: np.ndarray
     state: np.ndarray
     amplitude: np.ndarray
-    cusp: np.ndarray
+    turns: np.ndarray
     complete: bool
     message: str
 
+    @property
+    def cusp(self) -> np.ndarray:
+        """The turns of a fold curve: its cusps ``(q, p)`` (empty for other kinds)."""
+        return self.turns if self.kind == FOLD else np.zeros((0, 2))
 
-class _FoldSystem:
-    """The scaled extended system of a fold curve."""
 
-    def __init__(self, fmap: ForcedMap, p: str, q: str, p_span: float, q_range: tuple[float, float]):
+class _CurveSystem:
+    """The scaled extended system of a curve of bifurcation points."""
+
+    def __init__(self, fmap: ForcedMap, p: str, q: str, p_span: float, q_range: tuple[float, float],
+                 kind: int = FOLD, family: Family | None = None):
+        if kind not in (FOLD, BRANCH_POINT, PERIOD_DOUBLING, NEIMARK_SACKER):
+            raise ValueError(f"kind = {kind!r} is invalid: must be FOLD, BRANCH_POINT, PERIOD_DOUBLING or NEIMARK_SACKER")
+        if (kind == FOLD and family is not None) or (kind == BRANCH_POINT and family is None):
+            raise ValueError(f"family = {family!r} is invalid for a {KIND_NAMES[kind]} curve: "
+                             "branch points need a family, folds take none")
         self.fmap, self.p, self.q = fmap, p, q
+        self.kind, self.family = kind, family
         self.p_span = p_span
         self.q_lo, self.q_hi = min(q_range), max(q_range)
         self.q_span = self.q_hi - self.q_lo
@@ -82,11 +113,25 @@ class _FoldSystem:
     def at(self, p, q) -> ForcedMap:
         return self.fmap.varied(self.p, p).varied(self.q, q)
 
+    def condition(self, fmap, y, phi) -> float:
+        """The scalar condition of the curve's kind at the orbit ``y`` of ``fmap``."""
+        if self.family is None:
+            block = phi
+        else:
+            block = family_monodromy(y, 0.0, fmap.period, fmap.steps, fmap.rom.tables, fmap.forcing,
+                                     self.family.tables)
+        eye = np.eye(block.shape[0])
+        if self.kind in (FOLD, BRANCH_POINT):
+            return float(np.linalg.det(block - eye))
+        if self.kind == PERIOD_DOUBLING:
+            return float(np.linalg.det(block + eye))
+        return _ns_test(sorted_multipliers(block))
+
     def residual(self, x):
         y, p, q = self.unpack(x)
-        yT, phi = self.at(p, q).monodromy(y)
-        a = (self.s[:, None] * (phi - np.eye(self.n))) / self.s[None, :]
-        return np.append(self.s * (yT - y), np.linalg.det(a))
+        fmap = self.at(p, q)
+        yT, phi = fmap.monodromy(y)
+        return np.append(self.s * (yT - y), self.condition(fmap, y, phi))
 
     def jacobian(self, x, h=1e-7):
         cols = []
@@ -110,10 +155,11 @@ class _FoldSystem:
 
 
 def fold_at(fmap: ForcedMap, parameter: str, second: str, value: float, guess, p_guess: float,
-            tol: float = 1e-11) -> tuple[np.ndarray, float] | None:
-    """The fold near ``(guess, p_guess)`` at ``second = value``, by Newton on the extended
-    system with ``second`` fixed.  Returns ``(y, p)`` or None."""
-    sys_ = _FoldSystem(fmap, parameter, second, max(abs(p_guess), 1e-3), (value, value + 1.0))
+            tol: float = 1e-11, kind: int = FOLD, family: Family | None = None) -> tuple[np.ndarray, float] | None:
+    """The bifurcation point of ``kind`` (default: fold) near ``(guess, p_guess)`` at
+    ``second = value``, by Newton on the extended system with ``second`` fixed.  Returns
+    ``(y, p)`` or None."""
+    sys_ = _CurveSystem(fmap, parameter, second, max(abs(p_guess), 1e-3), (value, value + 1.0), kind, family)
     x0 = sys_.pack(np.asarray(guess, float), p_guess, value)
     e = np.zeros(x0.size)
     e[-1] = 1.0
@@ -125,15 +171,12 @@ def fold_at(fmap: ForcedMap, parameter: str, second: str, value: float, guess, p
 
 
 def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, stop: float,
-                   p_range: tuple[float, float], ds: float = 0.02, ds_min: float = 1e-7,
-                   ds_max: float = 0.05, max_points: int = 400, tol: float = 1e-10) -> FoldCurve:
+                   p_range: tuple[float, float], max_points: int = 400, **steps) -> BifurcationCurve:
     """Follow the folds of the responses in ``parameter`` as ``second`` goes from ``start``.
 
     The curve starts at the first fold of the one-parameter branch in ``parameter`` over
-    ``p_range`` at ``second = start`` (:func:`model.continuation.continue_orbits`), and
-    is followed towards ``stop``; it ends at the first point past either end of
-    ``[start, stop]`` (the far end, or back past ``start`` after a cusp), after
-    ``max_points`` points, or when the step falls below ``ds_min``.
+    ``p_range`` at ``second = start`` (:func:`model.continuation.continue_orbits`) and is
+    followed by :func:`continue_curve` (``steps``: its step and tolerance arguments).
 
     Parameters
     ----------
@@ -147,16 +190,68 @@ def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, s
         Range of ``second``.
     p_range : (float, float)
         Range of ``parameter`` for the starting one-parameter branch.
+    max_points : int
+        Largest number of points (cusps included).
+
+    Returns
+    -------
+    BifurcationCurve
+        With no point when the starting branch has no fold.
+    """
+    if parameter == second:
+        raise ValueError(f"second = {second!r} is invalid: it must differ from parameter")
+    branch = continue_orbits(fmap.varied(second, start), parameter, *p_range, ds_max=0.3, max_points=max_points)
+    folds = branch.special(FOLD)
+    if folds.size == 0:
+        return BifurcationCurve(FOLD, 0, (parameter, second), np.zeros(0), np.zeros(0), np.zeros((0, 2 * fmap.dof)),
+                                np.zeros(0), np.zeros((0, 2)), False,
+                                f"no fold on the {parameter} branch at {second} = {start}")
+    return continue_curve(fmap, parameter, second, start, stop, branch.state[folds[0]], branch.value[folds[0]],
+                          abs(p_range[1] - p_range[0]), max_points=max_points, **steps)
+
+
+def continue_curve(fmap: ForcedMap, parameter: str, second: str, start: float, stop: float, state, value: float,
+                   p_span: float, kind: int = FOLD, family: Family | None = None, ds: float = 0.02,
+                   ds_min: float = 1e-7, ds_max: float = 0.05, max_points: int = 400,
+                   tol: float = 1e-10) -> BifurcationCurve:
+    """Follow a curve of bifurcation points of ``kind`` from ``(state, value)`` at ``second = start``.
+
+    The curve is followed towards ``stop``; it ends at the first point past either end of
+    ``[start, stop]`` (the far end, or back past ``start`` after a turn), after
+    ``max_points`` points, or when the step falls below ``ds_min``.
+
+    Parameters
+    ----------
+    fmap : ForcedMap
+        The map with the fixed parameters and the RK4 steps per period.
+    parameter : {"P0", "Omega"}
+        The point's own parameter (the one of the branch it was located on).
+    second : {"c", "P0", "Omega"}
+        The second parameter (different from ``parameter``).
+    start, stop : float
+        Range of ``second``.
+    state : (2K,) array
+        Orbit ``y(0)`` at the starting point (refined by Newton first).
+    value : float
+        ``parameter`` at the starting point.
+    p_span : float
+        Scale of ``parameter`` in the arclength (e.g. the length of the branch's range).
+    kind : int
+        :data:`model.continuation.FOLD` (default), ``BRANCH_POINT``, ``PERIOD_DOUBLING`` or
+        ``NEIMARK_SACKER``.
+    family : Family, optional
+        The asymmetric family the condition is on (required for branch points; None: the
+        axisymmetric block).
     ds, ds_min, ds_max : float
         Arclength steps in the scaled unknowns.
     max_points : int
-        Largest number of points (cusps included).
+        Largest number of points (turns included).
     tol : float
         Newton tolerance on the scaled unknowns.
 
     Returns
     -------
-    FoldCurve
+    BifurcationCurve
     """
     if parameter == second:
         raise ValueError(f"second = {second!r} is invalid: it must differ from parameter")
@@ -164,29 +259,24 @@ def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, s
         raise ValueError(f"(ds_min, ds, ds_max) = ({ds_min}, {ds}, {ds_max}) is invalid: need 0 < ds_min <= ds <= ds_max")
     if not (np.isfinite(start) and np.isfinite(stop)) or start == stop:
         raise ValueError(f"(start, stop) = ({start!r}, {stop!r}) is invalid: need two different finite values")
-    branch = continue_orbits(fmap.varied(second, start), parameter, *p_range, ds_max=0.3, max_points=max_points)
-    folds = branch.special(FOLD)
-    if folds.size == 0:
-        return FoldCurve((parameter, second), np.zeros(0), np.zeros(0), np.zeros((0, 2 * fmap.dof)),
-                         np.zeros(0), np.zeros((0, 2)), False,
-                         f"no fold on the {parameter} branch at {second} = {start}")
-    sys_ = _FoldSystem(fmap, parameter, second, abs(p_range[1] - p_range[0]), (start, stop))
-    x = sys_.pack(branch.state[folds[0]], branch.value[folds[0]], start)
+    sys_ = _CurveSystem(fmap, parameter, second, p_span, (start, stop), kind, family)
+    x = sys_.pack(np.asarray(state, dtype=float), value, start)
     direction = np.sign(stop - start)
     e = np.zeros(x.size)
     e[-1] = direction
     res = sys_.correct(x, e, x, 0.0, tol)
     if res is None:
-        raise RuntimeError(f"the fold at {second} = {start} could not be refined")
+        raise RuntimeError(f"the {KIND_NAMES[kind]} point at {second} = {start} could not be refined")
     x, jac = res
     t = sys_.tangent(jac, e)
-    pts, cusps = [x], []
+    pts, turns = [x], []
 
     def finish(complete, message):
         ys, ps, qs = zip(*(sys_.unpack(v) for v in pts))
         amp = [sys_.at(p, q).amplitude(y) for y, p, q in zip(ys, ps, qs)]
-        return FoldCurve((parameter, second), np.array(ps), np.array(qs), np.array(ys), np.array(amp),
-                         np.array(cusps).reshape(-1, 2), complete, message)
+        return BifurcationCurve(kind, 0 if family is None else family.n, (parameter, second), np.array(ps),
+                                np.array(qs), np.array(ys), np.array(amp), np.array(turns).reshape(-1, 2),
+                                complete, message)
 
     while len(pts) < max_points:
         res, t_new, ds = step(sys_.correct, sys_.tangent, x, t, ds, ds_min, tol)
@@ -195,11 +285,11 @@ def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, s
         x_new, jac = res
         q_new = sys_.unpack(x_new)[2]
         if t[-1] * t_new[-1] < 0 and len(pts) < max_points - 1:
-            cusp = _locate_cusp(sys_, x, t, ds, t[-1], t_new[-1], tol)
-            if cusp is not None:
-                _, p_c, q_c = sys_.unpack(cusp)
-                cusps.append((q_c, p_c))
-                pts.append(cusp)
+            turn = _locate_turn(sys_, x, t, ds, t[-1], t_new[-1], tol)
+            if turn is not None:
+                _, p_c, q_c = sys_.unpack(turn)
+                turns.append((q_c, p_c))
+                pts.append(turn)
         pts.append(x_new)
         if not sys_.q_lo <= q_new <= sys_.q_hi:
             return finish(True, f"{second} left [{sys_.q_lo}, {sys_.q_hi}] at {q_new:.9g}")
@@ -208,7 +298,7 @@ def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, s
     return finish(False, f"max_points = {max_points} reached")
 
 
-def _locate_cusp(sys_, x, t, ds, fa, fb, tol):
+def _locate_turn(sys_, x, t, ds, fa, fb, tol):
     """The point between ``x`` and the next one where the second parameter's tangent
     component vanishes (the curve turns back in it), or None."""
     found = locate(sys_.correct, lambda res: sys_.tangent(res[1], t)[-1], x, t, ds, fa, fb, tol)

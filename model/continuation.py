@@ -105,28 +105,31 @@ class Branch:
         return np.flatnonzero(self.kind == kind)
 
     def unstable_intervals(self, family: int, end: int | None = None) -> list[tuple[float, float]]:
-        """Parameter intervals where family number ``family`` (an index into the
-        ``families`` of the continuation) has a multiplier outside the unit circle.
+        """:func:`unstable_intervals` of family number ``family`` (an index into the
+        ``families`` of the continuation) over points ``0..end-1`` (default: all)."""
+        return unstable_intervals(self.value[:end], np.abs(self.family_multipliers[:end, family]).max(axis=1))
 
-        Over points ``0..end-1`` (default: all).  An interval runs between the points that
-        bound a run of unstable points: the located bifurcation points where the run starts
-        and ends, or the ends of the stretch.
-        """
-        mod = np.abs(self.family_multipliers[:end, family]).max(axis=1)
-        unstable = mod > 1.0 + 1e-9
-        out = []
-        i = 0
-        while i < unstable.size:
-            if unstable[i]:
-                j = i
-                while j + 1 < unstable.size and unstable[j + 1]:
-                    j += 1
-                lo, hi = max(i - 1, 0), min(j + 1, unstable.size - 1)
-                out.append((float(self.value[lo]), float(self.value[hi])))
-                i = j + 1
-            else:
-                i += 1
-        return out
+
+def unstable_intervals(value, modulus) -> list[tuple[float, float]]:
+    """Parameter intervals along a branch where the largest multiplier ``modulus`` exceeds 1.
+
+    An interval runs between the points that bound a run of unstable points: the located
+    bifurcation points where the run starts and ends (modulus 1 to ~1e-10), or the ends of
+    the branch.  ``value`` and ``modulus`` are per point, in branch order.
+    """
+    unstable = np.asarray(modulus) > 1.0 + 1e-9
+    out = []
+    i = 0
+    while i < unstable.size:
+        if unstable[i]:
+            j = i
+            while j + 1 < unstable.size and unstable[j + 1]:
+                j += 1
+            out.append((float(value[max(i - 1, 0)]), float(value[min(j + 1, unstable.size - 1)])))
+            i = j + 1
+        else:
+            i += 1
+    return out
 
 
 class _Problem:

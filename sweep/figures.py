@@ -322,6 +322,89 @@ def _draw_branch(ax, x, amp, stable, kind, color, label, stopped=False):
 BIFURCATION_MARKERS = {1: "o", 2: "s", 3: "D", 4: "^"}
 
 
+def _family_colors(plt, families) -> dict:
+    # by wave number, so that a family has one colour in every figure
+    cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    return {0: "k", **{int(n): cycle[int(n) % len(cycle)] for n in families}}
+
+
+def stability_map_figures(ds, outdir, par: str, rows: str) -> list:
+    """Stability maps: per row of the grid parameter ``rows`` (e.g. P0), the intervals of the
+    continued parameter where the resonant stretch of the branch (from its start to the
+    first saddle-node) is unstable to each family, and the saddle-nodes of the row."""
+    plt = pyplot()
+    exclude = ("c", rows, "point", "fold", "multiplier", "mode", "family", "family_multiplier", "curve",
+               "curve_point", "cusp")
+    panels = [dict(sel, **({"c": c} if "c" in ds.dims else {})) for sel in computed_points(ds, exclude)
+              for c in (ds.c.values if "c" in ds.dims else [None])]
+    families = ds.family.values
+    colors = _family_colors(plt, families)
+    fig, axes = _panel_axes(plt, len(panels))
+    step = float(np.min(np.diff(np.sort(ds[rows].values)))) if ds.sizes[rows] > 1 else 1.0
+    for ax, sel in zip(axes, panels):
+        fixed = {k: v for k, v in sel.items() if v is not None}
+        for r in ds[rows].values:
+            b = ds.sel(fixed).sel({rows: r})
+            kind = b.point_type.values
+            n = int(b.n_points)
+            if n <= 0:
+                continue
+            folds = np.flatnonzero(kind[:n] == 1)
+            end = int(folds[0]) + 1 if folds.size else n
+            x = b[par].values[:end]
+            mod = b.family_multiplier_modulus.values[:end]
+            for j, fam in enumerate(families):
+                bad = mod[:, j] > 1.0 + 1e-9
+                lo = 0.35 * step * (2 * j / max(len(families) - 1, 1) - 1)
+                ax.plot(np.where(bad, x, np.nan), np.full(end, r + lo), color=colors[int(fam)], lw=2.5,
+                        solid_capstyle="butt", label=f"unstable to n = {fam}" if r == ds[rows].values[0] else None)
+            ax.plot(b[par].values[kind == 1], np.full(int((kind == 1).sum()), r), "ko", mfc="white", ms=5,
+                    label="saddle-nodes" if r == ds[rows].values[0] else None)
+        ax.set(xlabel=f"{SYMBOLS.get(par, par)} ({GRID_UNITS.get(par, '')})",
+               ylabel=f"{SYMBOLS.get(rows, rows)} ({GRID_UNITS.get(rows, '')})")
+        ax.set_title(point_label(fixed), fontsize=9)
+    axes[0].legend(fontsize=7, loc="upper left")
+    fig.suptitle("Stability map of the resonant axisymmetric responses (one row per continuation)", fontsize=10)
+    fig.tight_layout()
+    return [save_figure(fig, outdir, f"stability_map_{par}.png")]
+
+
+def bifurcation_curve_figures(ds, outdir, par: str) -> list:
+    """Curves of bifurcation points in the plane of the continued and the second parameter,
+    coloured by the family of their block (black: axisymmetric), marked by kind."""
+    plt = pyplot()
+    second = next(v[len("curve_"):] for v in ds.data_vars
+                  if v.startswith("curve_") and v not in ("curve_amplitude", "curve_kind", "curve_family", f"curve_{par}"))
+    families = ds.family.values if "family" in ds.coords else []
+    colors = _family_colors(plt, families)
+    panels = list(computed_points(ds, ("point", "fold", "multiplier", "mode", "family", "family_multiplier", "curve",
+                                       "curve_point", "cusp")))
+    fig, axes = _panel_axes(plt, len(panels))
+    styles = {1: "-", 2: ":", 3: "--", 4: "-"}
+    for ax, sel in zip(axes, panels):
+        b = ds.sel(sel)
+        seen = set()
+        for j in range(b.sizes["curve"]):
+            kind, fam = int(b.curve_kind[j]), int(b.curve_family[j])
+            if kind < 0:
+                continue
+            name = f"{KIND_LABELS[kind]}" + (f", n = {fam}" if fam else "")
+            ax.plot(b[f"curve_{par}"][j], b[f"curve_{second}"][j], ls=styles[kind], color=colors.get(fam, "k"),
+                    lw=1.4, label=None if name in seen else name)
+            seen.add(name)
+        ax.set(xlabel=f"{SYMBOLS.get(par, par)} ({GRID_UNITS.get(par, '')})",
+               ylabel=f"{SYMBOLS.get(second, second)} ({GRID_UNITS.get(second, '')})")
+        ax.set_title(point_label(sel), fontsize=9)
+        ax.legend(fontsize=7)
+    fig.suptitle("Curves of bifurcation points (two-parameter continuation)", fontsize=10)
+    fig.tight_layout()
+    return [save_figure(fig, outdir, f"bifurcation_curves_{par}.png")]
+
+
+#: Legend names of the located point types.
+KIND_LABELS = {1: "saddle-node", 2: "period doubling", 3: "Neimark-Sacker", 4: "branch point"}
+
+
 def family_figures(ds, outdir, par: str) -> list:
     """Stability of the axisymmetric branches to the asymmetric families.
 
@@ -336,8 +419,7 @@ def family_figures(ds, outdir, par: str) -> list:
     panels = [dict(sel, **({"c": c} if "c" in ds.dims else {})) for sel in panels
               for c in (ds.c.values if "c" in ds.dims else [None])]
     families = ds.family.values
-    cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    colors = {int(n): cycle[(j + 1) % len(cycle)] for j, n in enumerate(families)}
+    colors = _family_colors(plt, families)
     fig, axes = plt.subplots(2, len(panels), figsize=(max(4.6 * len(panels), 6.0), 7.0), squeeze=False,
                              sharex="col")
     for j, sel in enumerate(panels):
@@ -459,6 +541,11 @@ def continuation_figures(ds, outdir) -> list:
     paths = [save_figure(fig, outdir, f"bifurcation_{par}.png")]
     if "family_multiplier_modulus" in ds:
         paths += family_figures(ds, outdir, par)
+        rows = "P0" if par == "Omega" else "Omega"
+        if ds.sizes.get(rows, 0) >= 2:
+            paths += stability_map_figures(ds, outdir, par, rows)
+    if "curve_kind" in ds:
+        paths += bifurcation_curve_figures(ds, outdir, par)
     if par == "P0" and ds.sizes.get("c", 0) >= 3:
         with_folds = [sel for sel in panels if np.isfinite(ds.fold_value.sel(sel).values).any()]
         if with_folds:

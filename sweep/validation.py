@@ -335,7 +335,62 @@ def section_families(results: Path) -> list[str]:
     out += ["", "At delta = 1.1 the resonant response loses stability to the n = 1 family by a branch point",
             "(a symmetry-breaking pitchfork), to n = 5 by branch points and to n = 3 by Neimark-Sacker",
             "points, all well below the saddle-node; at delta = 1.5 and 2.0 no family is unstable.", ""]
-    return out + _family_convergence() + _family_growth()
+    return out + _stability_map(results) + _family_convergence() + _family_growth()
+
+
+def _stability_map(results: Path) -> list[str]:
+    out = ["### Stability map and bifurcation curves in (Omega, P0)", "",
+           "Rows: one continuation in Omega per P0 (`stability-map-fig14a`, families n = 1..6, two radial",
+           "modes each; figure `stability_map_Omega.png`). Curves: every located point of the P0 = 1 Pa",
+           "branch followed in P0 by two-parameter continuation (`fig14a-bifurcation-curves`, families",
+           "n = 1 and 3; figure `bifurcation_curves_Omega.png`). Check: every point located on a row, of",
+           "a kind and family the curves follow, must lie on a curve: the curve's Omega at the row's P0",
+           "(linear interpolation between curve points) against the row's. Below the lowest P0 of a",
+           "curve (where it turns back) no row may have such a point.", ""]
+    rows, curves = _open(results, "stability-map-fig14a"), _open(results, "fig14a-bifurcation-curves")
+    if rows is None or curves is None:
+        return out + _missing("stability-map-fig14a", "fig14a-bifurcation-curves")
+    names = {1: "saddle-node", 2: "period doubling", 3: "Neimark-Sacker", 4: "branch point"}
+    cur = _point(curves, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
+    r = _point(rows, delta=1.1, delta_o=0.2, c=0.05)
+    kinds = cur.curve_kind.values.ravel()
+    fams = cur.curve_family.values.ravel()
+    qs = cur.curve_P0.values.reshape(kinds.size, -1)
+    ps = cur.curve_Omega.values.reshape(kinds.size, -1)
+    out += ["| kind | family n | lowest P0 on its curves (Pa) | row points | on a curve | largest Omega "
+            "difference on a curve (rad/s) | not on a curve: P0 of their rows (Pa) | row points below the "
+            "lowest P0 |", "|---|---|---|---|---|---|---|---|"]
+    for kind, fam in sorted({(int(k), int(f)) for k, f in zip(kinds, fams) if k > 0}):
+        mine = [j for j in range(kinds.size) if kinds[j] == kind and fams[j] == fam]
+        lowest = min(float(np.nanmin(qs[j])) for j in mine)
+        count = matched = below = 0
+        worst = 0.0
+        off = set()
+        for P0 in r.P0.values:
+            b = r.sel(P0=P0)
+            n = int(b.n_points)
+            at = (b.point_type.values.ravel()[:n] == kind) & (b.point_family.values.ravel()[:n] == fam)
+            for omega in b.Omega.values.ravel()[:n][at]:
+                count += 1
+                below += int(P0 < lowest)
+                crossings = []
+                for j in mine:
+                    q, p = qs[j][np.isfinite(qs[j])], ps[j][np.isfinite(qs[j])]
+                    for i in np.flatnonzero((q[:-1] - P0) * (q[1:] - P0) <= 0):
+                        w = (P0 - q[i]) / (q[i + 1] - q[i]) if q[i + 1] != q[i] else 0.0
+                        crossings.append(p[i] + w * (p[i + 1] - p[i]))
+                d = float(np.min(np.abs(np.array(crossings) - omega))) if crossings else np.inf
+                if d < 0.05:
+                    matched += 1
+                    worst = max(worst, d)
+                else:
+                    off.add(round(float(P0), 3))
+        out.append(f"| {names[kind]} | {fam} | {lowest:.4f} | {count} | {matched} | {worst:.1e} | "
+                   f"{', '.join(f'{v:g}' for v in sorted(off)) or '-'} | {below} |")
+    return out + ["", "A point counts as on a curve within 0.05 rad/s; the differences left are those of the",
+                  "linear interpolation between curve points (steps of up to 0.5 in the scaled arclength).",
+                  "Points on no curve belong to instability intervals that do not reach the P0 = 1 Pa row",
+                  "the curves start from (they open at larger P0, near the upper saddle-node).", ""]
 
 
 def _family_convergence() -> list[str]:

@@ -1,4 +1,5 @@
-"""Two-parameter continuation of folds and the cusp (model/codim2.py), Fig. 17 case.
+"""Two-parameter continuation of folds and the cusp (model/codim2.py), Fig. 17 case, and of
+the n = 1 branch point of the Fig. 14a resonance.
 
 Independent checks: the one-parameter continuation's folds (located by the secant on the
 tangent's parameter component, model/continuation.py) at fixed damping, the number of
@@ -9,8 +10,9 @@ from one-parameter folds (model.continuation.cusp_from_folds).
 import numpy as np
 import pytest
 
-from model.codim2 import continue_folds, fold_at
-from model.continuation import FOLD, continue_orbits, cusp_from_folds
+from model.codim2 import continue_curve, continue_folds, fold_at
+from model.continuation import BRANCH_POINT, FOLD, continue_orbits, cusp_from_folds
+from model.families import build_family
 from model.forced import ForcedMap
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
@@ -70,3 +72,32 @@ def test_no_fold_no_curve(fmap):
     assert not curve.complete and curve.p.size == 0 and "no fold" in curve.message
     with pytest.raises(ValueError, match="second = 'P0' is invalid"):
         continue_folds(fmap, "P0", "P0", 0.0, 1.0, (0.0, 1.0))
+
+
+def test_branch_point_curve_agrees_with_one_parameter_branch_points():
+    # The n = 1 branch point of the Fig. 14a resonance (delta = 1.1, c = 0.05) followed in P0
+    # from 1 Pa: at curve points, the one-parameter branch in Omega at that P0 locates its
+    # branch point (Illinois on det(Phi_1 - I) along the branch) at the curve's Omega.
+    ps = solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric")
+    rom = build_rom(ps, [(1, 0)])
+    fam = build_family(ps, rom, 1, 2)
+    fmap = ForcedMap.from_loading(rom, Loading(Omega=25.0, P0=1.0, c=0.05))
+    branch = continue_orbits(fmap, "Omega", 25.0, 55.0, ds_max=0.3, max_points=1000, families=[fam])
+    first = branch.special(BRANCH_POINT)[0]
+    curve = continue_curve(fmap, "Omega", "P0", 1.0, 2.0, branch.state[first], branch.value[first], 30.0,
+                           kind=BRANCH_POINT, family=fam, ds_max=0.5)
+    assert curve.complete and curve.family == 1 and curve.cusp.size == 0
+    for i in (curve.p.size // 3, 2 * curve.p.size // 3):
+        one = continue_orbits(fmap.varied("P0", curve.q[i]), "Omega", 25.0, 55.0, ds_max=0.3, max_points=1000,
+                              families=[fam])
+        located = one.value[one.special(BRANCH_POINT)]
+        assert np.min(np.abs(located / curve.p[i] - 1)) <= 1e-6
+    # going down in P0 the two branch points of the resonance merge where the curve turns
+    down = continue_curve(fmap, "Omega", "P0", 1.0, 0.2, branch.state[first], branch.value[first], 30.0,
+                          kind=BRANCH_POINT, family=fam, ds_max=0.5)
+    assert down.turns.shape == (1, 2) and 0.2 < down.turns[0, 0] < 1.0
+    near = continue_orbits(fmap.varied("P0", down.turns[0, 0] * 1.01), "Omega", 25.0, 55.0, ds_max=0.3,
+                           max_points=1000, families=[fam])
+    below = continue_orbits(fmap.varied("P0", down.turns[0, 0] * 0.99), "Omega", 25.0, 55.0, ds_max=0.3,
+                            max_points=1000, families=[fam])
+    assert near.special(BRANCH_POINT).size == 2 and below.special(BRANCH_POINT).size == 0

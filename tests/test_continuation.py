@@ -116,6 +116,15 @@ MEMBRANE = Membrane()
      "continuation.max_points = 1 is invalid: must be >= 2"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "bogus": 1}, GRID,
      "continuation.bogus = 1 is invalid: unknown key"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": [1, 2]}, GRID,
+     "continuation.families = [1, 2] is invalid: must be a table {n = [wave numbers >= 1], radial = "),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [0, 1], "radial": 2}}, GRID,
+     "continuation.families.n = [0, 1] is invalid: must be a non-empty list of distinct integers >= 1"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 0}}, GRID,
+     "continuation.families.radial = 0 is invalid: must be >= 1"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
+      "modes": [[1, 0], [1, 1]]}, GRID,
+     "continuation.modes = [[1, 0], [1, 1]] is invalid: must be axisymmetric (every n = 0) when families are given"),
 ])
 def test_option_errors_name_key_value_and_rule(table, grid, message):
     with pytest.raises(JobError) as err:
@@ -135,6 +144,25 @@ def test_compute_pads_outputs_to_max_points():
     assert np.isnan(out["P0"][n:]).all() and (out["stable"][n:] == -1).all()
     assert np.isfinite(out["fold_value"][:2]).all() and np.isnan(out["fold_value"][2:]).all()
     assert set(np.unique(out["point_type"][:n])) == {0, 1}
+
+
+def test_compute_with_families_reports_each_family():
+    # Fig. 14a resonance in Omega with the n = 1 and n = 2 families: n = 1 has branch points
+    # on the resonant stretch (tests/test_families.py checks them independently), n = 2 none.
+    grid = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "P0": np.array([1.0]), "c": np.array([0.05])}
+    options = CONTINUATION.parse_options({"parameter": "Omega", "start": 25.0, "stop": 55.0, "max_points": 600,
+                                          "ds_max": 0.3, "families": {"n": [1, 2], "radial": 2}}, grid, MEMBRANE)
+    point = grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "P0": 1.0, "c": 0.05})
+    out = CONTINUATION.compute(point, options, 0)
+    shapes = {v.name: v.shape for v in CONTINUATION.variables(options)}
+    assert all(np.shape(out[k]) == s for k, s in shapes.items())
+    n = int(out["n_points"])
+    bp = out["point_type"][:n] == 4
+    assert out["status"] == 0 and bp.sum() == 2 and (out["point_family"][:n][bp] == 1).all()
+    modulus = out["family_multiplier_modulus"][:n]
+    assert modulus[:, 0].max() > 1.2 and modulus[:, 1].max() < 1.0
+    assert not (out["stable"][:n][modulus[:, 0] > 1.0]).any()
+    assert (out["point_family"][n:] == -1).all() and np.isnan(modulus).sum() == 0
 
 
 def test_cusp_extrapolation_of_a_square_root_merger():

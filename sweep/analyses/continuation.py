@@ -34,6 +34,14 @@ the Floquet multipliers of each family's block (:mod:`model.families`) along the
 (``point``, ``family``, ``family_multiplier``), and ``point_family`` (``point``): the wave
 number of the block of a located point (0 for the axisymmetric block).
 
+Curves of bifurcation points (``bifurcation_curves = {parameter = "P0", start = 0.2, stop =
+2.0}``): every located point of the branch (up to :data:`MAX_CURVES`) is followed in the
+second parameter from the task's value towards ``start`` and towards ``stop``
+(:func:`model.codim2.continue_curve`); outputs ``curve_<second>``, ``curve_<parameter>``,
+``curve_amplitude`` (``curve``, ``curve_point``, NaN padded), ``curve_kind`` and
+``curve_family`` (``curve``).  A curve that does not reach both ends makes the task
+``not_converged`` with the reason.
+
 Fold loci by two-parameter continuation (Fig. 17): ``fold_curve = {parameter = "c",
 start = 0.05, stop = 3.0}`` follows the first saddle-node of the branch as the second
 parameter (``c``, or the forcing parameter not continued) goes from ``start`` towards
@@ -56,7 +64,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from model.codim2 import continue_folds
+from model.codim2 import continue_curve, continue_folds
 from model.continuation import FOLD, KIND_NAMES, continue_orbits, cusp_from_folds
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
@@ -82,16 +90,24 @@ class ContinuationOptions:
     steps: int
     fold_curve: tuple[str, float, float] | None = None
     families: tuple[tuple[int, ...], int] | None = None
+    bifurcation_curves: tuple[str, float, float] | None = None
 
 
 #: Length of the ``cusp`` dimension (cusps of the fold curve, NaN padded).
 MAX_CUSPS = 4
+#: Largest arclength step of the bifurcation curves (scaled unknowns): along them the
+#: orbit's phase turns while its amplitude barely changes, so steps are larger than on a
+#: branch; the turning test (model.continuation.MAX_TURN) still bounds them.
+CURVE_DS_MAX = 0.5
+#: Length of the ``curve`` dimension (bifurcation curves, NaN padded).
+MAX_CURVES = 16
 
 
-def _fold_curve(table, section, parameter, grid):
-    """The ``fold_curve = {parameter, start, stop}`` option: ``(name, start, stop)`` or None."""
-    key = f"{section}.fold_curve"
-    value = table.get("fold_curve")
+def _second_parameter(table, section, parameter, name="fold_curve"):
+    """A ``{parameter, start, stop}`` option naming a second parameter: ``(name, start,
+    stop)`` or None."""
+    key = f"{section}.{name}"
+    value = table.get(name)
     if value is None:
         return None
     if not isinstance(value, dict) or set(value) != {"parameter", "start", "stop"}:
@@ -124,6 +140,10 @@ class ContinuationAnalysis(Analysis):
         "steps": "RK4 steps per forcing period (default 128)",
         "fold_curve": "{parameter, start, stop}: follow the first saddle-node in a second parameter "
                       "(c, or the forcing parameter not continued) through its cusps (default none)",
+        "bifurcation_curves": "{parameter, start, stop}: follow every located point of the branch (folds, branch "
+                              "points, period doublings, Neimark-Sacker points) in a second parameter (c, or the "
+                              "forcing parameter not continued) from its grid value to start and to stop "
+                              "(default none)",
         "families": "{n = [wave numbers], radial = M}: Floquet multipliers of the asymmetric mode families "
                     "(radial modes 1..M of each n) along the axisymmetric branch; branch points, period "
                     "doublings and Neimark-Sacker points of each family are located (default none; needs "
@@ -144,14 +164,16 @@ class ContinuationAnalysis(Analysis):
             opt.number(table, s, "max_points", 400, low=2, high=100_000, integer=True),
             opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0),
             opt.number(table, s, "steps", DEFAULT_STEPS, low=16, high=4096, integer=True),
-            _fold_curve(table, s, parameter, grid), opt.families(table, s, opt.modes(table, s)))
+            _second_parameter(table, s, parameter), opt.families(table, s, opt.modes(table, s)),
+            _second_parameter(table, s, parameter, "bifurcation_curves"))
 
     def variables(self, options):
         n, k, p = options.max_points, 2 * len(options.modes), options.parameter
         K = len(options.modes)
         units, what = GRID_KEYS[p]
         pt = ("point",)
-        return self._fold_curve_variables(options) + self._family_variables(options) + [
+        return (self._fold_curve_variables(options) + self._family_variables(options)
+                + self._bifurcation_curve_variables(options)) + [
             Variable(p, pt, (n,), "f8", units, f"continued parameter: {what}"),
             Variable("amplitude", pt, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)|"),
             Variable("modal_coordinate", ("point", "mode"), (n, K), "f8", "m",
@@ -193,6 +215,24 @@ class ContinuationAnalysis(Analysis):
         ]
 
     @staticmethod
+    def _bifurcation_curve_variables(options):
+        if options.bifurcation_curves is None:
+            return []
+        p, q, n = options.parameter, options.bifurcation_curves[0], options.max_points
+        cp = ("curve", "curve_point")
+        return [
+            Variable(f"curve_{q}", cp, (MAX_CURVES, n), "f8", GRID_KEYS[q][0],
+                     f"{q} along the curve of bifurcation points (two-parameter continuation)"),
+            Variable(f"curve_{p}", cp, (MAX_CURVES, n), "f8", GRID_KEYS[p][0], f"{p} along the curve"),
+            Variable("curve_amplitude", cp, (MAX_CURVES, n), "f8", "m", "amplitude along the curve"),
+            Variable("curve_kind", ("curve",), (MAX_CURVES,), "i1", "1", "kind of the bifurcation points of the curve",
+                     -1, {"flag_values": np.arange(-1, len(KIND_NAMES), dtype=np.int8),
+                          "flag_meanings": "padding " + " ".join(KIND_NAMES)}),
+            Variable("curve_family", ("curve",), (MAX_CURVES,), "i2", "1",
+                     "wave number n of the block of the curve (0: axisymmetric)", -1),
+        ]
+
+    @staticmethod
     def _fold_curve_variables(options):
         if options.fold_curve is None:
             return []
@@ -215,9 +255,14 @@ class ContinuationAnalysis(Analysis):
             "family_multiplier": (("family_multiplier",), np.arange(2 * options.families[1], dtype=np.int32),
                                   {"long_name": "Floquet multiplier index within the family's block", "units": "1"})}
         curve = {} if options.fold_curve is None else {
-            "curve_point": (("curve_point",), np.arange(options.max_points, dtype=np.int32),
-                            {"long_name": "index along the curve of saddle-nodes", "units": "1"}),
             "cusp": (("cusp",), np.arange(MAX_CUSPS, dtype=np.int32), {"long_name": "cusp index", "units": "1"})}
+        if options.bifurcation_curves is not None:
+            curve["curve"] = (("curve",), np.arange(MAX_CURVES, dtype=np.int32),
+                              {"long_name": "index of the bifurcation curve (located points in branch order)",
+                               "units": "1"})
+        if options.fold_curve is not None or options.bifurcation_curves is not None:
+            curve["curve_point"] = (("curve_point",), np.arange(options.max_points, dtype=np.int32),
+                                    {"long_name": "index along a two-parameter curve", "units": "1"})
         return {
             **families,
             **curve,
@@ -275,12 +320,57 @@ class ContinuationAnalysis(Analysis):
                               if m >= options.max_points else br.message)
         if not (np.all(np.isfinite(br.state)) and np.all(np.isfinite(br.amplitude))):
             out["status"], out["message"] = STATUS_FAILED, "non-finite periodic response on the branch"
+        problems = []
         if options.fold_curve is not None:
             curve, problem = self._compute_fold_curve(fmap, options)
             out.update(curve)
-            if problem and out["status"] == STATUS_OK:
-                out["status"], out["message"] = STATUS_NOT_CONVERGED, problem
+            problems.append(problem)
+        if options.bifurcation_curves is not None:
+            curves, problem = self._compute_bifurcation_curves(
+                fmap, br, families, options, float(getattr(point.loading, options.bifurcation_curves[0])))
+            out.update(curves)
+            problems.append(problem)
+        problem = "; ".join(p for p in problems if p)
+        if problem and out["status"] == STATUS_OK:
+            out["status"], out["message"] = STATUS_NOT_CONVERGED, problem
         return out
+
+    @staticmethod
+    def _compute_bifurcation_curves(fmap, br, families, options, q_here):
+        """The bifurcation-curve outputs, and what went wrong ("" when nothing did); the
+        curves start at the task's value ``q_here`` of the second parameter."""
+        p, (q, q_start, q_stop), n = options.parameter, options.bifurcation_curves, options.max_points
+        out = {f"curve_{q}": np.full((MAX_CURVES, n), np.nan), f"curve_{p}": np.full((MAX_CURVES, n), np.nan),
+               "curve_amplitude": np.full((MAX_CURVES, n), np.nan), "curve_kind": np.full(MAX_CURVES, -1, np.int8),
+               "curve_family": np.full(MAX_CURVES, -1, np.int16)}
+        located = np.flatnonzero(br.kind > 0)
+        problems = [f"{located.size - MAX_CURVES} located points not followed (MAX_CURVES = {MAX_CURVES})"] \
+            if located.size > MAX_CURVES else []
+        by_n = {f.n: f for f in families}
+        span = abs(options.stop - options.start)
+        for j, i in enumerate(located[:MAX_CURVES]):
+            kind, family = int(br.kind[i]), by_n.get(int(br.family[i]))
+            out["curve_kind"][j], out["curve_family"][j] = kind, br.family[i]
+            halves = []
+            for end in (q_start, q_stop):
+                if end == q_here:
+                    continue
+                try:
+                    halves.append(continue_curve(fmap, p, q, q_here, end, br.state[i], br.value[i], span, kind=kind,
+                                                 family=family, ds_max=CURVE_DS_MAX, max_points=n // 2))
+                except (RuntimeError, ArithmeticError, np.linalg.LinAlgError) as exc:
+                    problems.append(f"curve {j} ({KIND_NAMES[kind]}) towards {q} = {end}: {type(exc).__name__}: {exc}")
+            if not halves:
+                continue
+            first = halves[0]
+            qs, ps, amp = first.q[::-1], first.p[::-1], first.amplitude[::-1]
+            for h in halves[1:]:
+                qs, ps, amp = (np.concatenate([qs, h.q[1:]]), np.concatenate([ps, h.p[1:]]),
+                               np.concatenate([amp, h.amplitude[1:]]))
+            m = qs.size
+            out[f"curve_{q}"][j, :m], out[f"curve_{p}"][j, :m], out["curve_amplitude"][j, :m] = qs, ps, amp
+            problems += [f"curve {j} ({KIND_NAMES[kind]}): {h.message}" for h in halves if not h.complete]
+        return out, "; ".join(problems)
 
     @staticmethod
     def _compute_fold_curve(fmap, options):
