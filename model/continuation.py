@@ -22,6 +22,11 @@ response and a change of the parameter alike.  The steps follow AUTO-07p/Bifurca
   parameter value is then exact to ~1e-12 relative, the test function being quadratic in it);
   the located point is inserted into the branch.
 
+A fourth test, ``det(Phi - I)``, changes sign at folds and at symmetry-breaking branch
+points of the axisymmetric block itself (a symmetric response, ``q(t + T/2) = -q(t)``, giving
+way to an asymmetric one); where it changes sign without the fold test, a branch point of
+family 0 is located.
+
 With asymmetric mode families (:mod:`model.families`) the multipliers of each family's
 block are computed at every point of the axisymmetric branch, and three more test functions
 per family are watched: ``det(Phi_n - I)`` (a real multiplier crosses +1: a
@@ -272,11 +277,13 @@ def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, 
                       np.array(fam_mu).reshape(len(pts), len(prob.families), width), complete, message)
 
     def tests(t, phi, blocks):
-        # (fold, PD, NS) of the axisymmetric block, then (BP, PD, NS) of each family.
-        out = [(FOLD, 0, t[-1]), (PERIOD_DOUBLING, 0, _pd_test(phi)), (NEIMARK_SACKER, 0, _ns_test(sorted_multipliers(phi)))]
-        for fam, block in zip(prob.families, blocks):
-            out += [(BRANCH_POINT, fam.n, _bp_test(block)), (PERIOD_DOUBLING, fam.n, _pd_test(block)),
-                    (NEIMARK_SACKER, fam.n, _ns_test(sorted_multipliers(block)))]
+        # (kind, n, block index (None: axisymmetric), value): fold, symmetry-breaking branch
+        # point, PD, NS of the axisymmetric block, then BP, PD, NS of each family.
+        out = [(FOLD, 0, None, t[-1]), (BRANCH_POINT, 0, None, _bp_test(phi)),
+               (PERIOD_DOUBLING, 0, None, _pd_test(phi)), (NEIMARK_SACKER, 0, None, _ns_test(sorted_multipliers(phi)))]
+        for i, (fam, block) in enumerate(zip(prob.families, blocks)):
+            out += [(BRANCH_POINT, fam.n, i, _bp_test(block)), (PERIOD_DOUBLING, fam.n, i, _pd_test(block)),
+                    (NEIMARK_SACKER, fam.n, i, _ns_test(sorted_multipliers(block)))]
         return out
 
     x = prob.pack(first.state, float(start))
@@ -306,9 +313,12 @@ def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, 
         blocks = prob.family_blocks(x_new)
         new_values = tests(t_new, phi, blocks)
         found = []
-        for index, ((kind, n, a), (_, _, b)) in enumerate(zip(values, new_values)):
-            if a * b < 0 and len(pts) + len(found) < max_points - 1:
-                loc = _locate(prob, kind, index, x, t, ds, a, b, tol)
+        fold_here = values[0][3] * new_values[0][3] < 0
+        for (kind, n, block, a), (*_, b) in zip(values, new_values):
+            # det(Phi - I) changes sign at a fold too: only without one is it a branch point
+            if a * b < 0 and len(pts) + len(found) < max_points - 1 and not (kind == BRANCH_POINT and n == 0
+                                                                             and fold_here):
+                loc = _locate(prob, kind, block, x, t, ds, a, b, tol)
                 if loc is not None:
                     found.append(loc + (n,))
         for sigma, xs, phis, kind, n in sorted(found, key=lambda f: f[0]):
@@ -323,20 +333,17 @@ def _bp_test(phi):
     return float(np.linalg.det(phi - np.eye(phi.shape[0])))
 
 
-def _test_value(prob, index, jac, phi, x, normal):
-    # The test function number ``index`` of ``tests`` in :func:`continue_orbits`.
-    if index < 3:
-        if index == 0:
-            return prob.tangent(jac, normal)[-1]
-        block = phi
-    else:
-        block = prob.family_blocks(x, (index - 3) // 3)[0]
-    kind = index % 3
-    if index >= 3 and kind == 0:
-        return _bp_test(block)
-    if kind == 1:
-        return _pd_test(block)
-    return _ns_test(sorted_multipliers(block))
+def _test_value(prob, kind, block, jac, phi, x, normal):
+    # The test function of ``kind`` on the axisymmetric block (``block`` None) or on the
+    # family number ``block``, at a corrected point.
+    if kind == FOLD:
+        return prob.tangent(jac, normal)[-1]
+    b = phi if block is None else prob.family_blocks(x, block)[0]
+    if kind == BRANCH_POINT:
+        return _bp_test(b)
+    if kind == PERIOD_DOUBLING:
+        return _pd_test(b)
+    return _ns_test(sorted_multipliers(b))
 
 
 def unit_tangent(jac, previous):
@@ -431,19 +438,18 @@ def locate(correct, test, x, t, ds, fa, fb, tol):
     return best
 
 
-def _locate(prob, kind, index, x, t, ds, fa, fb, tol):
-    """The zero of test function ``index`` (a fold, period doubling, Neimark-Sacker or
-    branch point) between ``x`` and the next point; ``(sigma, x', phi, kind)`` or None.
-    Complex-pair crossings of an NS test that turn out to be real (neutral saddles) are
-    discarded."""
-    found = locate(prob.correct, lambda res: _test_value(prob, index, res[1], res[2], res[0], t),
+def _locate(prob, kind, block, x, t, ds, fa, fb, tol):
+    """The zero of the test function of ``kind`` on ``block`` (see :func:`_test_value`)
+    between ``x`` and the next point; ``(sigma, x', phi, kind)`` or None.  Complex-pair
+    crossings of an NS test that turn out to be real (neutral saddles) are discarded."""
+    found = locate(prob.correct, lambda res: _test_value(prob, kind, block, res[1], res[2], res[0], t),
                    x, t, ds, fa, fb, tol)
     if found is None:
         return None
     sigma, (xs, _, phi, _) = found
     if kind == NEIMARK_SACKER:
-        block = phi if index < 3 else prob.family_blocks(xs, (index - 3) // 3)[0]
-        mu = sorted_multipliers(block)
+        b = phi if block is None else prob.family_blocks(xs, block)[0]
+        mu = sorted_multipliers(b)
         on_circle = np.abs(np.abs(mu) - 1.0) < 1e-6
         if not np.any(np.abs(mu[on_circle].imag) > 1e-8):
             return None

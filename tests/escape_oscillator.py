@@ -1,0 +1,85 @@
+"""A textbook forced oscillator with the interface of model.forced.ForcedMap.
+
+Thompson's escape equation ``x'' + beta x' + x - x^2 = F sin(Omega t)`` (J. M. T. Thompson,
+Proc. R. Soc. Lond. A 421, 1989): a softening, asymmetric one-well oscillator whose periodic
+responses period-double on the way to escape.  The membrane ROM is odd in its coordinates,
+and its symmetric (w(t + T/2) = -w(t)) responses cannot period-double (docs/model.md,
+"Symmetry families"), so period doubling is exercised on this oscillator, through the same
+continuation code (``model.continuation.continue_orbits`` takes any object with this
+interface).  ``P0`` is the amplitude ``F``.
+"""
+
+from collections import namedtuple
+from dataclasses import dataclass, replace
+
+import numba as nb
+import numpy as np
+
+Forcing = namedtuple("Forcing", "damping_rate P0 Omega")
+
+
+@nb.njit(cache=True)
+def _rk4(y, beta, F, omega, h, steps, variational):
+    # RK4 steps of the state and, when asked, of the 2 x 2 variational matrix.
+    x, v = y[0], y[1]
+    phi = np.eye(2)
+    kx, kv, kp = np.empty(4), np.empty(4), np.empty((4, 2, 2))
+    for i in range(steps):
+        t = i * h
+        for s in range(4):
+            f = 0.0 if s == 0 else (h if s == 3 else 0.5 * h)
+            cx = x + f * kx[s - 1] if s else x
+            cv = v + f * kv[s - 1] if s else v
+            cp = phi + f * kp[s - 1] if s else phi
+            kx[s] = cv
+            kv[s] = -beta * cv - cx + cx * cx + F * np.sin(omega * (t + f))
+            if variational:
+                for c in range(2):
+                    kp[s, 0, c] = cp[1, c]
+                    kp[s, 1, c] = (2.0 * cx - 1.0) * cp[0, c] - beta * cp[1, c]
+        x += h / 6.0 * (kx[0] + 2.0 * kx[1] + 2.0 * kx[2] + kx[3])
+        v += h / 6.0 * (kv[0] + 2.0 * kv[1] + 2.0 * kv[2] + kv[3])
+        if variational:
+            phi = phi + h / 6.0 * (kp[0] + 2.0 * kp[1] + 2.0 * kp[2] + kp[3])
+    return np.array([x, v]), phi
+
+
+def rhs(beta, F, omega):
+    """The right-hand side for scipy's ``solve_ivp``."""
+    return lambda t, y: [y[1], -beta * y[1] - y[0] + y[0] ** 2 + F * np.sin(omega * t)]
+
+
+@dataclass(frozen=True)
+class EscapeMap:
+    """Stroboscopic map of the escape equation (RK4, ``steps`` per period)."""
+
+    beta: float
+    forcing: Forcing
+    steps: int = 128
+    dof = 1
+
+    @property
+    def period(self):
+        return 2.0 * np.pi / self.forcing.Omega
+
+    def varied(self, parameter, value):
+        return replace(self, forcing=self.forcing._replace(**{parameter: float(value)}))
+
+    def state_scale(self):
+        return np.array([1.0, 1.0 / self.forcing.Omega])
+
+    def _flow(self, y, variational):
+        f = self.forcing
+        return _rk4(np.asarray(y, dtype=float), self.beta, f.P0, f.Omega, self.period / self.steps, self.steps,
+                    variational)
+
+    def monodromy(self, y):
+        return self._flow(y, True)
+
+    def advance(self, y, periods=1):
+        for _ in range(periods):
+            y = self._flow(y, False)[0]
+        return y
+
+    def amplitude(self, y, periods=1):
+        return float(abs(y[0]))
