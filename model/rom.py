@@ -1,7 +1,10 @@
 """Nonlinear Galerkin reduced-order model of the transverse dynamics (Eqs. 30-31).
 
 ``w(rho, theta, t) = sum_k q_k(t) psi_k``, ``psi_k = phi_k(rho) cos(n_k theta)`` over a set
-of (m, n) modes with the paper's normalisation (:mod:`model.modes`).  With the exact
+of (m, n) modes with the paper's normalisation (:mod:`model.modes`); a negative ``n`` denotes
+the sine companion ``phi_{m|n|}(rho) sin(|n| theta)`` of mode (m, |n|), so that motions that
+break the reflection symmetry theta -> -theta (travelling waves, rotated standing waves) can
+be represented.  With the exact
 neo-Hookean transverse energy (no Taylor truncation; docs/model.md, "Transverse energy")::
 
     D  = r'^2 r^2 + r'^2 w_theta^2 + r^2 w_rho^2
@@ -116,9 +119,19 @@ class Rom:
         ``q`` may carry leading batch axes; its last axis is the mode index.
         """
         m = self.membrane
-        vals = np.array([mode_shape(rho, a, n, m.Re, m.delta_o)[0] * np.cos(n * theta)
+        vals = np.array([mode_shape(rho, a, abs(n), m.Re, m.delta_o)[0] * _angular(n, theta)
                          for a, (_, n) in zip(self.alpha, self.modes)])
         return np.tensordot(np.asarray(q), vals, axes=([-1], [0]))
+
+
+def _angular(n, theta):
+    # cos(n theta) for n >= 0, the sine companion sin(|n| theta) for n < 0
+    return np.cos(n * theta) if n >= 0 else np.sin(-n * theta)
+
+
+def _angular_slope(n, theta):
+    # d/dtheta of _angular
+    return -n * np.sin(n * theta) if n >= 0 else -n * np.cos(-n * theta)
 
 
 def default_quadrature(modes) -> tuple[int, int]:
@@ -135,7 +148,7 @@ def default_quadrature(modes) -> tuple[int, int]:
     when the tolerance in use asks for it (tests/test_rom.py shows the convergence).
     """
     mmax = max(m for m, _ in modes)
-    nmax = max(n for _, n in modes)
+    nmax = max(abs(n) for _, n in modes)
     radial = (64 if mmax == 1 else 64 + 32 * mmax) + 8 * nmax
     return radial, (0 if nmax == 0 else 32 + 32 * nmax)
 
@@ -149,7 +162,8 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
     prestretch : Prestretch
         Static solution; its membrane fixes geometry and material.
     modes : sequence of (m, n)
-        Mode indices, ``m >= 1``, ``n >= 0``, no repeats.
+        Mode indices, ``m >= 1``, no repeats; ``n >= 0`` for ``phi_mn cos(n theta)``,
+        ``n < 0`` for the sine companion ``phi_{m|n|} sin(|n| theta)``.
     probe_rho : float, optional
         Undeformed radius (m) of the reported displacement ``w(probe_rho, 0)``; default
         ``0.5 Re`` (the paper's point).  Must lie inside ``(Ro, Re)``.
@@ -163,8 +177,8 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
     if not modes:
         raise ValueError("modes = [] is invalid: give at least one (m, n) pair")
     for mm, nn in modes:
-        if mm < 1 or nn < 0:
-            raise ValueError(f"mode = ({mm}, {nn}) is invalid: need m >= 1 and n >= 0")
+        if mm < 1:
+            raise ValueError(f"mode = ({mm}, {nn}) is invalid: need m >= 1 (and n >= 0, or n < 0 for a sine companion)")
     if len(set(modes)) != len(modes):
         raise ValueError(f"modes = {list(modes)} is invalid: a mode is repeated")
     probe_rho = 0.5 * m.Re if probe_rho is None else float(probe_rho)
@@ -180,21 +194,21 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
         theta, wt = np.zeros(1), np.array([2 * np.pi])
     else:
         theta, wt = 2 * np.pi * np.arange(nt) / nt, np.full(nt, 2 * np.pi / nt)
-    alpha = np.array([bessel_roots(n, m.delta_o, mm)[-1] for mm, n in modes])
-    shapes = [mode_shape(rho, a, n, m.Re, m.delta_o) for a, (_, n) in zip(alpha, modes)]
-    ns = np.array([n for _, n in modes], dtype=float)
-    cos = np.cos(ns[:, None] * theta[None, :])
-    dsin = -ns[:, None] * np.sin(ns[:, None] * theta[None, :])
+    alpha = np.array([bessel_roots(abs(n), m.delta_o, mm)[-1] for mm, n in modes])
+    shapes = [mode_shape(rho, a, abs(n), m.Re, m.delta_o) for a, (_, n) in zip(alpha, modes)]
+    angular = np.array([_angular(n, theta) for _, n in modes])
+    angular_slope = np.array([_angular_slope(n, theta) for _, n in modes])
     K, P = len(modes), rho.size * theta.size
-    b_rho = np.stack([np.outer(s[1], cos[k]).ravel() for k, s in enumerate(shapes)]).reshape(K, P)
-    b_theta = np.stack([np.outer(s[0], dsin[k]).ravel() for k, s in enumerate(shapes)]).reshape(K, P)
-    psi = np.stack([np.outer(s[0], cos[k]).ravel() for k, s in enumerate(shapes)])
+    b_rho = np.stack([np.outer(s[1], angular[k]).ravel() for k, s in enumerate(shapes)]).reshape(K, P)
+    b_theta = np.stack([np.outer(s[0], angular_slope[k]).ravel() for k, s in enumerate(shapes)]).reshape(K, P)
+    psi = np.stack([np.outer(s[0], angular[k]).ravel() for k, s in enumerate(shapes)])
     rr = np.repeat(rho, theta.size)
     wq = np.outer(wr, wt).ravel()
     r, dr = prestretch.radius(rr), prestretch.slope(rr)
     mass = (psi**2 * (wq * rr)).sum(axis=1)
     forcing = (psi * (wq * r * dr)).sum(axis=1)
-    probe = np.array([mode_shape(probe_rho, a, n, m.Re, m.delta_o)[0] for a, (_, n) in zip(alpha, modes)])
+    probe = np.array([mode_shape(probe_rho, a, abs(n), m.Re, m.delta_o)[0] * _angular(n, 0.0)
+                      for a, (_, n) in zip(alpha, modes)])
     tables = RomTables(
         weight=wq * rr, rho2=rr**2, r2=r**2, dr2=dr**2,
         b_rho=np.ascontiguousarray(b_rho), b_theta=np.ascontiguousarray(b_theta),

@@ -204,3 +204,23 @@ def test_monodromy_matches_finite_differences(roms):
 def test_integrator_errors_name_the_value(roms, call, message):
     with pytest.raises(ValueError, match=message):
         call(roms["1"])
+
+
+def test_sine_companions_are_the_cosine_modes_rotated(prestretch):
+    # (1,0) + (1,1) + (1,-1): the sine companion of (1,1) is (1,1) turned by pi/2, so a motion
+    # started in (1,-1) is the one started in (1,1) with the two coordinates exchanged; the
+    # companions share mass, stiffness and a zero load.
+    rom = build_rom(prestretch, [(1, 0), (1, 1), (1, -1)])
+    assert rom.mass[1] == pytest.approx(rom.mass[2], rel=1e-12)
+    assert abs(rom.forcing[2]) <= 1e-12 * abs(rom.forcing[0]) and rom.tables.probe[2] == 0.0
+    fmap = ForcedMap.from_loading(rom, Loading(Omega=44.0, P0=1.0, c=0.05))
+    a = fmap.advance(np.array([0.3, 0.05, 0.0, 0.0, 0.0, 0.0]), 3)
+    b = fmap.advance(np.array([0.3, 0.0, 0.05, 0.0, 0.0, 0.0]), 3)
+    assert np.abs(a[[0, 1, 3, 4]] - b[[0, 2, 3, 5]]).max() <= 1e-10 * np.abs(a).max()
+    assert np.abs(a[[2, 5]]).max() <= 1e-12 and np.abs(b[[1, 4]]).max() <= 1e-12
+    # a travelling wave q_11 = A cos(w t), q_1-1 = A sin(w t) keeps |w| rotationally invariant:
+    # the elastic force of a rotated state is the rotated force
+    g1, g2 = np.empty(3), np.empty(3)
+    elastic_force(np.array([0.2, 0.04, 0.03]), rom.tables, g1)
+    elastic_force(np.array([0.2, -0.03, 0.04]), rom.tables, g2)   # turned by pi/2
+    assert np.abs(g2[[0, 1, 2]] - np.array([g1[0], -g1[2], g1[1]])).max() <= 1e-10 * np.abs(g1).max()

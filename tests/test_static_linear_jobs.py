@@ -76,17 +76,34 @@ def test_frequency_figures(tmp_path):
 
 
 @pytest.mark.parametrize("table,message", [
-    ("[linear]\nmodes = [[0, 0]]\n", "linear.modes = [0, 0] is invalid: each mode needs m >= 1 and n >= 0"),
+    ("[linear]\nmodes = [[0, 0]]\n", "linear.modes = [0, 0] is invalid: each mode needs m >= 1 (n >= 0, or n < 0 for a sine companion)"),
     ("[linear]\nmodes = [[1, 0], [1, 0]]\n", "linear.modes = [[1, 0], [1, 0]] is invalid: modes must be distinct"),
     ("[linear]\nprestretch = 'exact'\n", "linear.prestretch = 'exact' is invalid: must be one of analytic, numeric, fit"),
     ("[linear]\nbasis = 2\nmodes = [[3, 0]]\n", "linear.basis = 2 is invalid: must be >= the largest m in linear.modes (3)"),
     ("[linear]\nspeed = 1\n", "linear.speed = 1 is invalid: unknown key; the keys of [linear] are modes, prestretch, basis"),
+    ("[linear]\nmodes = [{n = 0, radial = 2, sine = true}]\n", "n = 0 has no sine companions"),
+    ("[linear]\nmodes = [{n = 1}]\n", "a family shorthand is a table {n = N, radial = M} (optionally sine = true)"),
+    ("[linear]\nmodes = [[1, 1], {n = 1, radial = 2}]\n", "modes must be distinct"),
 ])
 def test_linear_option_errors(tmp_path, capsys, table, message):
     job = tmp_path / "bad.toml"
     job.write_text("[job]\nname = 'bad'\nanalysis = 'linear'\n[grid]\ndelta = [1.1]\ndelta_o = [0.2]\n" + table)
     assert cli.main(["run", str(job), "-o", str(tmp_path / "bad.nc")]) == 2
     assert message in capsys.readouterr().err
+
+
+def test_family_shorthand_and_sine_companions(tmp_path):
+    # {n = 1, radial = 2, sine = true} is (1,1), (2,1) and their sine companions (1,-1), (2,-1),
+    # whose frequencies are those of the cosine modes (the same Galerkin problem).
+    text = ("[job]\nname = 'fam'\nanalysis = 'linear'\n[grid]\ndelta = [1.1]\ndelta_o = [0.2]\n"
+            "[linear]\nmodes = [[1, 0], {n = 1, radial = 2, sine = true}]\n")
+    job = tmp_path / "fam.toml"
+    job.write_text(text)
+    out = tmp_path / "fam.nc"
+    assert cli.main(["run", str(job), "-o", str(out)]) == 0
+    ds = xr.load_dataset(out).squeeze()
+    assert list(zip(ds.m.values, ds.n.values)) == [(1, 0), (1, 1), (2, 1), (1, -1), (2, -1)]
+    assert np.array_equal(ds.omega.values[1:3], ds.omega.values[3:5])
 
 
 def test_static_rho_range_error(tmp_path, capsys):

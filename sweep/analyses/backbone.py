@@ -60,7 +60,7 @@ class BackboneAnalysis(Analysis):
     name = "backbone"
     #: The option table ``[backbone]``: key -> description (docs/options.md).
     OPTIONS = {
-        "modes": "list of [m, n] pairs (default [[1, 0]])",
+        "modes": opt.MODES_HELP,
         "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
         "amplitude": "{start, stop, num}: target amplitudes max |w(0.5 Re, 0, t)| (m; default 1 mm to "
                      "0.4 m, 40 points)",

@@ -90,7 +90,7 @@ class Basins(Analysis):
     name = "basins"
     #: The option table ``[basins]``: key -> description (docs/options.md).
     OPTIONS = {
-        "modes": "list of [m, n] pairs (default [[1, 0]])",
+        "modes": opt.MODES_HELP,
         "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
         "lattice_mode": "1-based index in modes of the lattice coordinates (default 1)",
         "ic_x": "{start, stop, num}: initial displacement q_j (m; default -0.3 to 0.3, 100; num <= 4096)",

@@ -132,7 +132,7 @@ class ContinuationAnalysis(Analysis):
                      "other forcing keys must be grid keys",
         "start": "start of the range (required; rad/s or Pa): the branch starts there from rest",
         "stop": "end of the range (required)",
-        "modes": "list of [m, n] pairs (default [[1, 0]])",
+        "modes": opt.MODES_HELP,
         "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
         "max_points": "length of the point dimension: most points on a branch (default 400)",
         "ds_max": "largest arclength step in scaled unknowns: the whole parameter range is 1, 0.05 m "

@@ -34,7 +34,7 @@ class LinearAnalysis(Analysis):
     name = "linear"
     #: The option table ``[linear]``: key -> description (docs/options.md).
     OPTIONS = {
-        "modes": "list of [m, n] pairs (default [[1, 0]])",
+        "modes": opt.MODES_HELP,
         "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
         "basis": "Bessel functions per wave number n in the Galerkin basis (default: adaptive, doubled "
                  "from 32 until the frequencies change by less than 2e-6, at most 256)",
@@ -68,9 +68,10 @@ class LinearAnalysis(Analysis):
         out = {name: np.empty(len(options.modes)) for name in ("omega", "omega_approx", "omega_bound")}
         by_n: dict[int, tuple[np.ndarray, float]] = {}
         problems = []
-        for k, (mm, n) in enumerate(options.modes):
+        for k, (mm, signed_n) in enumerate(options.modes):
+            n = abs(signed_n)  # a sine companion has the frequency of its cosine mode
             if n not in by_n:
-                mmax = max(a for a, b in options.modes if b == n)
+                mmax = max(a for a, b in options.modes if abs(b) == n)
                 omega, _, change = galerkin_frequencies(ps, n, mmax, basis=options.basis, full_output=True)
                 by_n[n] = omega, change
                 if change >= CHANGE_TOL:
@@ -82,7 +83,7 @@ class LinearAnalysis(Analysis):
             out["omega_bound"][k] = frequency_bound(m, alpha)
             # Eq. 29 bounds every frequency from above (the limit delta -> infinity).
             if not (np.isfinite(out["omega"][k]) and 0.0 < out["omega"][k] < out["omega_bound"][k]):
-                problems.append(f"mode ({mm}, {n}): omega = {out['omega'][k]:.6g} rad/s is not in "
+                problems.append(f"mode ({mm}, {signed_n}): omega = {out['omega'][k]:.6g} rad/s is not in "
                                 f"(0, Eq. 29 bound = {out['omega_bound'][k]:.6g})")
         out["status"] = STATUS_FAILED if problems else STATUS_OK
         if problems:

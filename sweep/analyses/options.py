@@ -64,20 +64,41 @@ def prestretch(table, section: str, default: str = "numeric") -> str:
     return choice(table, section, "prestretch", KINDS, default)
 
 
+#: Description of the ``modes`` option, shared by the analyses (docs/options.md).
+MODES_HELP = ("list of [m, n] pairs (n < 0: the sine companion of (m, |n|)) and {n = N, radial = M} shorthands "
+              "for [1, N] .. [M, N] (sine = true adds their sine companions) (default [[1, 0]])")
+
+
 def modes(table, section: str, default=((1, 0),)) -> tuple[tuple[int, int], ...]:
-    """The ``modes`` option: a non-empty list of distinct ``[m, n]`` pairs, m >= 1, n >= 0."""
+    """The ``modes`` option: a non-empty list of distinct modes.
+
+    Each item is a pair ``[m, n]`` (``m >= 1``; ``n >= 0`` for ``phi_mn cos(n theta)``,
+    ``n < 0`` for the sine companion ``phi_m|n| sin(|n| theta)``), or a family shorthand
+    ``{n = N, radial = M}``: the modes ``[1, N] .. [M, N]``, with ``sine = true`` their sine
+    companions ``[m, -N]`` too (``N >= 1``).
+    """
     v = table.get("modes", [list(p) for p in default])
     key = f"{section}.modes"
     if not isinstance(v, list) or not v:
-        raise JobError(key, v, "must be a non-empty list of [m, n] pairs")
+        raise JobError(key, v, "must be a non-empty list of [m, n] pairs or {n, radial} tables")
     out = []
-    for pair in v:
-        if (not isinstance(pair, list) or len(pair) != 2
-                or any(isinstance(x, bool) or not isinstance(x, int) for x in pair)):
-            raise JobError(key, pair, "each mode must be a pair [m, n] of integers")
-        if pair[0] < 1 or pair[1] < 0:
-            raise JobError(key, pair, "each mode needs m >= 1 and n >= 0")
-        out.append((pair[0], pair[1]))
+    for item in v:
+        if isinstance(item, Mapping):
+            if not {"n", "radial"} <= set(item) or not set(item) <= {"n", "radial", "sine"}:
+                raise JobError(key, item, "a family shorthand is a table {n = N, radial = M} (optionally sine = true)")
+            n = number(item, key, "n", integer=True, low=0)
+            radial = number(item, key, "radial", integer=True, low=1, high=64)
+            sine = flag(item, key, "sine", False)
+            if sine and n == 0:
+                raise JobError(key, item, "n = 0 has no sine companions")
+            out += [(m, n) for m in range(1, radial + 1)] + ([(m, -n) for m in range(1, radial + 1)] if sine else [])
+            continue
+        if (not isinstance(item, list) or len(item) != 2
+                or any(isinstance(x, bool) or not isinstance(x, int) for x in item)):
+            raise JobError(key, item, "each mode must be a pair [m, n] of integers or a table {n, radial}")
+        if item[0] < 1:
+            raise JobError(key, item, "each mode needs m >= 1 (n >= 0, or n < 0 for a sine companion)")
+        out.append((item[0], item[1]))
     if len(set(out)) != len(out):
         raise JobError(key, v, "modes must be distinct")
     return tuple(out)
@@ -121,7 +142,8 @@ def mode_coords(mode_list) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict]
     """Coordinates ``m`` and ``n`` along a ``mode`` dimension."""
     arr = np.array(mode_list, dtype=np.int32).reshape(-1, 2)
     return {"m": (("mode",), arr[:, 0], {"long_name": "radial mode index m", "units": "1"}),
-            "n": (("mode",), arr[:, 1], {"long_name": "circumferential wave number n", "units": "1"})}
+            "n": (("mode",), arr[:, 1], {"long_name": "circumferential wave number n (negative: the sine "
+                                                      "companion sin(|n| theta))", "units": "1"})}
 
 
 @functools.lru_cache(maxsize=8)

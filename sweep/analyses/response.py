@@ -59,7 +59,7 @@ class ResponseAnalysis(Analysis):
         "parameter": "Omega | P0 (required): the swept forcing parameter, not a grid key; the other "
                      "forcing keys (P0 or Omega, and c) must be grid keys",
         "values": "{start, stop, num} (required): the swept values (rad/s or Pa)",
-        "modes": "list of [m, n] pairs (default [[1, 0]])",
+        "modes": opt.MODES_HELP,
         "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
         "steps": "RK4 steps per forcing period (default 128)",
         "tol": "relative stroboscopic residual that counts as settled (default 1e-6)",
