@@ -212,7 +212,7 @@ def _ns_test(mu):
 def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, guess=None,
                     ds: float = 0.01, ds_min: float = 1e-6, ds_max: float = 0.05,
                     max_points: int = 400, tol: float = 1e-10,
-                    families: Sequence[Family] = ()) -> Branch:
+                    families: Sequence[Family] = (), switch=None) -> Branch:
     """Follow the periodic responses of the forced ROM from ``start`` to ``stop``.
 
     Parameters
@@ -238,6 +238,12 @@ def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, 
     families : sequence of Family
         Asymmetric mode families (:func:`model.families.build_family` for the axisymmetric
         ROM of ``fmap``) whose stability is followed along the branch.
+    switch : (state, value, direction), optional
+        Branch switching: start at the bifurcation point ``(state, value)`` (inside
+        ``[start, stop]``) instead of at ``start``, and take the first step along the state
+        ``direction`` (the null vector of the bifurcating block) at fixed parameter; the new
+        branch is then followed away from the point until the parameter leaves
+        ``[start, stop]`` (:func:`model.switching.follow_bifurcated_branch`).
 
     Returns
     -------
@@ -255,7 +261,6 @@ def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, 
     if max_points < 2:
         raise ValueError(f"max_points = {max_points} is invalid: must be >= 2")
     prob = _Problem(fmap, parameter, float(start), float(stop), families)
-    first = shoot(prob.at(float(start)), np.zeros(prob.n) if guess is None else guess)
     width = max((f.size for f in prob.families), default=0)
     pts: list[tuple] = []
 
@@ -286,15 +291,33 @@ def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, 
                     (NEIMARK_SACKER, fam.n, i, _ns_test(sorted_multipliers(block)))]
         return out
 
-    x = prob.pack(first.state, float(start))
-    g, jac, phi = prob.evaluate(x)
-    blocks = prob.family_blocks(x)
-    record(x, phi, REGULAR, blocks=blocks)
-    if not first.converged:
-        return finish(False, f"no periodic response found at {parameter} = {start}")
     e = np.zeros(prob.n + 1)
     e[-1] = 1.0
-    t = prob.tangent(jac, e)
+    if switch is None:
+        first = shoot(prob.at(float(start)), np.zeros(prob.n) if guess is None else guess)
+        x = prob.pack(first.state, float(start))
+        g, jac, phi = prob.evaluate(x)
+        blocks = prob.family_blocks(x)
+        record(x, phi, REGULAR, blocks=blocks)
+        if not first.converged:
+            return finish(False, f"no periodic response found at {parameter} = {start}")
+        t = prob.tangent(jac, e)
+    else:
+        state, value, direction = switch
+        anchor = prob.pack(np.asarray(state, dtype=float), float(value))
+        d = np.append(prob.s * np.asarray(direction, dtype=float), 0.0)
+        d /= np.linalg.norm(d)
+        res = None
+        while res is None and ds >= ds_min:
+            res = prob.correct(anchor + ds * d, d, anchor, ds, tol)
+            ds = ds if res is not None else 0.5 * ds
+        if res is None:
+            raise RuntimeError(f"branch switching at {parameter} = {value:.9g}: no bifurcated orbit found along "
+                               f"the direction given (step fell below ds_min = {ds_min})")
+        x, jac, phi, _ = res
+        blocks = prob.family_blocks(x)
+        record(x, phi, REGULAR, blocks=blocks)
+        t = prob.tangent(jac, d)
     values = tests(t, phi, blocks)
     while len(pts) < max_points:
         res, t_new, ds = step(prob.correct, prob.tangent, x, t, ds, ds_min, tol)

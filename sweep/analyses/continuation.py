@@ -34,6 +34,15 @@ the Floquet multipliers of each family's block (:mod:`model.families`) along the
 (``point``, ``family``, ``family_multiplier``), and ``point_family`` (``point``): the wave
 number of the block of a located point (0 for the axisymmetric block).
 
+Branch switching (``branch_switching = {max_points = N}``, with ``families``): at the first
+branch point of a family the asymmetric branch is followed (:mod:`model.switching`) for at
+most N points; outputs over ``switched_point``: ``switched_<parameter>``,
+``switched_amplitude``, ``switched_asymmetric_amplitude`` (the family's part of
+``w(0.5 Re, 0)``), ``switched_stable``, ``switched_point_type``,
+``switched_multiplier_modulus``, and ``switched_modal_coordinate`` with the modes
+``switched_mode_m``/``switched_mode_n``.  Reaching N points is not a failure: the branch
+is followed as far as asked.
+
 Curves of bifurcation points (``bifurcation_curves = {parameter = "P0", start = 0.2, stop =
 2.0}``): every located point of the branch (up to :data:`MAX_CURVES`) is followed in the
 second parameter from the task's value towards ``start`` and towards ``stop``
@@ -65,10 +74,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from model.codim2 import continue_curve, continue_folds
-from model.continuation import FOLD, KIND_NAMES, continue_orbits, cusp_from_folds
+from model.continuation import BRANCH_POINT, FOLD, KIND_NAMES, continue_orbits, cusp_from_folds
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
 from model.shooting import shoot
+from model.switching import follow_bifurcated_branch
 
 from . import options as opt
 from .base import (GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
@@ -91,6 +101,7 @@ class ContinuationOptions:
     fold_curve: tuple[str, float, float] | None = None
     families: tuple[tuple[int, ...], int] | None = None
     bifurcation_curves: tuple[str, float, float] | None = None
+    switch_points: int = 0
 
 
 #: Length of the ``cusp`` dimension (cusps of the fold curve, NaN padded).
@@ -101,6 +112,19 @@ MAX_CUSPS = 4
 CURVE_DS_MAX = 0.5
 #: Length of the ``curve`` dimension (bifurcation curves, NaN padded).
 MAX_CURVES = 16
+
+
+def _switch_points(table, section) -> int:
+    """The ``branch_switching = {max_points = N}`` option: N, or 0 without it."""
+    value = table.get("branch_switching")
+    if value is None:
+        return 0
+    key = f"{section}.branch_switching"
+    if not isinstance(value, dict) or set(value) != {"max_points"}:
+        raise JobError(key, value, "must be a table {max_points = N}")
+    if table.get("families") is None:
+        raise JobError(key, value, "needs continuation.families (branch points are found in the families)")
+    return opt.number(value, key, "max_points", integer=True, low=2, high=10_000)
 
 
 def _second_parameter(table, section, parameter, name="fold_curve"):
@@ -144,6 +168,9 @@ class ContinuationAnalysis(Analysis):
                               "points, period doublings, Neimark-Sacker points) in a second parameter (c, or the "
                               "forcing parameter not continued) from its grid value to start and to stop "
                               "(default none)",
+        "branch_switching": "{max_points = N}: at the first branch point of a family on the branch, switch "
+                            "onto the bifurcating asymmetric branch and follow it for at most N points in the "
+                            "ROM of the axisymmetric modes plus the family's (needs families; default none)",
         "families": "{n = [wave numbers], radial = M}: Floquet multipliers of the asymmetric mode families "
                     "(radial modes 1..M of each n) along the axisymmetric branch; branch points, period "
                     "doublings and Neimark-Sacker points of each family are located (default none; needs "
@@ -165,7 +192,7 @@ class ContinuationAnalysis(Analysis):
             opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0),
             opt.number(table, s, "steps", DEFAULT_STEPS, low=16, high=4096, integer=True),
             _second_parameter(table, s, parameter), opt.families(table, s, opt.modes(table, s)),
-            _second_parameter(table, s, parameter, "bifurcation_curves"))
+            _second_parameter(table, s, parameter, "bifurcation_curves"), _switch_points(table, s))
 
     def variables(self, options):
         n, k, p = options.max_points, 2 * len(options.modes), options.parameter
@@ -173,7 +200,7 @@ class ContinuationAnalysis(Analysis):
         units, what = GRID_KEYS[p]
         pt = ("point",)
         return (self._fold_curve_variables(options) + self._family_variables(options)
-                + self._bifurcation_curve_variables(options)) + [
+                + self._bifurcation_curve_variables(options) + self._switched_variables(options)) + [
             Variable(p, pt, (n,), "f8", units, f"continued parameter: {what}"),
             Variable("amplitude", pt, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)|"),
             Variable("modal_coordinate", ("point", "mode"), (n, K), "f8", "m",
@@ -212,6 +239,33 @@ class ContinuationAnalysis(Analysis):
             Variable("point_family", ("point",), (n,), "i2", "1",
                      "wave number n of the block a located point belongs to (0: axisymmetric block "
                      "and regular points)", -1),
+        ]
+
+    @staticmethod
+    def _switched_variables(options):
+        if not options.switch_points:
+            return []
+        n, p, sp = options.switch_points, options.parameter, ("switched_point",)
+        K = len(options.modes) + options.families[1]
+        return [
+            Variable(f"switched_{p}", sp, (n,), "f8", GRID_KEYS[p][0],
+                     f"{p} along the asymmetric branch bifurcating at the first branch point"),
+            Variable("switched_amplitude", sp, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)|"),
+            Variable("switched_asymmetric_amplitude", sp, (n,), "f8", "m",
+                     "max over one period of the asymmetric part of w(0.5 Re, 0, t)"),
+            Variable("switched_stable", sp, (n,), "i1", "1", "stability within the ROM of the axisymmetric and "
+                     "the family's cosine modes", -1,
+                     {"flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "padding unstable stable"}),
+            Variable("switched_point_type", sp, (n,), "i1", "1", "kind of point on the asymmetric branch", -1,
+                     {"flag_values": np.arange(-1, len(KIND_NAMES), dtype=np.int8),
+                      "flag_meanings": "padding " + " ".join(KIND_NAMES)}),
+            Variable("switched_multiplier_modulus", sp, (n,), "f8", "1", "largest Floquet multiplier modulus"),
+            Variable("switched_modal_coordinate", ("switched_point", "switched_mode"), (n, K), "f8", "m",
+                     "modal coordinates on the stroboscopic section (modes: switched_mode_m, switched_mode_n)"),
+            Variable("switched_mode_m", ("switched_mode",), (K,), "i4", "1", "radial index m of the switched ROM's modes",
+                     -1),
+            Variable("switched_mode_n", ("switched_mode",), (K,), "i4", "1", "wave number n of the switched ROM's modes",
+                     -1),
         ]
 
     @staticmethod
@@ -256,6 +310,9 @@ class ContinuationAnalysis(Analysis):
                                   {"long_name": "Floquet multiplier index within the family's block", "units": "1"})}
         curve = {} if options.fold_curve is None else {
             "cusp": (("cusp",), np.arange(MAX_CUSPS, dtype=np.int32), {"long_name": "cusp index", "units": "1"})}
+        if options.switch_points:
+            curve["switched_point"] = (("switched_point",), np.arange(options.switch_points, dtype=np.int32),
+                                       {"long_name": "index along the switched (asymmetric) branch", "units": "1"})
         if options.bifurcation_curves is not None:
             curve["curve"] = (("curve",), np.arange(MAX_CURVES, dtype=np.int32),
                               {"long_name": "index of the bifurcation curve (located points in branch order)",
@@ -330,10 +387,46 @@ class ContinuationAnalysis(Analysis):
                 fmap, br, families, options, float(getattr(point.loading, options.bifurcation_curves[0])))
             out.update(curves)
             problems.append(problem)
+        if options.switch_points:
+            switched, problem = self._compute_switched(point, fmap, br, families, options)
+            out.update(switched)
+            problems.append(problem)
         problem = "; ".join(p for p in problems if p)
         if problem and out["status"] == STATUS_OK:
             out["status"], out["message"] = STATUS_NOT_CONVERGED, problem
         return out
+
+    @staticmethod
+    def _compute_switched(point, fmap, br, families, options):
+        """The switched-branch outputs, and what went wrong ("" when nothing did, or when
+        the branch has no branch point of a family)."""
+        n, p, K = options.switch_points, options.parameter, len(options.modes) + options.families[1]
+        out = {f"switched_{p}": np.full(n, np.nan), "switched_amplitude": np.full(n, np.nan),
+               "switched_asymmetric_amplitude": np.full(n, np.nan), "switched_stable": np.full(n, -1, np.int8),
+               "switched_point_type": np.full(n, -1, np.int8), "switched_multiplier_modulus": np.full(n, np.nan),
+               "switched_modal_coordinate": np.full((n, K), np.nan), "switched_mode_m": np.full(K, -1, np.int32),
+               "switched_mode_n": np.full(K, -1, np.int32)}
+        bps = [i for i in np.flatnonzero(br.kind == BRANCH_POINT) if br.family[i] > 0]
+        if not bps:
+            return out, ""
+        i = bps[0]
+        family = next(f for f in families if f.n == br.family[i])
+        ps = opt.prestretch_for(point.membrane, options.prestretch)
+        try:
+            sw, fmap_mixed, asym = follow_bifurcated_branch(ps, fmap, family, p, options.start, options.stop,
+                                                            br.state[i], br.value[i], ds_max=options.ds_max,
+                                                            max_points=n)
+        except (RuntimeError, ArithmeticError, np.linalg.LinAlgError) as exc:
+            return out, f"branch switching at {p} = {br.value[i]:.9g}: {type(exc).__name__}: {exc}"
+        m = sw.value.size
+        out[f"switched_{p}"][:m], out["switched_amplitude"][:m] = sw.value, sw.amplitude
+        out["switched_asymmetric_amplitude"][:m], out["switched_stable"][:m] = asym, sw.stable
+        out["switched_point_type"][:m] = sw.kind
+        out["switched_multiplier_modulus"][:m] = np.abs(sw.multipliers).max(axis=1)
+        out["switched_modal_coordinate"][:m] = sw.state[:, :K]
+        modes = np.array(fmap_mixed.rom.modes, dtype=np.int32)
+        out["switched_mode_m"], out["switched_mode_n"] = modes[:, 0], modes[:, 1]
+        return out, "" if sw.complete or m >= n else f"switched branch: {sw.message}"
 
     @staticmethod
     def _compute_bifurcation_curves(fmap, br, families, options, q_here):

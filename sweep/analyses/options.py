@@ -147,7 +147,8 @@ def mode_coords(mode_list) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict]
 
 
 @functools.lru_cache(maxsize=8)
-def _prestretch_for(membrane: Membrane, prestretch: str):
+def prestretch_for(membrane: Membrane, prestretch: str):
+    """The ``prestretch`` solution of ``membrane`` (cached)."""
     return solve_prestretch(membrane, prestretch)
 
 
@@ -155,7 +156,7 @@ def _prestretch_for(membrane: Membrane, prestretch: str):
 def rom_for(membrane: Membrane, prestretch: str, modes: tuple[tuple[int, int], ...]) -> Rom:
     """The ROM of ``modes`` on the ``prestretch`` solution of ``membrane`` (cached: the
     tiles of a basins lattice and the tasks of a grid often share a membrane)."""
-    return build_rom(_prestretch_for(membrane, prestretch), modes)
+    return build_rom(prestretch_for(membrane, prestretch), modes)
 
 
 @functools.lru_cache(maxsize=8)
@@ -163,7 +164,7 @@ def families_for(membrane: Membrane, prestretch: str, modes: tuple[tuple[int, in
                  wave_numbers: tuple[int, ...], radial: int) -> tuple[Family, ...]:
     """The family blocks (:func:`model.families.build_family`) of wave numbers
     ``wave_numbers``, radial modes ``1..radial`` each, for the ROM of :func:`rom_for`."""
-    ps = _prestretch_for(membrane, prestretch)
+    ps = prestretch_for(membrane, prestretch)
     rom = rom_for(membrane, prestretch, modes)
     return tuple(build_family(ps, rom, n, radial) for n in wave_numbers)
 

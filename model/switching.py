@@ -1,0 +1,96 @@
+"""Branch switching at a symmetry-breaking branch point onto the asymmetric branch.
+
+At a branch point of family ``n`` (:mod:`model.families`; a real multiplier of the family's
+block is 1) asymmetric periodic responses bifurcate from the axisymmetric branch.  They live
+in the ROM of the axisymmetric modes plus the family's cosine modes (the sine companions give
+their rotated copies, by the O(2) symmetry).  The new branch is followed in that mixed ROM
+(2-D quadrature, :func:`model.rom.build_rom`) by :func:`model.continuation.continue_orbits`,
+started at the branch point with a first step along the null vector of the family's block
+``Phi_n - I`` at fixed parameter (the standard switching at a pitchfork: the tangent of the
+bifurcating branch has no parameter component there).
+
+Its stability is that of the mixed ROM: within the reflection-symmetric subspace of the
+cosine modes.  The multiplier 1 of rotations along the orbit family and the instabilities
+toward travelling waves need the sine companions (``n < 0`` in :func:`model.rom.build_rom`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from .continuation import Branch, continue_orbits
+from .families import Family, family_monodromy
+from .forced import ForcedMap
+from .prestretch import Prestretch
+from .rom import Rom, build_rom
+
+
+def null_direction(fmap: ForcedMap, state, family: Family) -> np.ndarray:
+    """The unit null vector ``(u, u')`` (2M) of ``Phi_n - I`` at the orbit ``state``: the
+    eigenvector of the family's multiplier closest to 1."""
+    block = family_monodromy(np.asarray(state, dtype=float), 0.0, fmap.period, fmap.steps, fmap.rom.tables,
+                             fmap.forcing, family.tables)
+    mu, vec = np.linalg.eig(block)
+    v = np.real(vec[:, np.argmin(np.abs(mu - 1.0))])
+    return v / np.linalg.norm(v)
+
+
+def mixed_rom(prestretch: Prestretch, rom: Rom, family: Family) -> Rom:
+    """The ROM of ``rom``'s axisymmetric modes followed by the family's cosine modes."""
+    return build_rom(prestretch, list(rom.modes) + list(family.modes), probe_rho=rom.probe_rho)
+
+
+def asymmetric_part(rom: Rom, axisymmetric: int) -> Rom:
+    """``rom`` with the probe of its first ``axisymmetric`` modes zeroed, so that
+    :meth:`model.forced.ForcedMap.amplitude` measures ``max_t |w_asym(rho_probe, 0, t)|``."""
+    probe = rom.tables.probe.copy()
+    probe[:axisymmetric] = 0.0
+    return replace(rom, tables=rom.tables._replace(probe=probe))
+
+
+def follow_bifurcated_branch(prestretch: Prestretch, fmap: ForcedMap, family: Family, parameter: str,
+                             start: float, stop: float, state, value: float,
+                             **options) -> tuple[Branch, ForcedMap, np.ndarray]:
+    """The asymmetric branch bifurcating at the branch point ``(state, value)`` of ``family``.
+
+    Parameters
+    ----------
+    prestretch : Prestretch
+        The static solution of ``fmap``'s ROM.
+    fmap : ForcedMap
+        The map of the axisymmetric ROM (its continued parameter is overridden).
+    family : Family
+        The family whose multiplier is 1 at the point.
+    parameter, start, stop
+        As for :func:`model.continuation.continue_orbits`; ``value`` must lie in the range.
+    state : (2Ka,) array
+        The axisymmetric orbit at the branch point.
+    options
+        Step and size arguments of :func:`model.continuation.continue_orbits`.
+
+    Returns
+    -------
+    branch : Branch
+        In the mixed ROM's coordinates (axisymmetric modes, then the family's).
+    fmap_mixed : ForcedMap
+        The map of the mixed ROM (at ``value``).
+    asymmetric_amplitude : (N,) array
+        ``max_t |w_asym(rho_probe, 0, t)|`` (m) along the branch: the family's part of the
+        displacement at the probe.
+    """
+    at = fmap.varied(parameter, value)
+    v = null_direction(at, state, family)
+    mixed = mixed_rom(prestretch, fmap.rom, family)
+    Ka, M = fmap.rom.dof, len(family.radial)
+    K = Ka + M
+    y0 = np.zeros(2 * K)
+    y0[:Ka], y0[K:K + Ka] = state[:Ka], state[Ka:]
+    direction = np.zeros(2 * K)
+    direction[Ka:K], direction[K + Ka:] = v[:M], v[M:]
+    fmap_mixed = ForcedMap(mixed, at.forcing, at.steps)
+    branch = continue_orbits(fmap_mixed, parameter, start, stop, switch=(y0, value, direction), **options)
+    asym = ForcedMap(asymmetric_part(mixed, Ka), at.forcing, at.steps)
+    amp = np.array([asym.varied(parameter, lam).amplitude(y) for lam, y in zip(branch.value, branch.state)])
+    return branch, fmap_mixed, amp
