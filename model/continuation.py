@@ -240,10 +240,11 @@ def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, 
         ROM of ``fmap``) whose stability is followed along the branch.
     switch : (state, value, direction), optional
         Branch switching: start at the bifurcation point ``(state, value)`` (inside
-        ``[start, stop]``) instead of at ``start``, and take the first step along the state
-        ``direction`` (the null vector of the bifurcating block) at fixed parameter; the new
-        branch is then followed away from the point until the parameter leaves
-        ``[start, stop]`` (:func:`model.switching.follow_bifurcated_branch`).
+        ``[start, stop]``; recorded as the first point, a :data:`BRANCH_POINT`) instead of
+        at ``start``, and take the first step along the state ``direction`` (the null vector
+        of the bifurcating block) at fixed parameter; the new branch is then followed away
+        from the point until the parameter leaves ``[start, stop]``
+        (:func:`model.switching.follow_bifurcated_branch`).
 
     Returns
     -------
@@ -305,6 +306,8 @@ def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, 
     else:
         state, value, direction = switch
         anchor = prob.pack(np.asarray(state, dtype=float), float(value))
+        _, _, phi = prob.evaluate(anchor)
+        record(anchor, phi, BRANCH_POINT)
         d = np.append(prob.s * np.asarray(direction, dtype=float), 0.0)
         d /= np.linalg.norm(d)
         res = None

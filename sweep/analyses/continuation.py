@@ -34,8 +34,8 @@ the Floquet multipliers of each family's block (:mod:`model.families`) along the
 (``point``, ``family``, ``family_multiplier``), and ``point_family`` (``point``): the wave
 number of the block of a located point (0 for the axisymmetric block).
 
-Branch switching (``branch_switching = {max_points = N}``, with ``families``): at the first
-branch point of a family the asymmetric branch is followed (:mod:`model.switching`) for at
+Branch switching (``branch_switching = {max_points = N, n = 1}``, with ``families``): at the
+first branch point of family n (of any family without ``n``) the asymmetric branch is followed (:mod:`model.switching`) for at
 most N points; outputs over ``switched_point``: ``switched_<parameter>``,
 ``switched_amplitude``, ``switched_asymmetric_amplitude`` (the family's part of
 ``w(0.5 Re, 0)``), ``switched_stable``, ``switched_point_type``,
@@ -102,6 +102,7 @@ class ContinuationOptions:
     families: tuple[tuple[int, ...], int] | None = None
     bifurcation_curves: tuple[str, float, float] | None = None
     switch_points: int = 0
+    switch_family: int = 0
 
 
 #: Length of the ``cusp`` dimension (cusps of the fold curve, NaN padded).
@@ -114,17 +115,21 @@ CURVE_DS_MAX = 0.5
 MAX_CURVES = 16
 
 
-def _switch_points(table, section) -> int:
-    """The ``branch_switching = {max_points = N}`` option: N, or 0 without it."""
+def _switching(table, section, families) -> tuple[int, int]:
+    """The ``branch_switching = {max_points = N, n = wave number}`` option: ``(N, n)`` (n = 0:
+    the first branch point of any family), or ``(0, 0)`` without it."""
     value = table.get("branch_switching")
     if value is None:
-        return 0
+        return 0, 0
     key = f"{section}.branch_switching"
-    if not isinstance(value, dict) or set(value) != {"max_points"}:
-        raise JobError(key, value, "must be a table {max_points = N}")
-    if table.get("families") is None:
+    if not isinstance(value, dict) or not {"max_points"} <= set(value) <= {"max_points", "n"}:
+        raise JobError(key, value, "must be a table {max_points = N} or {max_points = N, n = wave number}")
+    if families is None:
         raise JobError(key, value, "needs continuation.families (branch points are found in the families)")
-    return opt.number(value, key, "max_points", integer=True, low=2, high=10_000)
+    n = opt.number(value, key, "n", 0, integer=True, low=0)
+    if n and n not in families[0]:
+        raise JobError(f"{key}.n", n, f"must be one of the families' wave numbers {list(families[0])}")
+    return opt.number(value, key, "max_points", integer=True, low=2, high=10_000), n
 
 
 def _second_parameter(table, section, parameter, name="fold_curve"):
@@ -168,9 +173,10 @@ class ContinuationAnalysis(Analysis):
                               "points, period doublings, Neimark-Sacker points) in a second parameter (c, or the "
                               "forcing parameter not continued) from its grid value to start and to stop "
                               "(default none)",
-        "branch_switching": "{max_points = N}: at the first branch point of a family on the branch, switch "
-                            "onto the bifurcating asymmetric branch and follow it for at most N points in the "
-                            "ROM of the axisymmetric modes plus the family's (needs families; default none)",
+        "branch_switching": "{max_points = N, n = wave number}: at the first branch point of family n (of any "
+                            "family without n) on the branch, switch onto the bifurcating asymmetric branch and "
+                            "follow it for at most N points in the ROM of the axisymmetric modes plus the "
+                            "family's (needs families; default none)",
         "families": "{n = [wave numbers], radial = M}: Floquet multipliers of the asymmetric mode families "
                     "(radial modes 1..M of each n) along the axisymmetric branch; branch points, period "
                     "doublings and Neimark-Sacker points of each family are located (default none; needs "
@@ -192,7 +198,8 @@ class ContinuationAnalysis(Analysis):
             opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0),
             opt.number(table, s, "steps", DEFAULT_STEPS, low=16, high=4096, integer=True),
             _second_parameter(table, s, parameter), opt.families(table, s, opt.modes(table, s)),
-            _second_parameter(table, s, parameter, "bifurcation_curves"), _switch_points(table, s))
+            _second_parameter(table, s, parameter, "bifurcation_curves"),
+            *_switching(table, s, opt.families(table, s, opt.modes(table, s))))
 
     def variables(self, options):
         n, k, p = options.max_points, 2 * len(options.modes), options.parameter
@@ -406,7 +413,8 @@ class ContinuationAnalysis(Analysis):
                "switched_point_type": np.full(n, -1, np.int8), "switched_multiplier_modulus": np.full(n, np.nan),
                "switched_modal_coordinate": np.full((n, K), np.nan), "switched_mode_m": np.full(K, -1, np.int32),
                "switched_mode_n": np.full(K, -1, np.int32)}
-        bps = [i for i in np.flatnonzero(br.kind == BRANCH_POINT) if br.family[i] > 0]
+        bps = [i for i in np.flatnonzero(br.kind == BRANCH_POINT)
+               if br.family[i] > 0 and options.switch_family in (0, br.family[i])]
         if not bps:
             return out, ""
         i = bps[0]
