@@ -125,6 +125,13 @@ MEMBRANE = Membrane()
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
       "modes": [[1, 0], [1, 1]]}, GRID,
      "continuation.modes = [[1, 0], [1, 1]] is invalid: must be axisymmetric (every n = 0) when families are given"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "branch_switching": {"max_points": 10}}, GRID,
+     "continuation.branch_switching = {'max_points': 10} is invalid: needs continuation.families"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
+      "branch_switching": {"max_points": 10, "n": 2}}, GRID,
+     "continuation.branch_switching.n = 2 is invalid: must be one of the families' wave numbers [1]"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "bifurcation_curves": {"parameter": "P0", "start": 0, "stop": 1}},
+     GRID, "continuation.bifurcation_curves.parameter = 'P0' is invalid: must be one of c, Omega"),
 ])
 def test_option_errors_name_key_value_and_rule(table, grid, message):
     with pytest.raises(JobError) as err:
@@ -199,3 +206,24 @@ def test_stable_amplitudes_on_an_s_curve():
     found = np.sort(stable_amplitudes_at(np.append(x, np.nan), np.append(a, np.nan), np.append(stable, -1),
                                          0.0))
     assert np.allclose(found, [-1.0, 1.0], atol=1e-6)
+
+
+def test_compute_bifurcation_curves_through_the_located_points():
+    grid = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "P0": np.array([1.0]), "c": np.array([0.05])}
+    options = CONTINUATION.parse_options(
+        {"parameter": "Omega", "start": 25.0, "stop": 55.0, "max_points": 600, "ds_max": 0.3,
+         "families": {"n": [1], "radial": 2}, "bifurcation_curves": {"parameter": "P0", "start": 0.9, "stop": 1.1}},
+        grid, MEMBRANE)
+    point = grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "P0": 1.0, "c": 0.05})
+    out = CONTINUATION.compute(point, options, 0)
+    shapes = {v.name: v.shape for v in CONTINUATION.variables(options)}
+    assert all(np.shape(out[k]) == s for k, s in shapes.items())
+    n = int(out["n_points"])
+    located = np.flatnonzero(out["point_type"][:n] > 0)
+    assert out["status"] == 0 and located.size == 4   # two saddle-nodes, two n = 1 branch points
+    assert list(out["curve_kind"][:4]) == list(out["point_type"][located]) and (out["curve_kind"][4:] == -1).all()
+    for j, i in enumerate(located):
+        q, p = out["curve_P0"][j], out["curve_Omega"][j]
+        at = np.flatnonzero(q == 1.0)   # the curve passes through the task's own point
+        assert at.size == 1 and p[at[0]] == pytest.approx(out["Omega"][i], rel=1e-9)
+        assert np.nanmin(q) < 0.9 and np.nanmax(q) > 1.1

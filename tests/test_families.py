@@ -147,10 +147,14 @@ def test_branch_points_and_neimark_sacker_points_are_located(prestretch, one_mod
         full = ForcedMap(build_rom(prestretch, [(1, 0)] + list(fams[0].modes)), fmap.forcing, fmap.steps)
         mu = sorted_multipliers(full.monodromy(_embed(br.state[i], 1, 3))[1][np.ix_([1, 2, 4, 5], [1, 2, 4, 5])])
         assert np.min(np.abs(mu - 1.0)) <= 1e-7
+    mixed3 = build_rom(prestretch, [(1, 0)] + list(fams[1].modes))
     for i in ns:
-        mu = br.family_multipliers[i, 1]
+        # checked on the 2-D ROM (1,0) + (1,3) + (2,3): a complex pair on the unit circle
+        fmap = ForcedMap.from_loading(one_mode, Loading(Omega=br.value[i], P0=1.0, c=0.05))
+        full = ForcedMap(mixed3, fmap.forcing, fmap.steps)
+        mu = sorted_multipliers(full.monodromy(_embed(br.state[i], 1, 3))[1][np.ix_([1, 2, 4, 5], [1, 2, 4, 5])])
         pair = mu[np.abs(mu.imag) > 1e-6]
-        assert np.abs(np.abs(pair) - 1.0).min() <= 1e-7
+        assert pair.size >= 2 and np.abs(np.abs(pair) - 1.0).min() <= 1e-7
     # between a branch point and the fold, the resonant branch is unstable to n = 1
     first_bp, fold = bps.min(), br.special(FOLD).min()
     between = np.arange(first_bp + 1, fold)
