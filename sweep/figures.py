@@ -358,8 +358,11 @@ def stability_map_figures(ds, outdir, par: str, rows: str) -> list:
                 lo = 0.35 * step * (2 * j / max(len(families) - 1, 1) - 1)
                 ax.plot(np.where(bad, x, np.nan), np.full(end, r + lo), color=colors[int(fam)], lw=2.5,
                         solid_capstyle="butt", label=f"unstable to n = {fam}" if r == ds[rows].values[0] else None)
-            ax.plot(b[par].values[kind == 1], np.full(int((kind == 1).sum()), r), "ko", mfc="white", ms=5,
-                    label="saddle-nodes" if r == ds[rows].values[0] else None)
+            ax.plot(b[par].values[kind == 1], np.full(int((kind == 1).sum()), r), "ko", mfc="white", ms=5)
+        folds = ds.sel(fixed).fold_value.transpose(rows, "fold").values
+        for f in range(2):  # the saddle-nodes of the rows joined: the fold curves of the grid
+            ax.plot(folds[:, f], ds[rows].values, color="k", lw=0.8, ls="-",
+                    label="saddle-nodes" if f == 0 else None)
         ax.set(xlabel=f"{SYMBOLS.get(par, par)} ({GRID_UNITS.get(par, '')})",
                ylabel=f"{SYMBOLS.get(rows, rows)} ({GRID_UNITS.get(rows, '')})")
         ax.set_title(point_label(fixed), fontsize=9)

@@ -344,7 +344,7 @@ def _switched_branch(ds) -> list[str]:
         return out + ["*Not in this result file: run `jobs/fig14-families.toml` as committed.*", ""]
     b = _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
     modes = ", ".join(f"({m},{n})" for m, n in zip(b.switched_mode_m.values.ravel(), b.switched_mode_n.values.ravel()))
-    out += [f"At delta = 1.1 the asymmetric branch born at the first branch point of the family followed",
+    out += ["At delta = 1.1 the asymmetric branch born at the first branch point of the family followed",
             f"(`branch_switching` in `fig14-families`, model/switching.py) in the ROM of the modes {modes}",
             "(stability within these cosine modes). Every sixth point, the first being the branch point:", ""]
     omega = b.switched_Omega.values.ravel()
@@ -494,14 +494,15 @@ def _family_outcome(br, end) -> list[str]:
     from model.rom import build_rom
 
     out = ["### Where the perturbed resonant response goes", "",
-           "The mixed ROM (1,0) + (1,1) + (2,1) from the resonant orbit with 1e-6 m in (1,1), 600 periods:",
+           "Mixed ROMs (1,0) + (1,n) + (2,n) from the resonant orbit with 1e-6 m in (1,n), 600 periods:",
            "range of the stroboscopic samples over the last 100 periods of the axisymmetric coordinate and",
-           "of the asymmetric displacement w_asym(0.5 Re, 0) = sum over n = 1 modes of q_mn phi_mn(0.5 Re).", "",
-           "| Omega (rad/s) | n = 1 multiplier | q_10 (m), last 100 periods | w_asym (m), last 100 periods |",
-           "|---|---|---|---|"]
+           "of the asymmetric displacement w_asym(0.5 Re, 0) = sum over the family's modes of q_mn phi_mn(0.5 Re)",
+           "(n = 1 at a branch-point instability, n = 3 inside its Neimark-Sacker interval).", "",
+           "| Omega (rad/s) | n | largest multiplier modulus of the family | q_10 (m), last 100 periods "
+           "| w_asym (m), last 100 periods |", "|---|---|---|---|---|"]
     ps = solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric")
-    mixed = build_rom(ps, [(1, 0), (1, 1), (2, 1)])
-    for target in (43.0, 44.0):
+    for target, n, column in ((43.0, 1, 0), (44.0, 1, 0), (42.0, 3, 1)):
+        mixed = build_rom(ps, [(1, 0), (1, n), (2, n)])
         i = int(np.argmin(np.abs(br.value[:end] - target)))
         fmap = ForcedMap.from_loading(mixed, Loading(Omega=float(br.value[i]), P0=1.0, c=0.05))
         z = np.zeros(6)
@@ -512,13 +513,15 @@ def _family_outcome(br, end) -> list[str]:
             z = fmap.advance(z)
             samples.append((z[0], mixed.tables.probe[1:] @ z[1:3]))
         q, w = np.array(samples).T
-        mu = float(np.abs(br.family_multipliers[i, 0]).max()) if br.family_multipliers.shape[1] else float("nan")
-        out.append(f"| {br.value[i]:.3f} | {mu:.4f} | {q.min():+.4f} .. {q.max():+.4f} | {w.min():+.4f} .. {w.max():+.4f} |")
+        mu = float(np.abs(br.family_multipliers[i, column]).max())
+        out.append(f"| {br.value[i]:.3f} | {n} | {mu:.4f} | {q.min():+.4f} .. {q.max():+.4f} | "
+                   f"{w.min():+.4f} .. {w.max():+.4f} |")
     return out + ["", "A period-one orbit would give a single value per column; a spread means the state is",
-                  "not (or not yet) periodic: within 600 periods the integration has not settled on the",
-                  "bifurcated branch above (its multipliers, ~0.998 in modulus, are set by the light damping, so",
-                  "convergence takes thousands of periods), but its asymmetric deflection stays at the same",
-                  "millimetre to centimetre level.", ""]
+                  "not (or not yet) periodic: within 600 periods the n = 1 integrations have not settled on",
+                  "the bifurcated branch above (its multipliers, ~0.998 in modulus, are set by the light",
+                  "damping, so convergence takes thousands of periods), but their asymmetric deflection is at",
+                  "the same millimetre to centimetre level. Inside the Neimark-Sacker interval the asymmetric",
+                  "part neither decays nor locks to a period-one orbit: a modulated (quasi-periodic) state.", ""]
 
 
 SECTIONS = (section_table1, section_table2, section_backbone_modes, section_backbone_limits,
