@@ -12,7 +12,6 @@ import pytest
 
 from model.codim2 import continue_curve, continue_folds, fold_at
 from model.continuation import BRANCH_POINT, FOLD, continue_orbits, cusp_from_folds
-from model.families import build_family
 from model.forced import ForcedMap
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
@@ -74,15 +73,11 @@ def test_no_fold_no_curve(fmap):
         continue_folds(fmap, "P0", "P0", 0.0, 1.0, (0.0, 1.0))
 
 
-def test_branch_point_curve_agrees_with_one_parameter_branch_points():
+def test_branch_point_curve_agrees_with_one_parameter_branch_points(fig14a_n1):
     # The n = 1 branch point of the Fig. 14a resonance (delta = 1.1, c = 0.05) followed in P0
     # from 1 Pa: at curve points, the one-parameter branch in Omega at that P0 locates its
     # branch point (Illinois on det(Phi_1 - I) along the branch) at the curve's Omega.
-    ps = solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric")
-    rom = build_rom(ps, [(1, 0)])
-    fam = build_family(ps, rom, 1, 2)
-    fmap = ForcedMap.from_loading(rom, Loading(Omega=25.0, P0=1.0, c=0.05))
-    branch = continue_orbits(fmap, "Omega", 25.0, 55.0, ds_max=0.3, max_points=1000, families=[fam])
+    fmap, fam, branch = fig14a_n1.fmap, fig14a_n1.family, fig14a_n1.branch
     first = branch.special(BRANCH_POINT)[0]
     curve = continue_curve(fmap, "Omega", "P0", 1.0, 2.0, branch.state[first], branch.value[first], 30.0,
                            kind=BRANCH_POINT, family=fam, ds_max=0.5)

@@ -9,26 +9,18 @@ for n = 1, i.e. u -> -u) is a periodic orbit of the mixed ROM too.
 import numpy as np
 import pytest
 
-from model.continuation import BRANCH_POINT, FOLD, continue_orbits
-from model.families import build_family
-from model.forced import ForcedMap
-from model.params import Loading, Membrane
-from model.prestretch import solve_prestretch
-from model.rom import build_rom
+from model.continuation import BRANCH_POINT, FOLD
 from model.shooting import shoot
 from model.switching import follow_bifurcated_branch
 
 
 @pytest.fixture(scope="module")
-def switched():
-    ps = solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric")
-    rom = build_rom(ps, [(1, 0)])
-    fam = build_family(ps, rom, 1, 2)
-    fmap = ForcedMap.from_loading(rom, Loading(Omega=25.0, P0=1.0, c=0.05))
-    br = continue_orbits(fmap, "Omega", 25.0, 55.0, ds_max=0.3, max_points=1000, families=[fam])
+def switched(fig14a_n1):
+    fmap, br = fig14a_n1.fmap, fig14a_n1.branch
     i = br.special(BRANCH_POINT)[0]
-    sw, fmap_mixed, asym = follow_bifurcated_branch(ps, fmap, fam, "Omega", 25.0, 55.0, br.state[i], br.value[i],
-                                                    ds=0.01, ds_max=0.3, max_points=8)
+    sw, fmap_mixed, asym = follow_bifurcated_branch(fig14a_n1.prestretch, fmap, fig14a_n1.family, "Omega", 25.0,
+                                                    55.0, br.state[i], br.value[i], ds=0.01, ds_max=0.3,
+                                                    max_points=8)
     return br.value[i], (fmap, br), sw, fmap_mixed, asym
 
 
