@@ -9,7 +9,8 @@ response and a change of the parameter alike.  The steps follow AUTO-07p/Bifurca
 * predictor ``x + ds t`` along the unit tangent ``t``;
 * corrector: Newton on ``G(x) = S (P(y) - y) / L = 0`` plus the arclength condition
   ``t . (x - x_pred) = 0``, with the bordered Jacobian ``[[S (Phi - I) S^-1, dG/dmu], [t]]``
-  (``Phi`` the monodromy matrix, ``dG/dmu`` by central differences);
+  (``Phi`` the monodromy matrix and ``dG/dmu`` from one integration of the RK4 variational
+  equations, :meth:`model.forced.ForcedMap.monodromy_parameter`);
 * step control: a failed corrector or a tangent turning by more than :data:`MAX_TURN`
   halves ``ds``; a corrector converged in at most 3 iterations grows it by 1.5, up to
   ``ds_max``;
@@ -164,12 +165,11 @@ class _Problem:
     def evaluate(self, x):
         """``G(x)``, its Jacobian ``(n, n+1)`` and the monodromy matrix."""
         y, lam = self.unpack(x)
-        yT, phi = self.at(lam).monodromy(y)
+        yT, phi, dparam = self.at(lam).monodromy_parameter(y, self.parameter)
         g = self.s * (yT - y)
         jac = np.empty((self.n, self.n + 1))
         jac[:, :-1] = (self.s[:, None] * (phi - np.eye(self.n))) / self.s[None, :]
-        h = 1e-6 * self.span
-        jac[:, -1] = self.s * (self.at(lam + h).advance(y) - self.at(lam - h).advance(y)) / (2 * h) * self.span
+        jac[:, -1] = self.s * dparam * self.span
         return g, jac, phi
 
     def family_blocks(self, x, which=None):

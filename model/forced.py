@@ -22,7 +22,7 @@ from dataclasses import dataclass, replace
 import numba as nb
 import numpy as np
 
-from .integrate import monodromy, rk4_steps
+from .integrate import OMEGA, PRESSURE, monodromy, monodromy_parameter, rk4_steps
 from .params import Loading
 from .rom import Forcing, Rom
 
@@ -136,6 +136,21 @@ class ForcedMap:
         phi : (2K, 2K) array
         """
         return monodromy(self._state(y), 0.0, self.period, self.steps, self.rom.tables, self.forcing)
+
+    def monodromy_parameter(self, y, parameter: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``P(y)``, ``Phi = dP/dy`` and ``dP/d parameter`` (``"Omega"``: at fixed steps per
+        period, the period following ``Omega``; ``"P0"``), from one integration of the RK4
+        variational equations: exact derivatives of the discrete map.
+
+        Returns
+        -------
+        yT, dparam : (2K,) arrays
+        phi : (2K, 2K) array
+        """
+        if parameter not in PARAMETERS:
+            raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(PARAMETERS)}")
+        return monodromy_parameter(self._state(y), 0.0, self.period, self.steps, self.rom.tables, self.forcing,
+                                   OMEGA if parameter == "Omega" else PRESSURE)
 
     def multipliers(self, y) -> np.ndarray:
         """Floquet multipliers at ``y`` (eigenvalues of :meth:`monodromy`), by decreasing modulus."""

@@ -5,7 +5,8 @@ period ``2 pi / Omega``, so that every ``steps``-th state is a point of the stro
 map.  :func:`rk4_steps` advances one state by a number of steps in place (the building
 block of :class:`model.forced.ForcedMap`); :func:`monodromy` integrates the state together
 with the variational equations and returns the monodromy matrix of the stroboscopic map
-(shooting, Floquet multipliers).
+(shooting, Floquet multipliers), and :func:`monodromy_parameter` also the derivative of the
+map in ``Omega`` or ``P0`` (continuation).
 
 All kernels take the :class:`model.rom.RomTables` and a :class:`model.rom.Forcing` tuple.
 
@@ -20,7 +21,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from .rom import force_jacobian, rhs, table_eval
+from .rom import force_and_jacobian, rhs, table_eval
 
 
 @nb.njit(cache=True, fastmath=True, inline="always")
@@ -110,27 +111,51 @@ def rk4_steps(y, t0, h, steps, tab, forcing, work):
     return t
 
 
+#: Codes of the parameter whose derivative :func:`monodromy` integrates with the state.
+NO_PARAMETER, OMEGA, PRESSURE = 0, 1, 2
+
+
 @nb.njit(cache=True)
-def _aug_rhs(t, z, n, tab, forcing, g, jac, out):
-    # z = (y, Phi.ravel()); Phi' = A Phi with A = [[0, I], [-diag(k) J(q), -c I]].
+def _aug_rhs(t, z, n, tab, forcing, which, g, jac, work, out):
+    # z = (y, Phi.ravel(), dy/dlambda); Phi' = A Phi with A = [[0, I], [-diag(k) J(q), -c I]],
+    # (dy/dlambda)' = A dy/dlambda + dF/dlambda: for P0 the load (0, f cos(Omega t)); for
+    # Omega at fixed steps per period -F/Omega (the map in the phase tau = Omega t is RK4 on
+    # F/Omega with fixed steps, so this is the derivative of the discrete map).
     K = n // 2
     c_damp = forcing.damping_rate
-    rhs(t, z[:n], tab, forcing, g, out[:n])
-    force_jacobian(z[:K], tab, jac)
-    for col in range(n):
+    force_and_jacobian(z[:K], tab, g, jac, work)
+    pt = forcing.P0 * np.cos(forcing.Omega * t)
+    for k in range(K):
+        out[k] = z[K + k]
+        out[K + k] = -c_damp * z[K + k] - tab.k_force[k] * g[k] + pt * tab.load[k]
+    columns = n + 1 if which != NO_PARAMETER else n
+    for col in range(columns):
+        # column col of Phi, then (col == n) the parameter column, stored after Phi
         for i in range(K):
-            out[n + i * n + col] = z[n + (K + i) * n + col]
+            src = n + i * n + col if col < n else n + n * n + i
+            dst = src
+            vel = n + (K + i) * n + col if col < n else n + n * n + K + i
+            out[dst] = z[vel]
         for i in range(K):
-            acc = -c_damp * z[n + (K + i) * n + col]
+            vel = n + (K + i) * n + col if col < n else n + n * n + K + i
+            acc = -c_damp * z[vel]
             for l in range(K):
-                acc -= tab.k_force[i] * jac[i, l] * z[n + l * n + col]
-            out[n + (K + i) * n + col] = acc
+                pos = n + l * n + col if col < n else n + n * n + l
+                acc -= tab.k_force[i] * jac[i, l] * z[pos]
+            out[vel] = acc
+    if which == OMEGA:
+        for i in range(n):
+            out[n + n * n + i] -= out[i] / forcing.Omega
+    elif which == PRESSURE:
+        ct = np.cos(forcing.Omega * t)
+        for i in range(K):
+            out[n + n * n + K + i] += tab.load[i] * ct
 
 
 @nb.njit(cache=True, fastmath=True)
-def _monodromy_one_mode(y0, t0, h, steps, tab, forcing, phi):
-    # State and 2x2 variational matrix of the one-mode ROM from the force tables; returns
-    # (q, v, ok), ok False when a stage leaves the tables' range.
+def _monodromy_one_mode(y0, t0, h, steps, tab, forcing, which, phi, dparam):
+    # State, 2x2 variational matrix and parameter derivative of the one-mode ROM from the
+    # force tables; returns (q, v, ok), ok False when a stage leaves the tables' range.
     coef = tab.stiffness_table
     slope = tab.slope_table
     q_max = tab.table_max
@@ -142,19 +167,23 @@ def _monodromy_one_mode(y0, t0, h, steps, tab, forcing, phi):
     q = y0[0]
     v = y0[1]
     p00, p01, p10, p11 = 1.0, 0.0, 0.0, 1.0
+    zq, zv = 0.0, 0.0
+    ks = np.empty(4)
+    kv = np.empty(4)
+    kp = np.empty((4, 4))
+    kz = np.empty((4, 2))
     for i in range(steps):
         t = t0 + i * h
-        ks = np.empty(4)
-        kv = np.empty(4)
-        kp = np.empty((4, 4))
         cq = q
         cv = v
         c00, c01, c10, c11 = p00, p01, p10, p11
+        cz, czv = zq, zv
         for s in range(4):
             ts = t + (0.0 if s == 0 else (h if s == 3 else 0.5 * h))
             if abs(cq) >= q_max:
                 return q, v, False
-            a = -c_damp * cv - k_force * cq * table_eval(coef, q_max, abs(cq)) + p_load * np.cos(omega * ts) * load
+            cos_t = np.cos(omega * ts)
+            a = -c_damp * cv - k_force * cq * table_eval(coef, q_max, abs(cq)) + p_load * cos_t * load
             kk = -k_force * table_eval(slope, q_max, abs(cq))
             ks[s] = cv
             kv[s] = a
@@ -162,6 +191,13 @@ def _monodromy_one_mode(y0, t0, h, steps, tab, forcing, phi):
             kp[s, 1] = c11
             kp[s, 2] = kk * c00 - c_damp * c10
             kp[s, 3] = kk * c01 - c_damp * c11
+            kz[s, 0] = czv
+            kz[s, 1] = kk * cz - c_damp * czv
+            if which == OMEGA:
+                kz[s, 0] -= cv / omega
+                kz[s, 1] -= a / omega
+            elif which == PRESSURE:
+                kz[s, 1] += load * cos_t
             if s < 3:
                 f = h if s == 2 else 0.5 * h
                 cq = q + f * ks[s]
@@ -170,39 +206,54 @@ def _monodromy_one_mode(y0, t0, h, steps, tab, forcing, phi):
                 c01 = p01 + f * kp[s, 1]
                 c10 = p10 + f * kp[s, 2]
                 c11 = p11 + f * kp[s, 3]
+                cz = zq + f * kz[s, 0]
+                czv = zv + f * kz[s, 1]
         q += h / 6.0 * (ks[0] + 2.0 * ks[1] + 2.0 * ks[2] + ks[3])
         v += h / 6.0 * (kv[0] + 2.0 * kv[1] + 2.0 * kv[2] + kv[3])
         p00 += h / 6.0 * (kp[0, 0] + 2.0 * kp[1, 0] + 2.0 * kp[2, 0] + kp[3, 0])
         p01 += h / 6.0 * (kp[0, 1] + 2.0 * kp[1, 1] + 2.0 * kp[2, 1] + kp[3, 1])
         p10 += h / 6.0 * (kp[0, 2] + 2.0 * kp[1, 2] + 2.0 * kp[2, 2] + kp[3, 2])
         p11 += h / 6.0 * (kp[0, 3] + 2.0 * kp[1, 3] + 2.0 * kp[2, 3] + kp[3, 3])
+        zq += h / 6.0 * (kz[0, 0] + 2.0 * kz[1, 0] + 2.0 * kz[2, 0] + kz[3, 0])
+        zv += h / 6.0 * (kz[0, 1] + 2.0 * kz[1, 1] + 2.0 * kz[2, 1] + kz[3, 1])
     phi[0, 0] = p00
     phi[0, 1] = p01
     phi[1, 0] = p10
     phi[1, 1] = p11
+    dparam[0] = zq
+    dparam[1] = zv
     return q, v, True
 
 
 @nb.njit(cache=True)
-def monodromy(y0, t0, period, steps, tab, forcing):
-    """State after one period and the monodromy matrix ``d y(t0+T) / d y(t0)``.
+def monodromy_parameter(y0, t0, period, steps, tab, forcing, which):
+    """State after one period, the monodromy matrix and the derivative of the map in a
+    forcing parameter, all from the RK4 variational equations.
 
     The variational equations are integrated with the same RK4 steps as the state, so
-    the matrix is the exact derivative of the discrete stroboscopic map.
+    the matrix and the derivative are exact for the discrete stroboscopic map.
+
+    Parameters
+    ----------
+    which : int
+        :data:`OMEGA` (``dP/dOmega`` at fixed steps per period, the period changing with
+        ``Omega``), :data:`PRESSURE` (``dP/dP0``) or :data:`NO_PARAMETER` (zeros).
 
     Returns
     -------
     yT : (2K,) array
     phi : (2K, 2K) array
+    dparam : (2K,) array
     """
     n = y0.size
     K = n // 2
     if tab.table_max > 0.0:
         phi = np.empty((2, 2))
-        q, v, ok = _monodromy_one_mode(y0, t0, period / steps, steps, tab, forcing, phi)
+        dparam = np.empty(2)
+        q, v, ok = _monodromy_one_mode(y0, t0, period / steps, steps, tab, forcing, which, phi, dparam)
         if ok:
-            return np.array([q, v]), phi
-    m = n + n * n
+            return np.array([q, v]), phi, dparam
+    m = n + n * n + n
     z = np.zeros(m)
     z[:n] = y0
     for i in range(n):
@@ -214,20 +265,35 @@ def monodromy(y0, t0, period, steps, tab, forcing):
     tmp = np.empty(m)
     g = np.empty(K)
     jac = np.empty((K, K))
+    work = np.empty((7, tab.weight.size))
     h = period / steps
     t = t0
     for _ in range(steps):
-        _aug_rhs(t, z, n, tab, forcing, g, jac, k1)
+        _aug_rhs(t, z, n, tab, forcing, which, g, jac, work, k1)
         for i in range(m):
             tmp[i] = z[i] + 0.5 * h * k1[i]
-        _aug_rhs(t + 0.5 * h, tmp, n, tab, forcing, g, jac, k2)
+        _aug_rhs(t + 0.5 * h, tmp, n, tab, forcing, which, g, jac, work, k2)
         for i in range(m):
             tmp[i] = z[i] + 0.5 * h * k2[i]
-        _aug_rhs(t + 0.5 * h, tmp, n, tab, forcing, g, jac, k3)
+        _aug_rhs(t + 0.5 * h, tmp, n, tab, forcing, which, g, jac, work, k3)
         for i in range(m):
             tmp[i] = z[i] + h * k3[i]
-        _aug_rhs(t + h, tmp, n, tab, forcing, g, jac, k4)
+        _aug_rhs(t + h, tmp, n, tab, forcing, which, g, jac, work, k4)
         for i in range(m):
             z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         t += h
-    return z[:n].copy(), z[n:].reshape(n, n).copy()
+    return z[:n].copy(), z[n:n + n * n].reshape(n, n).copy(), z[n + n * n:].copy()
+
+
+@nb.njit(cache=True)
+def monodromy(y0, t0, period, steps, tab, forcing):
+    """State after one period and the monodromy matrix ``d y(t0+T) / d y(t0)``
+    (:func:`monodromy_parameter` without a parameter).
+
+    Returns
+    -------
+    yT : (2K,) array
+    phi : (2K, 2K) array
+    """
+    yT, phi, _ = monodromy_parameter(y0, t0, period, steps, tab, forcing, NO_PARAMETER)
+    return yT, phi

@@ -418,6 +418,73 @@ def _quadrature_jacobian(q, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric,
 
 
 @nb.njit(cache=True)
+def force_and_jacobian(q, tab, g, jac, work):
+    """:func:`elastic_force` into ``g`` and :func:`force_jacobian` into ``jac`` in one pass
+    over the quadrature points (what every stage of the variational equations needs);
+    ``work`` is a ``(7, P)`` scratch array."""
+    if tab.table_max > 0.0 and abs(q[0]) < tab.table_max:
+        x = abs(q[0])
+        g[0] = q[0] * table_eval(tab.stiffness_table, tab.table_max, x)
+        jac[0, 0] = table_eval(tab.slope_table, tab.table_max, x)
+        return
+    _fused_force_jacobian(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta, tab.axisymmetric,
+                          g, jac, work)
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy")
+def _fused_force_jacobian(q, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, g, jac, work):
+    # As _quadrature_force and _quadrature_jacobian, sharing the slopes and D.
+    K = q.size
+    P = weight.size
+    a, b, fa, fb, iaa, iab, ibb = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
+    for p in range(P):
+        a[p] = 0.0
+        b[p] = 0.0
+    for k in range(K):
+        qk = q[k]
+        for p in range(P):
+            a[p] += qk * b_rho[k, p]
+        if not axisymmetric:
+            for p in range(P):
+                b[p] += qk * b_theta[k, p]
+    for p in range(P):
+        ap = a[p]
+        bp = b[p]
+        D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap
+        s = rho2[p] / (D * D)
+        s3 = 8.0 * s / D
+        w = weight[p]
+        fa[p] = 2.0 * ap * (1.0 - s * r2[p]) * w
+        fb[p] = 2.0 * bp * (1.0 / rho2[p] - s * dr2[p]) * w
+        iaa[p] = (2.0 - 2.0 * s * r2[p] + s3 * r2[p] * r2[p] * ap * ap) * w
+        iab[p] = s3 * r2[p] * dr2[p] * ap * bp * w
+        ibb[p] = (2.0 / rho2[p] - 2.0 * s * dr2[p] + s3 * dr2[p] * dr2[p] * bp * bp) * w
+    for k in range(K):
+        acc = 0.0
+        if axisymmetric:
+            for p in range(P):
+                acc += fa[p] * b_rho[k, p]
+        else:
+            for p in range(P):
+                acc += fa[p] * b_rho[k, p] + fb[p] * b_theta[k, p]
+        g[k] = acc
+        for l in range(k, K):
+            acc = 0.0
+            if axisymmetric:
+                for p in range(P):
+                    acc += iaa[p] * b_rho[k, p] * b_rho[l, p]
+            else:
+                for p in range(P):
+                    bk = b_rho[k, p]
+                    tk = b_theta[k, p]
+                    bl = b_rho[l, p]
+                    tl = b_theta[l, p]
+                    acc += iaa[p] * bk * bl + iab[p] * (bk * tl + tk * bl) + ibb[p] * tk * tl
+            jac[k, l] = acc
+            jac[l, k] = acc
+
+
+@nb.njit(cache=True)
 def strain_energy(q, tab):
     """``U(q) - U(0) = int int (I1(q) - I1(0)) rho dtheta drho`` (m2); times ``C1 h`` in J."""
     P = tab.weight.size

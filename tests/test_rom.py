@@ -224,3 +224,22 @@ def test_sine_companions_are_the_cosine_modes_rotated(prestretch):
     elastic_force(np.array([0.2, 0.04, 0.03]), rom.tables, g1)
     elastic_force(np.array([0.2, -0.03, 0.04]), rom.tables, g2)   # turned by pi/2
     assert np.abs(g2[[0, 1, 2]] - np.array([g1[0], -g1[2], g1[1]])).max() <= 1e-10 * np.abs(g1).max()
+
+
+@pytest.mark.parametrize("kind", ["1", "axi", "mixed"])
+@pytest.mark.parametrize("parameter", ["Omega", "P0"])
+def test_parameter_derivative_of_the_map_matches_central_differences(roms, kind, parameter):
+    # dP/dOmega and dP/dP0 from the RK4 variational equations (model.integrate.monodromy_parameter)
+    # against central differences of the map (h = 1e-3 relative: truncation ~1e-12, rounding
+    # ~1e-13), and the monodromy matrix against model.integrate.monodromy.
+    rom = roms[kind]
+    fmap = ForcedMap.from_loading(rom, Loading(Omega=40.0, P0=1.0, c=0.05))
+    y = np.zeros(2 * rom.dof)
+    y[0], y[rom.dof] = 0.3, 2.0
+    yT, phi, d = fmap.monodromy_parameter(y, parameter)
+    lam = getattr(fmap.forcing, parameter)
+    h = 1e-3 * lam
+    fd = (fmap.varied(parameter, lam + h).advance(y) - fmap.varied(parameter, lam - h).advance(y)) / (2 * h)
+    assert np.abs(d - fd).max() <= 1e-9 * np.abs(fd).max()
+    y_ref, phi_ref = fmap.monodromy(y)
+    assert np.array_equal(yT, y_ref) and np.array_equal(phi, phi_ref)
