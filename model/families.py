@@ -93,6 +93,33 @@ class Family:
         return 2 * len(self.radial)
 
 
+def symmetry_blocks(modes) -> tuple[list[int], list[tuple[int, tuple[int, ...], list[int]]]]:
+    """Split a mode set by symmetry: the axisymmetric modes, and one block per wave number
+    and companion (cosine ``n > 0``, sine ``n < 0``).
+
+    On the axisymmetric subspace a mixed ROM's monodromy matrix is block diagonal in these
+    groups; a sine block has the multipliers of the cosine block with the same radial indices.
+
+    Returns
+    -------
+    axisymmetric : list of int
+        Indices (into ``modes``) of the ``n = 0`` modes.
+    blocks : list of (n, radial, indices)
+        Per signed wave number in order of appearance: ``|n|``, the radial indices ``m``
+        (sorted), and the indices into ``modes`` in that order.
+    """
+    axisymmetric = [i for i, (_, n) in enumerate(modes) if n == 0]
+    groups: dict[int, list[int]] = {}
+    for i, (_, n) in enumerate(modes):
+        if n != 0:
+            groups.setdefault(n, []).append(i)
+    blocks = []
+    for n, idx in groups.items():
+        idx = sorted(idx, key=lambda i: modes[i][0])
+        blocks.append((abs(n), tuple(modes[i][0] for i in idx), idx))
+    return axisymmetric, blocks
+
+
 def build_family(prestretch: Prestretch, rom: Rom, n: int, radial, radial_points: int | None = None) -> Family:
     """The family block of wave number ``n`` for the axisymmetric ``rom``.
 

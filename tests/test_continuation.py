@@ -227,3 +227,28 @@ def test_compute_bifurcation_curves_through_the_located_points():
         at = np.flatnonzero(q == 1.0)   # the curve passes through the task's own point
         assert at.size == 1 and p[at[0]] == pytest.approx(out["Omega"][i], rel=1e-9)
         assert np.nanmin(q) < 0.9 and np.nanmax(q) > 1.1
+
+
+@pytest.mark.parametrize("modes", [[[1, 0], [1, 1], [1, 2]], [[1, 0], [1, 1], [1, -1]]])
+def test_mixed_mode_set_by_symmetry_blocks_equals_the_2d_rom(rom, modes):
+    # A mixed set is continued on the axisymmetric subspace with one family block per wave
+    # number and companion (model.families); the reference is the 2-D mixed ROM continued as
+    # it is (model.rom quadrature in theta, its own monodromy).
+    opts = CONTINUATION.parse_options({"parameter": "P0", "start": 0.0, "stop": 3.0, "max_points": 300,
+                                       "ds_max": 0.3, "modes": modes}, GRID, MEMBRANE)
+    point = grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "Omega": 33.5, "c": 0.05})
+    out = CONTINUATION.compute(point, opts, 0)
+    mixed = build_rom(solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric"), [tuple(m) for m in modes])
+    ref = continue_orbits(ForcedMap.from_loading(mixed, PAPER), "P0", 0.0, 3.0, ds_max=0.3, max_points=300)
+    n = int(out["n_points"])
+    assert out["status"] == 0 and n == ref.value.size and out["n_folds"] == 2
+    assert np.abs(out["P0"][:n] - ref.value).max() <= 1e-9
+    assert np.abs(out["fold_value"][:2] / ref.value[ref.special(FOLD)] - 1).max() <= 1e-9
+    mu = out["multiplier_real"][:n] + 1j * out["multiplier_imag"][:n]
+    # as multisets: double multipliers (sine companions) tie, so sort by (real to 1e-8, imag)
+    def canonical(m):
+        return np.take_along_axis(m, np.lexsort((m.imag, np.round(m.real, 8)), axis=-1), axis=1)
+
+    assert np.abs(canonical(mu) - canonical(ref.multipliers)).max() <= 1e-8
+    assert np.array_equal(out["stable"][:n], ref.stable) and np.array_equal(out["point_type"][:n], ref.kind)
+    assert (out["modal_coordinate"][:n, 1:] == 0).all()

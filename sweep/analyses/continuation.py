@@ -28,6 +28,14 @@ Outputs (a task's branches differ in length: every ``point`` array is padded wit
 * ``fold_value``, ``fold_amplitude`` (``fold``, :data:`MAX_FOLDS` long, NaN padded): the
   saddle-node points in branch order, and ``n_points``, ``n_folds``.
 
+Mixed mode sets (``modes`` with ``n != 0`` and at least one ``n = 0`` mode, no ``families``):
+the branch starts from rest, which the uniform pressure keeps axisymmetric, so it is continued
+in the ROM of the axisymmetric modes with one family block per wave number and companion
+(:func:`model.families.symmetry_blocks`); the outputs keep the mixed set's layout (the
+asymmetric coordinates are zero, the multipliers are those of all blocks).  This gives the
+2-D mixed ROM's branch and multipliers (to ~1e-8, tests) at the cost of the axisymmetric one,
+and locates the branch points where an asymmetric block's multiplier crosses +1.
+
 Asymmetric families (``families = {n = [1, 3], radial = 4}``, axisymmetric ``modes`` only):
 the Floquet multipliers of each family's block (:mod:`model.families`) along the branch,
 ``family_multiplier_modulus`` (``point``, ``family``) and ``family_multiplier_real``/``_imag``
@@ -69,12 +77,13 @@ per combination of the other grid keys, the cusp where the two folds merge
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from model.codim2 import continue_curve, continue_folds
 from model.continuation import BRANCH_POINT, FOLD, KIND_NAMES, continue_orbits, cusp_from_folds
+from model.families import symmetry_blocks
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
 from model.shooting import shoot
@@ -340,12 +349,25 @@ class ContinuationAnalysis(Analysis):
         }
 
     def compute(self, point, options, subtask):
-        rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
+        axisymmetric, blocks = symmetry_blocks(options.modes)
+        by_symmetry = options.families is None and blocks and axisymmetric
+        modes = tuple(options.modes[i] for i in axisymmetric) if by_symmetry else options.modes
+        rom = opt.rom_for(point.membrane, options.prestretch, modes)
         fmap = ForcedMap.from_loading(rom, point.loading, options.steps).varied(options.parameter, options.start)
-        families = () if options.families is None else opt.families_for(
-            point.membrane, options.prestretch, options.modes, *options.families)
+        if by_symmetry:
+            families = opt.families_for(point.membrane, options.prestretch, modes,
+                                        tuple((n, radial) for n, radial, _ in blocks))
+        elif options.families is not None:
+            ns, M = options.families
+            families = opt.families_for(point.membrane, options.prestretch, modes,
+                                        tuple((n, tuple(range(1, M + 1))) for n in ns))
+        else:
+            families = ()
         br = continue_orbits(fmap, options.parameter, options.start, options.stop, ds_max=options.ds_max,
                              max_points=options.max_points, families=families)
+        branch = br  # in the ROM's own coordinates, for the curves and branch switching
+        if by_symmetry:
+            br = _full_layout(br, len(options.modes), axisymmetric, blocks)
         n, k = options.max_points, 2 * len(options.modes)
         m = br.value.size
         K = len(options.modes)
@@ -366,7 +388,7 @@ class ContinuationAnalysis(Analysis):
         folds = br.special(FOLD)[:MAX_FOLDS]
         out["fold_value"][:folds.size] = br.value[folds]
         out["fold_amplitude"][:folds.size] = br.amplitude[folds]
-        if families:
+        if options.families is not None:
             F, w = len(families), 2 * options.families[1]
             mu = br.family_multipliers
             out["family_multiplier_modulus"] = np.full((n, F), np.nan)
@@ -391,11 +413,11 @@ class ContinuationAnalysis(Analysis):
             problems.append(problem)
         if options.bifurcation_curves is not None:
             curves, problem = self._compute_bifurcation_curves(
-                fmap, br, families, options, float(getattr(point.loading, options.bifurcation_curves[0])))
+                fmap, branch, families, options, float(getattr(point.loading, options.bifurcation_curves[0])))
             out.update(curves)
             problems.append(problem)
         if options.switch_points:
-            switched, problem = self._compute_switched(point, fmap, br, families, options)
+            switched, problem = self._compute_switched(point, fmap, branch, families, options)
             out.update(switched)
             problems.append(problem)
         problem = "; ".join(p for p in problems if p)
@@ -523,6 +545,21 @@ def _cusp(ds):
     return xr.apply_ufunc(
         lambda v, a: cusp_from_folds(sub.c.values, v, a), sub.fold_value, sub.fold_amplitude,
         input_core_dims=[["c", "fold"], ["c", "fold"]], output_core_dims=[[], []], vectorize=True)
+
+
+def _full_layout(br, K, axisymmetric, blocks):
+    """A branch of the axisymmetric modes with the family blocks of a mixed mode set, in the
+    mixed set's layout: the asymmetric coordinates zero, the multipliers of the axisymmetric
+    block and of every family block together, by decreasing modulus."""
+    N, Ka = br.value.size, len(axisymmetric)
+    state = np.zeros((N, 2 * K))
+    state[:, axisymmetric] = br.state[:, :Ka]
+    state[:, [K + i for i in axisymmetric]] = br.state[:, Ka:]
+    mu = [br.multipliers] + [br.family_multipliers[:, j, :2 * len(radial)] for j, (_, radial, _) in enumerate(blocks)]
+    mu = np.concatenate(mu, axis=1)
+    order = np.lexsort((-mu.imag, -np.abs(mu)), axis=-1)
+    return replace(br, state=state, multipliers=np.take_along_axis(mu, order, axis=1),
+                   family_multipliers=np.zeros((N, 0, 0)))
 
 
 CONTINUATION = ContinuationAnalysis()

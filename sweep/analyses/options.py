@@ -161,12 +161,12 @@ def rom_for(membrane: Membrane, prestretch: str, modes: tuple[tuple[int, int], .
 
 @functools.lru_cache(maxsize=8)
 def families_for(membrane: Membrane, prestretch: str, modes: tuple[tuple[int, int], ...],
-                 wave_numbers: tuple[int, ...], radial: int) -> tuple[Family, ...]:
-    """The family blocks (:func:`model.families.build_family`) of wave numbers
-    ``wave_numbers``, radial modes ``1..radial`` each, for the ROM of :func:`rom_for`."""
+                 blocks: tuple[tuple[int, tuple[int, ...]], ...]) -> tuple[Family, ...]:
+    """The family blocks (:func:`model.families.build_family`) ``(n, radial indices)`` for
+    the axisymmetric ROM of :func:`rom_for`."""
     ps = prestretch_for(membrane, prestretch)
     rom = rom_for(membrane, prestretch, modes)
-    return tuple(build_family(ps, rom, n, radial) for n in wave_numbers)
+    return tuple(build_family(ps, rom, n, radial) for n, radial in blocks)
 
 
 def families(table, section: str, mode_list) -> tuple[tuple[int, ...], int] | None:
