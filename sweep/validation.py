@@ -479,7 +479,7 @@ def _family_growth() -> list[str]:
         for n, fam in fams.items():
             block = family_monodromy(br.state[i], 0.0, at.period, at.steps, rom.tables, at.forcing, fam.tables)
             mu = float(np.abs(sorted_multipliers(block)[0]))
-            grown = perturbation_growth(ForcedMap(mixed[n], at.forcing, at.steps), br.state[i], (1, 2))
+            grown = perturbation_growth(ForcedMap(mixed[n], at.forcing, at.steps), br.state[i], (1, 2))[0]
             out.append(f"| {br.value[i]:.3f} | {br.amplitude[i]:.4f} | {n} | {mu:.5f} | {grown:.5f} | {_rel(grown, mu)} |")
     return out + ["", "Growth inside the predicted intervals and decay outside. A real dominant multiplier (n = 1",
                   "inside its interval) and the unstable n = 3 pair are reproduced to 1e-4; where several",

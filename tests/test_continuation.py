@@ -252,3 +252,21 @@ def test_mixed_mode_set_by_symmetry_blocks_equals_the_2d_rom(rom, modes):
     assert np.abs(canonical(mu) - canonical(ref.multipliers)).max() <= 1e-8
     assert np.array_equal(out["stable"][:n], ref.stable) and np.array_equal(out["point_type"][:n], ref.kind)
     assert (out["modal_coordinate"][:n, 1:] == 0).all()
+
+
+def test_family_check_compares_time_integration_with_floquet():
+    # Fig. 14a, n = 1: inside its interval (Omega ~ 44) the perturbation grows at the Floquet
+    # rate; outside (~ 36) it decays.  Beats between equal-modulus multipliers limit the
+    # agreement where the family is stable (docs/validation.md: 0.5 % over 100 periods).
+    grid = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "P0": np.array([1.0]), "c": np.array([0.05])}
+    options = CONTINUATION.parse_options(
+        {"parameter": "Omega", "start": 25.0, "stop": 55.0, "max_points": 600, "ds_max": 0.3,
+         "families": {"n": [1], "radial": 2}, "family_check": {"values": [36.0, 44.0], "periods": 60}},
+        grid, MEMBRANE)
+    point = grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "P0": 1.0, "c": 0.05})
+    out = CONTINUATION.compute(point, options, 0)
+    assert out["status"] == 0 and out["check_Omega"] == pytest.approx([36.0, 44.0], abs=0.2)
+    floquet, growth = out["check_floquet_modulus"][:, 0], out["check_growth"][:, 0]
+    assert floquet[0] < 1.0 and growth[0] == pytest.approx(floquet[0], rel=5e-3)
+    assert floquet[1] > 1.3 and growth[1] == pytest.approx(floquet[1], rel=1e-4)
+    assert np.isnan(out["check_asymmetric_amplitude"]).all()

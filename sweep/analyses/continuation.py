@@ -51,6 +51,14 @@ most N points; outputs over ``switched_point``: ``switched_<parameter>``,
 ``switched_mode_m``/``switched_mode_n``.  Reaching N points is not a failure: the branch
 is followed as far as asked.
 
+Brute-force check (``family_check = {values = [40, 44], periods = 100, saturate = 0}``, with
+``families``): at the resonant responses (the stretch from ``start`` to the first
+saddle-node) nearest each value, each family's mixed ROM (axisymmetric modes plus the
+family's, 2-D quadrature) is integrated from the orbit plus 1e-9 m in the family's
+coordinates (:func:`model.families.perturbation_growth`): ``check_growth`` (``check``,
+``family``), the growth per period, against ``check_floquet_modulus``; with ``saturate``
+the asymmetric amplitude reached, ``check_asymmetric_amplitude``.
+
 Curves of bifurcation points (``bifurcation_curves = {parameter = "P0", start = 0.2, stop =
 2.0}``): every located point of the branch (up to :data:`MAX_CURVES`) is followed in the
 second parameter from the task's value towards ``start`` and towards ``stop``
@@ -83,11 +91,11 @@ import numpy as np
 
 from model.codim2 import continue_curve, continue_folds
 from model.continuation import BRANCH_POINT, FOLD, KIND_NAMES, continue_orbits, cusp_from_folds
-from model.families import symmetry_blocks
+from model.families import perturbation_growth, symmetry_blocks
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
 from model.shooting import shoot
-from model.switching import follow_bifurcated_branch
+from model.switching import follow_bifurcated_branch, mixed_rom
 
 from . import options as opt
 from .base import (GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
@@ -112,6 +120,7 @@ class ContinuationOptions:
     bifurcation_curves: tuple[str, float, float] | None = None
     switch_points: int = 0
     switch_family: int = 0
+    check: tuple[tuple[float, ...], int, int] | None = None
 
 
 #: Length of the ``cusp`` dimension (cusps of the fold curve, NaN padded).
@@ -122,6 +131,29 @@ MAX_CUSPS = 4
 CURVE_DS_MAX = 0.5
 #: Length of the ``curve`` dimension (bifurcation curves, NaN padded).
 MAX_CURVES = 16
+
+
+#: Largest number of values of ``family_check``.
+MAX_CHECKS = 16
+
+
+def _family_check(table, section):
+    """The ``family_check = {values, periods, saturate}`` option: ``(values, periods,
+    saturate)`` or None."""
+    value = table.get("family_check")
+    if value is None:
+        return None
+    key = f"{section}.family_check"
+    if not isinstance(value, dict) or not {"values"} <= set(value) <= {"values", "periods", "saturate"}:
+        raise JobError(key, value, "must be a table {values = [..], periods = N, saturate = N}")
+    if table.get("families") is None:
+        raise JobError(key, value, "needs continuation.families")
+    values = value["values"]
+    if (not isinstance(values, list) or not 0 < len(values) <= MAX_CHECKS
+            or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in values)):
+        raise JobError(f"{key}.values", values, f"must be a list of 1 to {MAX_CHECKS} numbers")
+    return (tuple(float(v) for v in values), opt.number(value, key, "periods", 100, integer=True, low=10, high=100_000),
+            opt.number(value, key, "saturate", 0, integer=True, low=0, high=1_000_000))
 
 
 def _switching(table, section, families) -> tuple[int, int]:
@@ -186,6 +218,11 @@ class ContinuationAnalysis(Analysis):
                             "family without n) on the branch, switch onto the bifurcating asymmetric branch and "
                             "follow it for at most N points in the ROM of the axisymmetric modes plus the "
                             "family's (needs families; default none)",
+        "family_check": "{values = [..], periods = 100, saturate = 0}: brute-force check of the families' "
+                        "stability at the resonant responses nearest these parameter values: growth per period of "
+                        "a small asymmetric perturbation in the nonlinear mixed ROM (axisymmetric + family modes, "
+                        "2-D quadrature) against the Floquet multiplier; with saturate = N, N periods more and the "
+                        "asymmetric amplitude reached (needs families; default none)",
         "families": "{n = [wave numbers], radial = M}: Floquet multipliers of the asymmetric mode families "
                     "(radial modes 1..M of each n) along the axisymmetric branch; branch points, period "
                     "doublings and Neimark-Sacker points of each family are located (default none; needs "
@@ -208,7 +245,8 @@ class ContinuationAnalysis(Analysis):
             opt.number(table, s, "steps", DEFAULT_STEPS, low=16, high=4096, integer=True),
             _second_parameter(table, s, parameter), opt.families(table, s, opt.modes(table, s)),
             _second_parameter(table, s, parameter, "bifurcation_curves"),
-            *_switching(table, s, opt.families(table, s, opt.modes(table, s))))
+            *_switching(table, s, opt.families(table, s, opt.modes(table, s))),
+            _family_check(table, s))
 
     def variables(self, options):
         n, k, p = options.max_points, 2 * len(options.modes), options.parameter
@@ -216,7 +254,8 @@ class ContinuationAnalysis(Analysis):
         units, what = GRID_KEYS[p]
         pt = ("point",)
         return (self._fold_curve_variables(options) + self._family_variables(options)
-                + self._bifurcation_curve_variables(options) + self._switched_variables(options)) + [
+                + self._bifurcation_curve_variables(options) + self._switched_variables(options)
+                + self._check_variables(options)) + [
             Variable(p, pt, (n,), "f8", units, f"continued parameter: {what}"),
             Variable("amplitude", pt, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)|"),
             Variable("modal_coordinate", ("point", "mode"), (n, K), "f8", "m",
@@ -255,6 +294,22 @@ class ContinuationAnalysis(Analysis):
             Variable("point_family", ("point",), (n,), "i2", "1",
                      "wave number n of the block a located point belongs to (0: axisymmetric block "
                      "and regular points)", -1),
+        ]
+
+    @staticmethod
+    def _check_variables(options):
+        if options.check is None:
+            return []
+        C, F, p = len(options.check[0]), len(options.families[0]), options.parameter
+        cf = ("check", "family")
+        return [
+            Variable(f"check_{p}", ("check",), (C,), "f8", GRID_KEYS[p][0],
+                     f"{p} of the resonant response checked (the branch point nearest each family_check value)"),
+            Variable("check_floquet_modulus", cf, (C, F), "f8", "1", "largest multiplier modulus of the family's block"),
+            Variable("check_growth", cf, (C, F), "f8", "1",
+                     "growth per period of a small asymmetric perturbation in the nonlinear mixed ROM"),
+            Variable("check_asymmetric_amplitude", cf, (C, F), "f8", "m",
+                     "largest asymmetric |w(0.5 Re, 0)| after the family_check saturate periods (NaN without)"),
         ]
 
     @staticmethod
@@ -326,6 +381,9 @@ class ContinuationAnalysis(Analysis):
                                   {"long_name": "Floquet multiplier index within the family's block", "units": "1"})}
         curve = {} if options.fold_curve is None else {
             "cusp": (("cusp",), np.arange(MAX_CUSPS, dtype=np.int32), {"long_name": "cusp index", "units": "1"})}
+        if options.check is not None:
+            curve["check"] = (("check",), np.arange(len(options.check[0]), dtype=np.int32),
+                              {"long_name": "index of the family_check value", "units": "1"})
         if options.switch_points:
             curve["switched_point"] = (("switched_point",), np.arange(options.switch_points, dtype=np.int32),
                                        {"long_name": "index along the switched (asymmetric) branch", "units": "1"})
@@ -416,6 +474,10 @@ class ContinuationAnalysis(Analysis):
                 fmap, branch, families, options, float(getattr(point.loading, options.bifurcation_curves[0])))
             out.update(curves)
             problems.append(problem)
+        if options.check is not None:
+            checks, problem = self._compute_check(point, fmap, branch, families, options)
+            out.update(checks)
+            problems.append(problem)
         if options.switch_points:
             switched, problem = self._compute_switched(point, fmap, branch, families, options)
             out.update(switched)
@@ -424,6 +486,32 @@ class ContinuationAnalysis(Analysis):
         if problem and out["status"] == STATUS_OK:
             out["status"], out["message"] = STATUS_NOT_CONVERGED, problem
         return out
+
+    @staticmethod
+    def _compute_check(point, fmap, br, families, options):
+        """The family_check outputs (brute force against Floquet), and what went wrong."""
+        values, periods, saturate = options.check
+        C, F, p = len(values), len(families), options.parameter
+        out = {f"check_{p}": np.full(C, np.nan), "check_floquet_modulus": np.full((C, F), np.nan),
+               "check_growth": np.full((C, F), np.nan), "check_asymmetric_amplitude": np.full((C, F), np.nan)}
+        folds = br.special(FOLD)
+        end = int(folds[0]) + 1 if folds.size else br.value.size
+        ps = opt.prestretch_for(point.membrane, options.prestretch)
+        Ka = fmap.rom.dof
+        problems = []
+        for j, fam in enumerate(families):
+            mixed = ForcedMap(mixed_rom(ps, fmap.rom, fam), fmap.forcing, fmap.steps)
+            asymmetric = tuple(range(Ka, Ka + len(fam.radial)))
+            for c, v in enumerate(values):
+                i = int(np.argmin(np.abs(br.value[:end] - v)))
+                out[f"check_{p}"][c] = br.value[i]
+                out["check_floquet_modulus"][c, j] = np.nanmax(np.abs(br.family_multipliers[i, j]))
+                try:
+                    out["check_growth"][c, j], out["check_asymmetric_amplitude"][c, j] = perturbation_growth(
+                        mixed.varied(p, br.value[i]), br.state[i], asymmetric, periods=periods, saturate=saturate)
+                except ValueError as exc:
+                    problems.append(f"family_check n = {fam.n} at {p} = {br.value[i]:.6g}: {exc}")
+        return out, "; ".join(problems)
 
     @staticmethod
     def _compute_switched(point, fmap, br, families, options):
