@@ -19,11 +19,13 @@ Forcing = namedtuple("Forcing", "damping_rate P0 Omega")
 
 
 @nb.njit(cache=True)
-def _rk4(y, beta, F, omega, h, steps, variational):
-    # RK4 steps of the state and, when asked, of the 2 x 2 variational matrix.
+def _rk4(y, beta, F, omega, h, steps, variational, which):
+    # RK4 steps of the state and, when asked, of the variational matrix (2 x 3: the third
+    # column the derivative in Omega (which = 1, at fixed steps per period) or F (2)).
     x, v = y[0], y[1]
-    phi = np.eye(2)
-    kx, kv, kp = np.empty(4), np.empty(4), np.empty((4, 2, 2))
+    phi = np.zeros((2, 3))
+    phi[0, 0] = phi[1, 1] = 1.0
+    kx, kv, kp = np.empty(4), np.empty(4), np.empty((4, 2, 3))
     for i in range(steps):
         t = i * h
         for s in range(4):
@@ -31,12 +33,18 @@ def _rk4(y, beta, F, omega, h, steps, variational):
             cx = x + f * kx[s - 1] if s else x
             cv = v + f * kv[s - 1] if s else v
             cp = phi + f * kp[s - 1] if s else phi
+            forcing = np.sin(omega * (t + f))
             kx[s] = cv
-            kv[s] = -beta * cv - cx + cx * cx + F * np.sin(omega * (t + f))
+            kv[s] = -beta * cv - cx + cx * cx + F * forcing
             if variational:
-                for c in range(2):
+                for c in range(3):
                     kp[s, 0, c] = cp[1, c]
                     kp[s, 1, c] = (2.0 * cx - 1.0) * cp[0, c] - beta * cp[1, c]
+                if which == 1:
+                    kp[s, 0, 2] -= kx[s] / omega
+                    kp[s, 1, 2] -= kv[s] / omega
+                elif which == 2:
+                    kp[s, 1, 2] += forcing
         x += h / 6.0 * (kx[0] + 2.0 * kx[1] + 2.0 * kx[2] + kx[3])
         v += h / 6.0 * (kv[0] + 2.0 * kv[1] + 2.0 * kv[2] + kv[3])
         if variational:
@@ -68,13 +76,18 @@ class EscapeMap:
     def state_scale(self):
         return np.array([1.0, 1.0 / self.forcing.Omega])
 
-    def _flow(self, y, variational):
+    def _flow(self, y, variational, which=0):
         f = self.forcing
         return _rk4(np.asarray(y, dtype=float), self.beta, f.P0, f.Omega, self.period / self.steps, self.steps,
-                    variational)
+                    variational, which)
 
     def monodromy(self, y):
-        return self._flow(y, True)
+        yT, phi = self._flow(y, True)
+        return yT, phi[:, :2]
+
+    def monodromy_parameter(self, y, parameter):
+        yT, phi = self._flow(y, True, 1 if parameter == "Omega" else 2)
+        return yT, phi[:, :2], phi[:, 2]
 
     def advance(self, y, periods=1):
         for _ in range(periods):
