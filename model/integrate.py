@@ -115,41 +115,39 @@ def rk4_steps(y, t0, h, steps, tab, forcing, work):
 NO_PARAMETER, OMEGA, PRESSURE = 0, 1, 2
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, fastmath=True, error_model="numpy")
 def _aug_rhs(t, z, n, tab, forcing, which, g, jac, work, out):
-    # z = (y, Phi.ravel(), dy/dlambda); Phi' = A Phi with A = [[0, I], [-diag(k) J(q), -c I]],
-    # (dy/dlambda)' = A dy/dlambda + dF/dlambda: for P0 the load (0, f cos(Omega t)); for
-    # Omega at fixed steps per period -F/Omega (the map in the phase tau = Omega t is RK4 on
-    # F/Omega with fixed steps, so this is the derivative of the discrete map).
+    # z = (y, V) with V = [Phi | dy/dlambda] stored row-major (n rows, n + 1 columns);
+    # V' = A V plus, in the last column, dF/dlambda: for P0 the load (0, f cos(Omega t));
+    # for Omega at fixed steps per period -F/Omega (the map in the phase tau = Omega t is
+    # RK4 on F/Omega with fixed steps, so this is the derivative of the discrete map).
+    # A = [[0, I], [-diag(k) J(q), -c I]]; rows are contiguous, so the updates vectorise.
     K = n // 2
+    w = n + 1
     c_damp = forcing.damping_rate
     force_and_jacobian(z[:K], tab, g, jac, work)
     pt = forcing.P0 * np.cos(forcing.Omega * t)
     for k in range(K):
         out[k] = z[K + k]
         out[K + k] = -c_damp * z[K + k] - tab.k_force[k] * g[k] + pt * tab.load[k]
-    columns = n + 1 if which != NO_PARAMETER else n
-    for col in range(columns):
-        # column col of Phi, then (col == n) the parameter column, stored after Phi
-        for i in range(K):
-            src = n + i * n + col if col < n else n + n * n + i
-            dst = src
-            vel = n + (K + i) * n + col if col < n else n + n * n + K + i
-            out[dst] = z[vel]
-        for i in range(K):
-            vel = n + (K + i) * n + col if col < n else n + n * n + K + i
-            acc = -c_damp * z[vel]
-            for l in range(K):
-                pos = n + l * n + col if col < n else n + n * n + l
-                acc -= tab.k_force[i] * jac[i, l] * z[pos]
-            out[vel] = acc
+    for i in range(K):
+        top = n + i * w
+        vel = n + (K + i) * w
+        for col in range(w):
+            out[top + col] = z[vel + col]
+            out[vel + col] = -c_damp * z[vel + col]
+        for l in range(K):
+            kj = tab.k_force[i] * jac[i, l]
+            src = n + l * w
+            for col in range(w):
+                out[vel + col] -= kj * z[src + col]
     if which == OMEGA:
         for i in range(n):
-            out[n + n * n + i] -= out[i] / forcing.Omega
+            out[n + i * w + n] -= out[i] / forcing.Omega
     elif which == PRESSURE:
         ct = np.cos(forcing.Omega * t)
         for i in range(K):
-            out[n + n * n + K + i] += tab.load[i] * ct
+            out[n + (K + i) * w + n] += tab.load[i] * ct
 
 
 @nb.njit(cache=True, fastmath=True)
@@ -253,11 +251,12 @@ def monodromy_parameter(y0, t0, period, steps, tab, forcing, which):
         q, v, ok = _monodromy_one_mode(y0, t0, period / steps, steps, tab, forcing, which, phi, dparam)
         if ok:
             return np.array([q, v]), phi, dparam
-    m = n + n * n + n
+    w = n + 1
+    m = n + n * w
     z = np.zeros(m)
     z[:n] = y0
     for i in range(n):
-        z[n + i * n + i] = 1.0
+        z[n + i * w + i] = 1.0
     k1 = np.empty(m)
     k2 = np.empty(m)
     k3 = np.empty(m)
@@ -282,7 +281,8 @@ def monodromy_parameter(y0, t0, period, steps, tab, forcing, which):
         for i in range(m):
             z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         t += h
-    return z[:n].copy(), z[n:n + n * n].reshape(n, n).copy(), z[n + n * n:].copy()
+    v = z[n:].reshape(n, w)
+    return z[:n].copy(), np.ascontiguousarray(v[:, :n]), v[:, n].copy()
 
 
 @nb.njit(cache=True)

@@ -447,18 +447,28 @@ def _fused_force_jacobian(q, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric
         if not axisymmetric:
             for p in range(P):
                 b[p] += qk * b_theta[k, p]
-    for p in range(P):
-        ap = a[p]
-        bp = b[p]
-        D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap
-        s = rho2[p] / (D * D)
-        s3 = 8.0 * s / D
-        w = weight[p]
-        fa[p] = 2.0 * ap * (1.0 - s * r2[p]) * w
-        fb[p] = 2.0 * bp * (1.0 / rho2[p] - s * dr2[p]) * w
-        iaa[p] = (2.0 - 2.0 * s * r2[p] + s3 * r2[p] * r2[p] * ap * ap) * w
-        iab[p] = s3 * r2[p] * dr2[p] * ap * bp * w
-        ibb[p] = (2.0 / rho2[p] - 2.0 * s * dr2[p] + s3 * dr2[p] * dr2[p] * bp * bp) * w
+    # (b, fb, iab, ibb are not used for axisymmetric sets)
+    if axisymmetric:
+        for p in range(P):
+            ap = a[p]
+            D = r2[p] * (dr2[p] + ap * ap)
+            s = rho2[p] / (D * D)
+            w = weight[p]
+            fa[p] = 2.0 * ap * (1.0 - s * r2[p]) * w
+            iaa[p] = (2.0 - 2.0 * s * r2[p] + 8.0 * s / D * r2[p] * r2[p] * ap * ap) * w
+    else:
+        for p in range(P):
+            ap = a[p]
+            bp = b[p]
+            D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap
+            s = rho2[p] / (D * D)
+            s3 = 8.0 * s / D
+            w = weight[p]
+            fa[p] = 2.0 * ap * (1.0 - s * r2[p]) * w
+            fb[p] = 2.0 * bp * (1.0 / rho2[p] - s * dr2[p]) * w
+            iaa[p] = (2.0 - 2.0 * s * r2[p] + s3 * r2[p] * r2[p] * ap * ap) * w
+            iab[p] = s3 * r2[p] * dr2[p] * ap * bp * w
+            ibb[p] = (2.0 / rho2[p] - 2.0 * s * dr2[p] + s3 * dr2[p] * dr2[p] * bp * bp) * w
     for k in range(K):
         acc = 0.0
         if axisymmetric:
