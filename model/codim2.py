@@ -92,9 +92,8 @@ class _CurveSystem:
                  kind: int = FOLD, family: Family | None = None):
         if kind not in (FOLD, BRANCH_POINT, PERIOD_DOUBLING, NEIMARK_SACKER):
             raise ValueError(f"kind = {kind!r} is invalid: must be FOLD, BRANCH_POINT, PERIOD_DOUBLING or NEIMARK_SACKER")
-        if (kind == FOLD and family is not None) or (kind == BRANCH_POINT and family is None):
-            raise ValueError(f"family = {family!r} is invalid for a {KIND_NAMES[kind]} curve: "
-                             "branch points need a family, folds take none")
+        if kind == FOLD and family is not None:
+            raise ValueError(f"family = {family!r} is invalid for a fold curve: folds are of the axisymmetric block")
         self.fmap, self.p, self.q = fmap, p, q
         self.kind, self.family = kind, family
         self.p_span = p_span
@@ -240,8 +239,8 @@ def continue_curve(fmap: ForcedMap, parameter: str, second: str, start: float, s
         :data:`model.continuation.FOLD` (default), ``BRANCH_POINT``, ``PERIOD_DOUBLING`` or
         ``NEIMARK_SACKER``.
     family : Family, optional
-        The asymmetric family the condition is on (required for branch points; None: the
-        axisymmetric block).
+        The asymmetric family the condition is on (None: the axisymmetric block, whose
+        branch points, det(Phi - I) = 0 without a fold, break the time symmetry).
     ds, ds_min, ds_max : float
         Arclength steps in the scaled unknowns.
     max_points : int

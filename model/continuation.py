@@ -58,6 +58,8 @@ MAX_TURN = 0.3
 #: Labels of the points of a branch.
 REGULAR, FOLD, PERIOD_DOUBLING, NEIMARK_SACKER, BRANCH_POINT = 0, 1, 2, 3, 4
 KIND_NAMES = ("regular", "fold", "period_doubling", "neimark_sacker", "branch_point")
+#: Their names in figures and reports.
+KIND_LABELS = ("regular", "saddle-node", "period doubling", "Neimark-Sacker", "branch point")
 
 
 @dataclass
@@ -113,7 +115,21 @@ class Branch:
     def unstable_intervals(self, family: int, end: int | None = None) -> list[tuple[float, float]]:
         """:func:`unstable_intervals` of family number ``family`` (an index into the
         ``families`` of the continuation) over points ``0..end-1`` (default: all)."""
-        return unstable_intervals(self.value[:end], np.abs(self.family_multipliers[:end, family]).max(axis=1))
+        return unstable_intervals(self.value[:end], np.nanmax(np.abs(self.family_multipliers[:end, family]), axis=1))
+
+
+def resonant_end(kind) -> int:
+    """Number of points of a branch in ``Omega`` from its start up to and including its
+    first saddle-node: the resonant stretch of a hardening resonance continued from below.
+    ``kind`` is the branch's point types (all points when there is no saddle-node)."""
+    folds = np.flatnonzero(np.asarray(kind) == FOLD)
+    return int(folds[0]) + 1 if folds.size else len(kind)
+
+
+def unstable_points(modulus) -> np.ndarray:
+    """Points whose largest multiplier ``modulus`` lies outside the unit circle (beyond the
+    ~1e-10 to which located points sit on it)."""
+    return np.asarray(modulus) > 1.0 + 1e-9
 
 
 def unstable_intervals(value, modulus) -> list[tuple[float, float]]:
@@ -123,7 +139,7 @@ def unstable_intervals(value, modulus) -> list[tuple[float, float]]:
     bifurcation points where the run starts and ends (modulus 1 to ~1e-10), or the ends of
     the branch.  ``value`` and ``modulus`` are per point, in branch order.
     """
-    unstable = np.asarray(modulus) > 1.0 + 1e-9
+    unstable = unstable_points(modulus)
     out = []
     i = 0
     while i < unstable.size:

@@ -144,8 +144,9 @@ class ForcedMap:
 
         Returns
         -------
-        yT, dparam : (2K,) arrays
+        yT : (2K,) array
         phi : (2K, 2K) array
+        dparam : (2K,) array
         """
         if parameter not in PARAMETERS:
             raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(PARAMETERS)}")

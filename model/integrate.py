@@ -111,7 +111,7 @@ def rk4_steps(y, t0, h, steps, tab, forcing, work):
     return t
 
 
-#: Codes of the parameter whose derivative :func:`monodromy` integrates with the state.
+#: Codes of the parameter whose derivative :func:`monodromy_parameter` integrates with the state.
 NO_PARAMETER, OMEGA, PRESSURE = 0, 1, 2
 
 

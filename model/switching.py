@@ -91,6 +91,7 @@ def follow_bifurcated_branch(prestretch: Prestretch, fmap: ForcedMap, family: Fa
     direction[Ka:K], direction[K + Ka:] = v[:M], v[M:]
     fmap_mixed = ForcedMap(mixed, at.forcing, at.steps)
     branch = continue_orbits(fmap_mixed, parameter, start, stop, switch=(y0, value, direction), **options)
+    branch.family[0] = family.n  # the first point is the branch point of this family
     asym = ForcedMap(asymmetric_part(mixed, Ka), at.forcing, at.steps)
     amp = np.array([asym.varied(parameter, lam).amplitude(y) for lam, y in zip(branch.value, branch.state)])
     return branch, fmap_mixed, amp

@@ -275,8 +275,8 @@ def mode_figure(ds, outdir) -> list[Path]:
                              subplot_kw={"projection": "polar"}, squeeze=False)
     for ax, k in zip(axes[0], order):
         m, n = int(ds.m[k]), int(ds.n[k])
-        phi = mode_shape(rho, bessel_roots(n, delta_o, m)[-1], n, 1.0, delta_o)[0]
-        w = np.outer(np.cos(n * theta), phi)
+        phi = mode_shape(rho, bessel_roots(abs(n), delta_o, m)[-1], abs(n), 1.0, delta_o)[0]
+        w = np.outer(np.cos(n * theta) if n >= 0 else np.sin(-n * theta), phi)  # n < 0: sine companion
         ax.pcolormesh(theta, rho, w.T / np.abs(w).max(), cmap="RdBu_r", vmin=-1, vmax=1, shading="auto")
         ax.set_ylim(0, 1)
         ax.set_yticklabels([])
@@ -329,6 +329,8 @@ def _family_colors(plt, families) -> dict:
 
 
 def stability_map_figures(ds, outdir, par: str, rows: str) -> list:
+    from model.continuation import resonant_end, unstable_points
+
     """Stability maps: per row of the grid parameter ``rows`` (e.g. P0), the intervals of the
     continued parameter where the resonant stretch of the branch (from its start to the
     first saddle-node) is unstable to each family, and the saddle-nodes of the row."""
@@ -349,12 +351,11 @@ def stability_map_figures(ds, outdir, par: str, rows: str) -> list:
             n = int(b.n_points)
             if n <= 0:
                 continue
-            folds = np.flatnonzero(kind[:n] == 1)
-            end = int(folds[0]) + 1 if folds.size else n
+            end = resonant_end(kind[:n])
             x = b[par].values[:end]
             mod = b.family_multiplier_modulus.values[:end]
             for j, fam in enumerate(families):
-                bad = mod[:, j] > 1.0 + 1e-9
+                bad = unstable_points(mod[:, j])
                 lo = 0.35 * step * (2 * j / max(len(families) - 1, 1) - 1)
                 ax.plot(np.where(bad, x, np.nan), np.full(end, r + lo), color=colors[int(fam)], lw=2.5,
                         solid_capstyle="butt", label=f"unstable to n = {fam}" if r == ds[rows].values[0] else None)
@@ -373,6 +374,8 @@ def stability_map_figures(ds, outdir, par: str, rows: str) -> list:
 
 
 def bifurcation_curve_figures(ds, outdir, par: str) -> list:
+    from model.continuation import KIND_LABELS
+
     """Curves of bifurcation points in the plane of the continued and the second parameter,
     coloured by the family of their block (black: axisymmetric), marked by kind."""
     plt = pyplot()
@@ -391,7 +394,7 @@ def bifurcation_curve_figures(ds, outdir, par: str) -> list:
             kind, fam = int(b.curve_kind[j]), int(b.curve_family[j])
             if kind < 0:
                 continue
-            name = f"{KIND_LABELS[kind]}" + (f", n = {fam}" if fam else "")
+            name = KIND_LABELS[kind] + (f", n = {fam}" if fam else "")
             ax.plot(b[f"curve_{par}"][j], b[f"curve_{second}"][j], ls=styles[kind], color=colors.get(fam, "k"),
                     lw=1.4, label=None if name in seen else name)
             seen.add(name)
@@ -402,10 +405,6 @@ def bifurcation_curve_figures(ds, outdir, par: str) -> list:
     fig.suptitle("Curves of bifurcation points (two-parameter continuation)", fontsize=10)
     fig.tight_layout()
     return [save_figure(fig, outdir, f"bifurcation_curves_{par}.png")]
-
-
-#: Legend names of the located point types.
-KIND_LABELS = {1: "saddle-node", 2: "period doubling", 3: "Neimark-Sacker", 4: "branch point"}
 
 
 def family_figures(ds, outdir, par: str) -> list:

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from model.continuation import stable_amplitudes_at
+from model.continuation import KIND_LABELS, resonant_end, stable_amplitudes_at
 from sweep.errors import RunError
 from sweep.storage import run_attributes
 
@@ -294,14 +294,6 @@ FAMILIES = (1, 2, 3, 4, 5, 6)
 GROWTH_OMEGAS = (36.0, 40.0, 42.0, 44.0, 45.5)
 
 
-def _resonant_end(br) -> int:
-    """Number of points of the resonant stretch of a branch in Omega (up to its first fold)."""
-    from model.continuation import FOLD
-
-    folds = br.special(FOLD)
-    return int(folds[0]) + 1 if folds.size else br.value.size
-
-
 def _fmt_intervals(intervals) -> str:
     return ", ".join(f"{a:.2f}-{b:.2f}" for a, b in intervals) or "none"
 
@@ -322,7 +314,7 @@ def section_families(results: Path) -> list[str]:
     for delta in ds.delta.values:
         b = _point(ds, delta=delta, delta_o=0.2, P0=1.0, c=0.05)
         kind, fam, om = b.point_type.values.ravel(), b.point_family.values.ravel(), b.Omega.values.ravel()
-        end = int(np.flatnonzero(kind == 1)[0]) + 1 if (kind == 1).any() else int(np.isfinite(om).sum())
+        end = resonant_end(kind[:int(np.isfinite(om).sum())])
         unstable = False
         for j, n in enumerate(b.family.values):
             at = [f"{names[int(k)]} {o:.4f}" for k, f, o in zip(kind[:end], fam[:end], om[:end]) if f == n and k > 1]
@@ -378,7 +370,6 @@ def _stability_map(results: Path) -> list[str]:
     rows, curves = _open(results, "stability-map-fig14a"), _open(results, "fig14a-bifurcation-curves")
     if rows is None or curves is None:
         return out + _missing("stability-map-fig14a", "fig14a-bifurcation-curves")
-    names = {1: "saddle-node", 2: "period doubling", 3: "Neimark-Sacker", 4: "branch point"}
     cur = _point(curves, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
     r = _point(rows, delta=1.1, delta_o=0.2, c=0.05)
     kinds = cur.curve_kind.values.ravel()
@@ -413,7 +404,7 @@ def _stability_map(results: Path) -> list[str]:
                     worst = max(worst, d)
                 else:
                     off.add(round(float(P0), 3))
-        out.append(f"| {names[kind]} | {fam} | {lowest:.4f} | {count} | {matched} | {worst:.1e} | "
+        out.append(f"| {KIND_LABELS[kind]} | {fam} | {lowest:.4f} | {count} | {matched} | {worst:.1e} | "
                    f"{', '.join(f'{v:g}' for v in sorted(off)) or '-'} | {below} |")
     return out + ["", "A point counts as on a curve within 0.05 rad/s; the differences left are those of the",
                   "linear interpolation between curve points (steps of up to 0.5 in the scaled arclength).",
@@ -439,7 +430,7 @@ def _family_convergence() -> list[str]:
     for M in (2, 4, 6, 8):
         fams = [build_family(ps, rom, n, M) for n in FAMILIES]
         br = continue_orbits(fmap, "Omega", 25.0, 55.0, ds_max=0.3, max_points=1000, families=fams)
-        end = _resonant_end(br)
+        end = resonant_end(br.kind)
         cells = []
         for j in range(len(FAMILIES)):
             mod = np.abs(br.family_multipliers[:end, j]).max()
@@ -471,7 +462,7 @@ def _family_growth() -> list[str]:
     fams = {n: build_family(ps, rom, n, 2) for n in (1, 3)}
     br = continue_orbits(fmap, "Omega", 25.0, 55.0, ds_max=0.3, max_points=1000,
                          families=[fams[1], fams[3]])
-    end = _resonant_end(br)
+    end = resonant_end(br.kind)
     mixed = {n: build_rom(ps, [(1, 0)] + list(f.modes)) for n, f in fams.items()}
     for target in GROWTH_OMEGAS:
         i = int(np.argmin(np.abs(br.value[:end] - target)))

@@ -81,7 +81,7 @@ def test_branch_point_curve_agrees_with_one_parameter_branch_points(fig14a_n1):
     first = branch.special(BRANCH_POINT)[0]
     curve = continue_curve(fmap, "Omega", "P0", 1.0, 2.0, branch.state[first], branch.value[first], 30.0,
                            kind=BRANCH_POINT, family=fam, ds_max=0.5)
-    assert curve.complete and curve.family == 1 and curve.cusp.size == 0
+    assert curve.complete and curve.family == 1 and curve.turns.size == 0
     for i in (curve.p.size // 3, 2 * curve.p.size // 3):
         one = continue_orbits(fmap.varied("P0", curve.q[i]), "Omega", 25.0, 55.0, ds_max=0.3, max_points=1000,
                               families=[fam])

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from model.continuation import BRANCH_POINT, FOLD, NEIMARK_SACKER, continue_orbits
-from model.families import build_family, family_jacobian, family_monodromy
+from model.families import build_family, family_jacobian, family_monodromy, perturbation_growth
 from model.forced import ForcedMap, sorted_multipliers
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
@@ -108,7 +108,9 @@ def test_perturbation_growth_matches_the_largest_multiplier(prestretch, one_mode
 
 def test_stable_orbit_decays_like_its_multipliers(prestretch, one_mode):
     # The non-resonant response at Omega = 30 rad/s: every n = 1 multiplier inside the unit
-    # circle; the perturbation decays at the predicted rate.
+    # circle (two pairs of modulus 0.99762); the perturbation decays at that rate.  The fitted
+    # rate carries the beats of the pairs (~1e-4 over 100 periods); the bound, 5e-4, stays well
+    # inside the 2.4e-3 between the multipliers and the stability limit, so growth would fail.
     fmap = ForcedMap.from_loading(one_mode, Loading(Omega=30.0, P0=1.0, c=0.05))
     y = shoot(fmap, np.zeros(2)).state
     fam = build_family(prestretch, one_mode, 1, 2)
@@ -116,13 +118,8 @@ def test_stable_orbit_decays_like_its_multipliers(prestretch, one_mode):
                                              fmap.forcing, fam.tables))
     assert abs(mu[0]) < 1.0
     full = ForcedMap(build_rom(prestretch, [(1, 0)] + list(fam.modes)), fmap.forcing, fmap.steps)
-    z = _embed(y, 1, 3)
-    z[[1, 2]] = 1e-6
-    z0 = full.advance(z, 5)
-    z1 = full.advance(z0, 40)
-    ratio = np.linalg.norm(z1[[1, 2, 4, 5]]) / np.linalg.norm(z0[[1, 2, 4, 5]])
-    # without a dominant real multiplier the norm ratio oscillates between the moduli
-    assert abs(mu[-1]) ** 40 * 0.5 <= ratio <= abs(mu[0]) ** 40 * 2
+    growth, _ = perturbation_growth(full, y, (1, 2), periods=100)
+    assert growth < 1.0 and growth == pytest.approx(abs(mu[0]), rel=5e-4)
 
 
 @pytest.fixture(scope="module")

@@ -104,6 +104,7 @@ def test_family_shorthand_and_sine_companions(tmp_path):
     ds = xr.load_dataset(out).squeeze()
     assert list(zip(ds.m.values, ds.n.values)) == [(1, 0), (1, 1), (2, 1), (1, -1), (2, -1)]
     assert np.array_equal(ds.omega.values[1:3], ds.omega.values[3:5])
+    assert [p.name for p in cli_figures(out, tmp_path / "fig")][-1] == "fig07_modes.png"
 
 
 def test_static_rho_range_error(tmp_path, capsys):

@@ -85,12 +85,13 @@ per combination of the other grid keys, the cusp where the two folds merge
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from model.codim2 import continue_curve, continue_folds
-from model.continuation import BRANCH_POINT, FOLD, KIND_NAMES, continue_orbits, cusp_from_folds
+from model.continuation import BRANCH_POINT, FOLD, KIND_NAMES, continue_orbits, cusp_from_folds, resonant_end
 from model.families import perturbation_growth, symmetry_blocks
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
@@ -150,10 +151,23 @@ def _family_check(table, section):
         raise JobError(key, value, "needs continuation.families")
     values = value["values"]
     if (not isinstance(values, list) or not 0 < len(values) <= MAX_CHECKS
-            or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in values)):
-        raise JobError(f"{key}.values", values, f"must be a list of 1 to {MAX_CHECKS} numbers")
+            or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) for v in values)):
+        raise JobError(f"{key}.values", values, f"must be a list of 1 to {MAX_CHECKS} finite numbers")
     return (tuple(float(v) for v in values), opt.number(value, key, "periods", 100, integer=True, low=10, high=100_000),
             opt.number(value, key, "saturate", 0, integer=True, low=0, high=1_000_000))
+
+
+def _curves_option(table, section, parameter, grid):
+    """The ``bifurcation_curves`` option; the grid values of its parameter must lie in its
+    range (the curves run from each task's value to both ends)."""
+    value = _second_parameter(table, section, parameter, "bifurcation_curves")
+    if value is not None and value[0] in grid:
+        lo, hi = min(value[1:]), max(value[1:])
+        outside = [float(v) for v in np.atleast_1d(grid[value[0]]) if not lo <= v <= hi]
+        if outside:
+            raise JobError(f"{section}.bifurcation_curves", table["bifurcation_curves"],
+                           f"the [grid] values of {value[0]} must lie in [start, stop]; {outside} do not")
+    return value
 
 
 def _switching(table, section, families) -> tuple[int, int]:
@@ -238,15 +252,15 @@ class ContinuationAnalysis(Analysis):
         stop = opt.number(table, s, "stop", low=low, low_open=parameter == "Omega")
         if start == stop:
             raise JobError(f"{s}.stop", stop, "must differ from continuation.start")
+        modes = opt.modes(table, s)
+        families = opt.families(table, s, modes)
         return ContinuationOptions(
-            parameter, start, stop, opt.modes(table, s), opt.prestretch(table, s),
+            parameter, start, stop, modes, opt.prestretch(table, s),
             opt.number(table, s, "max_points", 400, low=2, high=100_000, integer=True),
             opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0),
             opt.number(table, s, "steps", DEFAULT_STEPS, low=16, high=4096, integer=True),
-            _second_parameter(table, s, parameter), opt.families(table, s, opt.modes(table, s)),
-            _second_parameter(table, s, parameter, "bifurcation_curves"),
-            *_switching(table, s, opt.families(table, s, opt.modes(table, s))),
-            _family_check(table, s))
+            _second_parameter(table, s, parameter), families,
+            _curves_option(table, s, parameter, grid), *_switching(table, s, families), _family_check(table, s))
 
     def variables(self, options):
         n, k, p = options.max_points, 2 * len(options.modes), options.parameter
@@ -304,7 +318,7 @@ class ContinuationAnalysis(Analysis):
         cf = ("check", "family")
         return [
             Variable(f"check_{p}", ("check",), (C,), "f8", GRID_KEYS[p][0],
-                     f"{p} of the resonant response checked (the branch point nearest each family_check value)"),
+                     f"{p} of the resonant response checked (the point of the resonant stretch nearest each family_check value)"),
             Variable("check_floquet_modulus", cf, (C, F), "f8", "1", "largest multiplier modulus of the family's block"),
             Variable("check_growth", cf, (C, F), "f8", "1",
                      "growth per period of a small asymmetric perturbation in the nonlinear mixed ROM"),
@@ -413,8 +427,10 @@ class ContinuationAnalysis(Analysis):
         rom = opt.rom_for(point.membrane, options.prestretch, modes)
         fmap = ForcedMap.from_loading(rom, point.loading, options.steps).varied(options.parameter, options.start)
         if by_symmetry:
-            families = opt.families_for(point.membrane, options.prestretch, modes,
-                                        tuple((n, radial) for n, radial, _ in blocks))
+            # a sine block with the radial indices of a cosine block has its multipliers:
+            # one family each, so that every point is located once
+            unique = list(dict.fromkeys((n, radial) for n, radial, _ in blocks))
+            families = opt.families_for(point.membrane, options.prestretch, modes, tuple(unique))
         elif options.families is not None:
             ns, M = options.families
             families = opt.families_for(point.membrane, options.prestretch, modes,
@@ -425,7 +441,8 @@ class ContinuationAnalysis(Analysis):
                              max_points=options.max_points, families=families)
         branch = br  # in the ROM's own coordinates, for the curves and branch switching
         if by_symmetry:
-            br = _full_layout(br, len(options.modes), axisymmetric, blocks)
+            br = _full_layout(br, len(options.modes), axisymmetric,
+                              [(radial, unique.index((n, radial))) for n, radial, _ in blocks])
         n, k = options.max_points, 2 * len(options.modes)
         m = br.value.size
         K = len(options.modes)
@@ -494,8 +511,7 @@ class ContinuationAnalysis(Analysis):
         C, F, p = len(values), len(families), options.parameter
         out = {f"check_{p}": np.full(C, np.nan), "check_floquet_modulus": np.full((C, F), np.nan),
                "check_growth": np.full((C, F), np.nan), "check_asymmetric_amplitude": np.full((C, F), np.nan)}
-        folds = br.special(FOLD)
-        end = int(folds[0]) + 1 if folds.size else br.value.size
+        end = resonant_end(br.kind)
         ps = opt.prestretch_for(point.membrane, options.prestretch)
         Ka = fmap.rom.dof
         problems = []
@@ -602,7 +618,9 @@ class ContinuationAnalysis(Analysis):
         return out, "" if curve.complete or no_fold else f"fold curve: {curve.message}"
 
     def warmup(self, options):
-        rom = opt.rom_for(Membrane(), "analytic", options.modes)
+        axisymmetric, blocks = symmetry_blocks(options.modes)
+        modes = tuple(options.modes[i] for i in axisymmetric) if axisymmetric and blocks else options.modes
+        rom = opt.rom_for(Membrane(), "analytic", modes)
         shoot(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 0.05), steps=16), np.zeros(2 * rom.dof))
 
     def attributes(self, options):
@@ -638,12 +656,14 @@ def _cusp(ds):
 def _full_layout(br, K, axisymmetric, blocks):
     """A branch of the axisymmetric modes with the family blocks of a mixed mode set, in the
     mixed set's layout: the asymmetric coordinates zero, the multipliers of the axisymmetric
-    block and of every family block together, by decreasing modulus."""
+    block and of every block of the set (``blocks``: its radial indices and the index of its
+    family in the continuation; cosine and sine companions share one) together, by
+    decreasing modulus."""
     N, Ka = br.value.size, len(axisymmetric)
     state = np.zeros((N, 2 * K))
     state[:, axisymmetric] = br.state[:, :Ka]
     state[:, [K + i for i in axisymmetric]] = br.state[:, Ka:]
-    mu = [br.multipliers] + [br.family_multipliers[:, j, :2 * len(radial)] for j, (_, radial, _) in enumerate(blocks)]
+    mu = [br.multipliers] + [br.family_multipliers[:, j, :2 * len(radial)] for radial, j in blocks]
     mu = np.concatenate(mu, axis=1)
     order = np.lexsort((-mu.imag, -np.abs(mu)), axis=-1)
     return replace(br, state=state, multipliers=np.take_along_axis(mu, order, axis=1),
