@@ -365,56 +365,12 @@ def _slopes(q, tab, p):
 
 @nb.njit(cache=True)
 def force_jacobian(q, tab, out):
-    """``out[k, l] = d g_k / d q_l`` in closed form (the Hessian of U)."""
-    if tab.table_max > 0.0 and abs(q[0]) < tab.table_max:
-        out[0, 0] = table_eval(tab.slope_table, tab.table_max, abs(q[0]))
-        return
-    _quadrature_jacobian(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta, tab.axisymmetric, out)
+    """``out[k, l] = d g_k / d q_l`` in closed form (the Hessian of U).
 
-
-@nb.njit(cache=True, fastmath=True, error_model="numpy")
-def _quadrature_jacobian(q, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, out):
-    # Loops over quadrature points innermost (contiguous, vectorised): the slopes, the
-    # second derivatives of the integrand, then one weighted sum per (k, l) with l >= k.
-    K = q.size
-    P = weight.size
-    a = np.zeros(P)
-    b = np.zeros(P)
-    for k in range(K):
-        qk = q[k]
-        for p in range(P):
-            a[p] += qk * b_rho[k, p]
-        if not axisymmetric:
-            for p in range(P):
-                b[p] += qk * b_theta[k, p]
-    iaa = np.empty(P)
-    iab = np.empty(P)
-    ibb = np.empty(P)
-    for p in range(P):
-        ap = a[p]
-        bp = b[p]
-        D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap
-        s = rho2[p] / (D * D)
-        s3 = 8.0 * s / D
-        w = weight[p]
-        iaa[p] = (2.0 - 2.0 * s * r2[p] + s3 * r2[p] * r2[p] * ap * ap) * w
-        iab[p] = s3 * r2[p] * dr2[p] * ap * bp * w
-        ibb[p] = (2.0 / rho2[p] - 2.0 * s * dr2[p] + s3 * dr2[p] * dr2[p] * bp * bp) * w
-    for k in range(K):
-        for l in range(k, K):
-            acc = 0.0
-            if axisymmetric:
-                for p in range(P):
-                    acc += iaa[p] * b_rho[k, p] * b_rho[l, p]
-            else:
-                for p in range(P):
-                    bk = b_rho[k, p]
-                    tk = b_theta[k, p]
-                    bl = b_rho[l, p]
-                    tl = b_theta[l, p]
-                    acc += iaa[p] * bk * bl + iab[p] * (bk * tl + tk * bl) + ibb[p] * tk * tl
-            out[k, l] = acc
-            out[l, k] = acc
+    For the hot loops use :func:`force_and_jacobian`, which takes its work space from the
+    caller; this one allocates it.
+    """
+    force_and_jacobian(q, tab, np.empty(q.size), out, np.empty((7, tab.weight.size)))
 
 
 @nb.njit(cache=True)
