@@ -292,6 +292,7 @@ def test_sine_companions_do_not_duplicate_located_points():
     n = int(cos["n_points"])
     assert int(both["n_points"]) == n and (cos["point_type"][:n] == 4).sum() == 2
     assert np.array_equal(cos["point_type"][:n], both["point_type"][:n])
+    assert (both["point_family"][:n][both["point_type"][:n] == 4] == 1).all()
     mu_cos = np.abs(cos["multiplier_real"][:n] + 1j * cos["multiplier_imag"][:n])
     mu_both = np.abs(both["multiplier_real"][:n] + 1j * both["multiplier_imag"][:n])
     assert mu_both.shape == (n, 10)

@@ -294,9 +294,13 @@ class ContinuationAnalysis(Analysis):
 
     @staticmethod
     def _family_variables(options):
+        n = options.max_points
+        point_family = [Variable("point_family", ("point",), (n,), "i2", "1",
+                                 "wave number n of the block a located point belongs to (0: axisymmetric block "
+                                 "and regular points)", -1)]
         if options.families is None:
-            return []
-        n, F, w = options.max_points, len(options.families[0]), 2 * options.families[1]
+            return point_family if _by_symmetry(options) else []
+        F, w = len(options.families[0]), 2 * options.families[1]
         pf, pfm = ("point", "family"), ("point", "family", "family_multiplier")
         return [
             Variable("family_multiplier_modulus", pf, (n, F), "f8", "1",
@@ -305,10 +309,7 @@ class ContinuationAnalysis(Analysis):
                      "real part of the family's Floquet multipliers, by decreasing modulus"),
             Variable("family_multiplier_imag", pfm, (n, F, w), "f8", "1",
                      "imaginary part of the family's Floquet multipliers, by decreasing modulus"),
-            Variable("point_family", ("point",), (n,), "i2", "1",
-                     "wave number n of the block a located point belongs to (0: axisymmetric block "
-                     "and regular points)", -1),
-        ]
+        ] + point_family
 
     @staticmethod
     def _check_variables(options):
@@ -422,7 +423,7 @@ class ContinuationAnalysis(Analysis):
 
     def compute(self, point, options, subtask):
         axisymmetric, blocks = symmetry_blocks(options.modes)
-        by_symmetry = options.families is None and blocks and axisymmetric
+        by_symmetry = _by_symmetry(options)
         modes = tuple(options.modes[i] for i in axisymmetric) if by_symmetry else options.modes
         rom = opt.rom_for(point.membrane, options.prestretch, modes)
         fmap = ForcedMap.from_loading(rom, point.loading, options.steps).varied(options.parameter, options.start)
@@ -471,6 +472,8 @@ class ContinuationAnalysis(Analysis):
             out["family_multiplier_real"] = np.full((n, F, w), np.nan)
             out["family_multiplier_imag"] = np.full((n, F, w), np.nan)
             out["family_multiplier_real"][:m], out["family_multiplier_imag"][:m] = mu.real, mu.imag
+
+        if options.families is not None or by_symmetry:
             out["point_family"] = np.full(n, -1, np.int16)
             out["point_family"][:m] = br.family
         out["n_points"] = np.int32(m)
@@ -618,8 +621,8 @@ class ContinuationAnalysis(Analysis):
         return out, "" if curve.complete or no_fold else f"fold curve: {curve.message}"
 
     def warmup(self, options):
-        axisymmetric, blocks = symmetry_blocks(options.modes)
-        modes = tuple(options.modes[i] for i in axisymmetric) if axisymmetric and blocks else options.modes
+        axisymmetric, _ = symmetry_blocks(options.modes)
+        modes = tuple(options.modes[i] for i in axisymmetric) if _by_symmetry(options) else options.modes
         rom = opt.rom_for(Membrane(), "analytic", modes)
         shoot(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 0.05), steps=16), np.zeros(2 * rom.dof))
 
@@ -651,6 +654,13 @@ def _cusp(ds):
     return xr.apply_ufunc(
         lambda v, a: cusp_from_folds(sub.c.values, v, a), sub.fold_value, sub.fold_amplitude,
         input_core_dims=[["c", "fold"], ["c", "fold"]], output_core_dims=[[], []], vectorize=True)
+
+
+def _by_symmetry(options) -> bool:
+    """A mixed mode set (axisymmetric and other modes) without ``families``: continued on the
+    axisymmetric subspace with family blocks."""
+    axisymmetric, blocks = symmetry_blocks(options.modes)
+    return options.families is None and bool(blocks) and bool(axisymmetric)
 
 
 def _full_layout(br, K, axisymmetric, blocks):
