@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.optimize import brentq
-from scipy.special import jv, jvp, yv, yvp
+from scipy.special import jv, yv
 
 
 def cross_product(alpha, n: int, delta_o: float):
@@ -105,4 +105,7 @@ def mode_shape(rho, alpha: float, n: int, Re: float = 1.0, delta_o: float | None
     a = alpha.reshape(alpha.shape + (1,) * rho.ndim)  # roots along a leading axis
     x = a * rho / Re
     c = yv(n, a) / jv(n, a) if delta_o is None else np.asarray(shape_constant(alpha, n, delta_o)).reshape(a.shape)
-    return c * jv(n, x) - yv(n, x), (a / Re) * (c * jvp(n, x) - yvp(n, x))
+    # derivatives by the recurrence Z_n' = (n/x) Z_n - Z_{n+1}: four Bessel evaluations, not six
+    jn, yn = jv(n, x), yv(n, x)
+    jn1, yn1 = jv(n + 1, x), yv(n + 1, x)
+    return c * jn - yn, (a / Re) * (c * (n / x * jn - jn1) - (n / x * yn - yn1))

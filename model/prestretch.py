@@ -135,7 +135,9 @@ def _cheb_lobatto(n, dom):
 
 
 def _polish(s, r, d):
-    """Newton on the first-order Chebyshev collocation of Eq. (15), ends held fixed.
+    """Newton on the first-order Chebyshev collocation of Eq. (15), ends held fixed;
+    ``(r, r')`` at the points after at most 30 steps, or None when the last step is still
+    above 1e-10 (relative) or ``r'`` left ``(0, inf)``.
 
     Unknowns are ``r`` and ``y = r'`` at the Lobatto points; the equations are
     ``D r = y`` everywhere and Eq. (15) with ``r'' = D y`` at the interior points.  The
@@ -159,22 +161,29 @@ def _polish(s, r, d):
             res[row] = 0.0
         step = np.linalg.solve(jac, -res)
         r, y = r + step[:n1], y + step[n1:]
+        if not (np.all(np.isfinite(y)) and np.all(y > 0)):
+            return None
         if np.abs(step).max() < 1e-15 * (1 + np.abs(y).max()):
             break
-    return r, y
+    # Newton stalls at round-off (~1e-14); a last step far above it means no convergence
+    return (r, y) if np.abs(step).max() < 1e-10 * (1 + np.abs(y).max()) else None
 
 
 def _numeric_coef(delta, delta_o):
     """Solve Eq. (15) with ``r(delta_o) = delta_o``, ``r(1) = delta`` (scaled variables).
 
-    Shooting (the paper's method): the slope at the inner edge is bracketed around the
-    Eq. (21) value and found by Brent's method so that the DOP853 integration of the
-    first-order form hits ``r(1) = delta``.  The shooting solution, sampled at
-    Chebyshev-Lobatto points, then seeds a Newton iteration on the Chebyshev collocation
-    of Eq. (15) itself, which removes the integrator's interpolation noise and yields a
-    spectrally accurate series (degree doubled from 32 until its tail is below 1e-14).
+    Newton on the Chebyshev collocation of Eq. (15) itself (:func:`_collocate`), seeded by
+    the Eq. (21) approximation; where that seed does not converge, by shooting (the
+    paper's method: the slope at the inner edge bracketed around the Eq. (21) value and
+    found by Brent's method so that the DOP853 integration of the first-order form hits
+    ``r(1) = delta``).  The collocation yields a spectrally accurate series (degree doubled
+    from 32 until its tail is below 1e-14); both seeds give the same series.
     """
+    dom = (delta_o, 1.0)
     a, b = _analytic_coef(delta, delta_o)
+    seeded = _collocate(lambda s: a * s + b / s, delta, delta_o, dom)
+    if seeded is not None:
+        return seeded
     guess = a - b / delta_o**2
 
     def miss(s):
@@ -194,19 +203,32 @@ def _numeric_coef(delta, delta_o):
             break
     s0 = brentq(miss, lo, hi, xtol=1e-15, rtol=1e-15, maxiter=200)
     sol = _shoot(s0, delta_o, dense=True)
-    dom = (delta_o, 1.0)
+    coef = _collocate(lambda s: sol.sol(s)[0], delta, delta_o, dom)
+    if coef is None:
+        raise ArithmeticError(f"pre-stretch collocation did not converge at delta = {delta}, delta_o = {delta_o}")
+    return coef
+
+
+def _collocate(guess, delta, delta_o, dom):
+    """Chebyshev series of the solution of Eq. (15) by Newton on the collocation
+    (:func:`_polish`) from the radius ``guess(rho)``; the degree is doubled from 32 until the
+    series' tail is below 1e-14.  None when Newton does not converge or ``r'`` leaves
+    ``(0, inf)``."""
     n = 32
     while True:
         s, d = _cheb_lobatto(n, dom)
-        r = sol.sol(s)[0]
+        r = guess(s)
         r[0], r[-1] = delta, delta_o  # Lobatto points run from rho = Re down to Ro
-        r, y = _polish(s, r, d)
+        polished = _polish(s, r, d)
+        if polished is None:
+            return None
+        r, y = polished
         t = (2 * s - dom[0] - dom[1]) / (dom[1] - dom[0])
         cr, cy = C.chebfit(t, r, n), C.chebfit(t, y, n)
         if np.abs(cr[-4:]).max() < 1e-14 * delta or n >= 256:
-            break
+            return (C.chebtrim(cr, 1e-17), C.chebtrim(cy, 1e-17), dom)
+        guess = lambda x, cr=cr: C.chebval((2 * x - dom[0] - dom[1]) / (dom[1] - dom[0]), cr)  # noqa: E731
         n *= 2
-    return (C.chebtrim(cr, 1e-17), C.chebtrim(cy, 1e-17), dom)
 
 
 def _fit_coef(delta, delta_o, numeric_coef):
