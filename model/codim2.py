@@ -31,6 +31,7 @@ interval.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -89,13 +90,14 @@ class _CurveSystem:
     """The scaled extended system of a curve of bifurcation points."""
 
     def __init__(self, fmap: ForcedMap, p: str, q: str, p_span: float, q_range: tuple[float, float],
-                 kind: int = FOLD, family: Family | None = None):
+                 kind: int = FOLD, family: Family | None = None, rebuild=None):
         if kind not in (FOLD, BRANCH_POINT, PERIOD_DOUBLING, NEIMARK_SACKER):
             raise ValueError(f"kind = {kind!r} is invalid: must be FOLD, BRANCH_POINT, PERIOD_DOUBLING or NEIMARK_SACKER")
         if kind == FOLD and family is not None:
             raise ValueError(f"family = {family!r} is invalid for a fold curve: folds are of the axisymmetric block")
         self.fmap, self.p, self.q = fmap, p, q
         self.kind, self.family = kind, family
+        self.rebuild = None if rebuild is None else functools.lru_cache(maxsize=16)(rebuild)
         self.p_span = p_span
         self.q_lo, self.q_hi = min(q_range), max(q_range)
         self.q_span = self.q_hi - self.q_lo
@@ -110,15 +112,23 @@ class _CurveSystem:
         return x[:self.n] / self.s, x[self.n] * self.p_span, x[self.n + 1] * self.q_span
 
     def at(self, p, q) -> ForcedMap:
-        return self.fmap.varied(self.p, p).varied(self.q, q)
+        return self.at_family(p, q)[0]
 
-    def condition(self, fmap, y, phi) -> float:
+    def at_family(self, p, q) -> tuple[ForcedMap, Family | None]:
+        """The map at ``(p, q)`` and the family block there (rebuilt when ``q`` is a membrane
+        parameter)."""
+        if self.rebuild is None:
+            return self.fmap.varied(self.p, p).varied(self.q, q), self.family
+        fmap, family = self.rebuild(float(q))
+        return fmap.varied(self.p, p), (None if self.family is None else family)
+
+    def condition(self, fmap, y, phi, family=None) -> float:
         """The scalar condition of the curve's kind at the orbit ``y`` of ``fmap``."""
-        if self.family is None:
+        if family is None:
             block = phi
         else:
             block = family_monodromy(y, 0.0, fmap.period, fmap.steps, fmap.rom.tables, fmap.forcing,
-                                     self.family.tables)
+                                     family.tables)
         eye = np.eye(block.shape[0])
         if self.kind in (FOLD, BRANCH_POINT):
             return float(np.linalg.det(block - eye))
@@ -128,9 +138,9 @@ class _CurveSystem:
 
     def residual(self, x):
         y, p, q = self.unpack(x)
-        fmap = self.at(p, q)
+        fmap, family = self.at_family(p, q)
         yT, phi = fmap.monodromy(y)
-        return np.append(self.s * (yT - y), self.condition(fmap, y, phi))
+        return np.append(self.s * (yT - y), self.condition(fmap, y, phi, family))
 
     def jacobian(self, x, h=1e-7):
         cols = []
@@ -212,7 +222,7 @@ def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, s
 def continue_curve(fmap: ForcedMap, parameter: str, second: str, start: float, stop: float, state, value: float,
                    p_span: float, kind: int = FOLD, family: Family | None = None, ds: float = 0.02,
                    ds_min: float = 1e-7, ds_max: float = 0.05, max_points: int = 400,
-                   tol: float = 1e-10) -> BifurcationCurve:
+                   tol: float = 1e-10, rebuild=None) -> BifurcationCurve:
     """Follow a curve of bifurcation points of ``kind`` from ``(state, value)`` at ``second = start``.
 
     The curve is followed towards ``stop``; it ends at the first point past either end of
@@ -225,7 +235,7 @@ def continue_curve(fmap: ForcedMap, parameter: str, second: str, start: float, s
         The map with the fixed parameters and the RK4 steps per period.
     parameter : {"P0", "Omega"}
         The point's own parameter (the one of the branch it was located on).
-    second : {"c", "P0", "Omega"}
+    second : {"c", "P0", "Omega"} or a membrane parameter (e.g. ``"delta"``, with ``rebuild``)
         The second parameter (different from ``parameter``).
     start, stop : float
         Range of ``second``.
@@ -247,6 +257,10 @@ def continue_curve(fmap: ForcedMap, parameter: str, second: str, start: float, s
         Largest number of points (turns included).
     tol : float
         Newton tolerance on the scaled unknowns.
+    rebuild : callable, optional
+        For a membrane parameter ``second``: ``value -> (ForcedMap, Family or None)``, the map
+        (with ``fmap``'s forcing and steps) and the family block rebuilt at that value; called
+        once per value met (cached).
 
     Returns
     -------
@@ -258,7 +272,10 @@ def continue_curve(fmap: ForcedMap, parameter: str, second: str, start: float, s
         raise ValueError(f"(ds_min, ds, ds_max) = ({ds_min}, {ds}, {ds_max}) is invalid: need 0 < ds_min <= ds <= ds_max")
     if not (np.isfinite(start) and np.isfinite(stop)) or start == stop:
         raise ValueError(f"(start, stop) = ({start!r}, {stop!r}) is invalid: need two different finite values")
-    sys_ = _CurveSystem(fmap, parameter, second, p_span, (start, stop), kind, family)
+    if (second in ("c", "P0", "Omega")) == (rebuild is not None):
+        raise ValueError(f"second = {second!r} is invalid here: a forcing parameter (c, P0, Omega) takes no "
+                         "rebuild, a membrane parameter needs one")
+    sys_ = _CurveSystem(fmap, parameter, second, p_span, (start, stop), kind, family, rebuild)
     x = sys_.pack(np.asarray(state, dtype=float), value, start)
     direction = np.sign(stop - start)
     e = np.zeros(x.size)

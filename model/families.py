@@ -120,7 +120,8 @@ def symmetry_blocks(modes) -> tuple[list[int], list[tuple[int, tuple[int, ...], 
     return axisymmetric, blocks
 
 
-def build_family(prestretch: Prestretch, rom: Rom, n: int, radial, radial_points: int | None = None) -> Family:
+def build_family(prestretch: Prestretch, rom: Rom, n: int, radial, radial_points: int | None = None,
+                 jacobian_table: bool = True) -> Family:
     """The family block of wave number ``n`` for the axisymmetric ``rom``.
 
     Parameters
@@ -138,6 +139,9 @@ def build_family(prestretch: Prestretch, rom: Rom, n: int, radial, radial_points
         least ``16 + 8 M`` for ``M = max(radial)``.  Measured on the Fig. 14a resonant
         branch (|w(0.5 Re)| = 0.45 m, n = 1, 3, 5, 8, M = 2 and 8): the largest multiplier
         changes by less than 1e-12 from 48 to 256 points.
+    jacobian_table : bool
+        Tabulate ``J`` for one-mode ROMs that carry a force table (default; a few hundred
+        ms); without it the kernels use the radial quadrature.
     """
     if any(nn for _, nn in rom.modes):
         raise ValueError(f"modes = {list(rom.modes)} is invalid here: the family blocks need an axisymmetric ROM (every n = 0)")
@@ -160,7 +164,7 @@ def build_family(prestretch: Prestretch, rom: Rom, n: int, radial, radial_points
                           axis_slope=np.ascontiguousarray(axis_slope), slope=np.ascontiguousarray(dphi),
                           hoop=np.ascontiguousarray(n * phi), k_force=m.C1 / (m.Gamma * mass),
                           table_max=0.0, jacobian_table=np.zeros((0, 0, 1)))
-    if rom.tables.table_max > 0.0:
+    if rom.tables.table_max > 0.0 and jacobian_table:
         tables = tables._replace(table_max=rom.tables.table_max,
                                  jacobian_table=_jacobian_table(tables, rom.tables.table_max))
     return Family(n, radial, alpha, tables)

@@ -154,7 +154,8 @@ def default_quadrature(modes) -> tuple[int, int]:
 
 
 def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
-              radial_points: int | None = None, theta_points: int | None = None) -> Rom:
+              radial_points: int | None = None, theta_points: int | None = None,
+              force_table: bool = True) -> Rom:
     """Assemble the Galerkin ROM of Eq. (31) for ``modes`` on ``prestretch``.
 
     Parameters
@@ -171,6 +172,10 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
         Gauss-Legendre points on ``[Ro, Re]`` and uniform points on ``[0, 2 pi)``;
         defaults from :func:`default_quadrature`.  ``theta_points = 0`` means the
         axisymmetric shortcut and is only allowed when every ``n`` is 0.
+    force_table : bool
+        Build the one-mode force table (:func:`_force_table`, a few hundred ms; default).
+        Without it one-mode ROMs use the quadrature: slower kernels, for ROMs rebuilt often
+        (curves in ``delta``).
     """
     m = prestretch.membrane
     modes = tuple((int(a), int(b)) for a, b in modes)
@@ -214,7 +219,7 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
         b_rho=np.ascontiguousarray(b_rho), b_theta=np.ascontiguousarray(b_theta),
         k_force=m.C1 / (m.Gamma * mass), load=forcing / (m.Gamma * m.h * mass), probe=probe,
         axisymmetric=nt == 0, table_max=0.0, stiffness_table=np.zeros((0, 1)), slope_table=np.zeros((0, 1)))
-    if K == 1 and nt == 0:
+    if K == 1 and nt == 0 and force_table:
         tables = tables._replace(**_force_table(tables, TABLE_MAX_W * m.Re / np.abs(psi).max()))
     return Rom(m, modes, alpha, mass, forcing, probe_rho, nr, nt, tables)
 

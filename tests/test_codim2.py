@@ -12,6 +12,7 @@ import pytest
 
 from model.codim2 import continue_curve, continue_folds, fold_at
 from model.continuation import BRANCH_POINT, FOLD, continue_orbits, cusp_from_folds
+from model.families import build_family
 from model.forced import ForcedMap
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
@@ -96,3 +97,30 @@ def test_branch_point_curve_agrees_with_one_parameter_branch_points(fig14a_n1):
     below = continue_orbits(fmap.varied("P0", down.turns[0, 0] * 0.99), "Omega", 25.0, 55.0, ds_max=0.3,
                             max_points=1000, families=[fam])
     assert near.special(BRANCH_POINT).size == 2 and below.special(BRANCH_POINT).size == 0
+
+
+def test_curves_in_delta_agree_with_one_parameter_branches():
+    # The saddle-node and the n = 1 branch point of the Fig. 14a resonance followed in delta
+    # (the analysis rebuilds pre-stretch, ROM and family at each delta): at a curve point, the
+    # one-parameter branch at that delta has the same point (independent: the ROM with its
+    # tables, the secant location on the branch).
+    from sweep.analyses.continuation import CONTINUATION
+    from sweep.jobspec import grid_point
+
+    membrane = Membrane()
+    grid = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "P0": np.array([1.0]), "c": np.array([0.05])}
+    options = CONTINUATION.parse_options(
+        {"parameter": "Omega", "start": 25.0, "stop": 55.0, "max_points": 400, "ds_max": 0.3, "prestretch": "analytic",
+         "families": {"n": [1], "radial": 2}, "bifurcation_curves": {"parameter": "delta", "start": 1.1, "stop": 1.13}},
+        grid, membrane)
+    out = CONTINUATION.compute(grid_point(membrane, {"delta": 1.1, "delta_o": 0.2, "P0": 1.0, "c": 0.05}), options, 0)
+    assert out["status"] == 0
+    for kind in (FOLD, BRANCH_POINT):
+        j = int(np.flatnonzero(out["curve_kind"] == kind)[0])
+        q, p = out["curve_delta"][j], out["curve_Omega"][j]
+        i = int(np.flatnonzero(np.isfinite(q))[-1]) // 2
+        ps = solve_prestretch(Membrane(delta=q[i], delta_o=0.2), "analytic")
+        rom = build_rom(ps, [(1, 0)])
+        one = continue_orbits(ForcedMap.from_loading(rom, Loading(Omega=25.0, P0=1.0, c=0.05)), "Omega", 25.0, 55.0,
+                              ds_max=0.3, max_points=1000, families=[build_family(ps, rom, 1, 2)])
+        assert np.min(np.abs(one.value[one.special(kind)] / p[i] - 1)) <= 1e-6

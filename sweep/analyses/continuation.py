@@ -61,8 +61,9 @@ the asymmetric amplitude reached, ``check_asymmetric_amplitude``.
 
 Curves of bifurcation points (``bifurcation_curves = {parameter = "P0", start = 0.2, stop =
 2.0}``): every located point of the branch (up to :data:`MAX_CURVES`) is followed in the
-second parameter from the task's value towards ``start`` and towards ``stop``
-(:func:`model.codim2.continue_curve`); outputs ``curve_<second>``, ``curve_<parameter>``,
+second parameter (``c``, ``delta`` or the forcing parameter not continued) from the task's
+value towards ``start`` and towards ``stop`` (:func:`model.codim2.continue_curve`; in
+``delta`` the pre-stretch, ROM and family are rebuilt at every value met); outputs ``curve_<second>``, ``curve_<parameter>``,
 ``curve_amplitude`` (``curve``, ``curve_point``, NaN padded), ``curve_kind`` and
 ``curve_family`` (``curve``).  A curve that does not reach both ends makes the task
 ``not_converged`` with the reason.
@@ -92,9 +93,11 @@ import numpy as np
 
 from model.codim2 import continue_curve, continue_folds
 from model.continuation import BRANCH_POINT, FOLD, KIND_NAMES, continue_orbits, cusp_from_folds, resonant_end
-from model.families import perturbation_growth, symmetry_blocks
+from model.families import build_family, perturbation_growth, symmetry_blocks
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
+from model.prestretch import solve_prestretch
+from model.rom import build_rom
 from model.shooting import shoot
 from model.switching import follow_bifurcated_branch, mixed_rom
 
@@ -196,11 +199,11 @@ def _second_parameter(table, section, parameter, name="fold_curve"):
         return None
     if not isinstance(value, dict) or set(value) != {"parameter", "start", "stop"}:
         raise JobError(key, value, "must be a table {parameter = , start = , stop = }")
-    allowed = tuple(p for p in ("c", "P0", "Omega") if p != parameter)
+    allowed = tuple(p for p in ("c", "P0", "Omega") if p != parameter) + (("delta",) if name == "bifurcation_curves" else ())
     second = opt.choice(value, key, "parameter", allowed)
-    low_open = second == "Omega"
-    start = opt.number(value, key, "start", low=0.0, low_open=low_open)
-    stop = opt.number(value, key, "stop", low=0.0, low_open=low_open)
+    low, low_open = (1.0, True) if second == "delta" else (0.0, second == "Omega")
+    start = opt.number(value, key, "start", low=low, low_open=low_open)
+    stop = opt.number(value, key, "stop", low=low, low_open=low_open)
     if start == stop:
         raise JobError(f"{key}.stop", stop, f"must differ from {key}.start")
     return second, start, stop
@@ -225,8 +228,8 @@ class ContinuationAnalysis(Analysis):
         "fold_curve": "{parameter, start, stop}: follow the first saddle-node in a second parameter "
                       "(c, or the forcing parameter not continued) through its cusps (default none)",
         "bifurcation_curves": "{parameter, start, stop}: follow every located point of the branch (folds, branch "
-                              "points, period doublings, Neimark-Sacker points) in a second parameter (c, or the "
-                              "forcing parameter not continued) from its grid value to start and to stop "
+                              "points, period doublings, Neimark-Sacker points) in a second parameter (c, delta, or "
+                              "the forcing parameter not continued) from its grid value to start and to stop "
                               "(default none)",
         "branch_switching": "{max_points = N, n = wave number}: at the first branch point of family n (of any "
                             "family without n) on the branch, switch onto the bifurcating asymmetric branch and "
@@ -490,8 +493,10 @@ class ContinuationAnalysis(Analysis):
             out.update(curve)
             problems.append(problem)
         if options.bifurcation_curves is not None:
+            q = options.bifurcation_curves[0]
             curves, problem = self._compute_bifurcation_curves(
-                fmap, branch, families, options, float(getattr(point.loading, options.bifurcation_curves[0])))
+                fmap, branch, families, options,
+                float(getattr(point.membrane if q == "delta" else point.loading, q)), point)
             out.update(curves)
             problems.append(problem)
         if options.check is not None:
@@ -566,9 +571,11 @@ class ContinuationAnalysis(Analysis):
         return out, "" if sw.complete or m >= n else f"switched branch: {sw.message}"
 
     @staticmethod
-    def _compute_bifurcation_curves(fmap, br, families, options, q_here):
+    def _compute_bifurcation_curves(fmap, br, families, options, q_here, point):
         """The bifurcation-curve outputs, and what went wrong ("" when nothing did); the
-        curves start at the task's value ``q_here`` of the second parameter."""
+        curves start at the task's value ``q_here`` of the second parameter.  In ``delta``
+        the pre-stretch, the ROM and the family are rebuilt at every value met, without the
+        one-mode tables (quadrature kernels: a rebuild costs milliseconds)."""
         p, (q, q_start, q_stop), n = options.parameter, options.bifurcation_curves, options.max_points
         out = {f"curve_{q}": np.full((MAX_CURVES, n), np.nan), f"curve_{p}": np.full((MAX_CURVES, n), np.nan),
                "curve_amplitude": np.full((MAX_CURVES, n), np.nan), "curve_kind": np.full(MAX_CURVES, -1, np.int8),
@@ -587,7 +594,9 @@ class ContinuationAnalysis(Analysis):
                     continue
                 try:
                     halves.append(continue_curve(fmap, p, q, q_here, end, br.state[i], br.value[i], span, kind=kind,
-                                                 family=family, ds_max=CURVE_DS_MAX, max_points=n // 2))
+                                                 family=family, ds_max=CURVE_DS_MAX, max_points=n // 2,
+                                                 rebuild=_rebuild(point, options, fmap, family) if q == "delta"
+                                                 else None))
                 except (RuntimeError, ArithmeticError, np.linalg.LinAlgError) as exc:
                     problems.append(f"curve {j} ({KIND_NAMES[kind]}) towards {q} = {end}: {type(exc).__name__}: {exc}")
             if not halves:
@@ -654,6 +663,17 @@ def _cusp(ds):
     return xr.apply_ufunc(
         lambda v, a: cusp_from_folds(sub.c.values, v, a), sub.fold_value, sub.fold_amplitude,
         input_core_dims=[["c", "fold"], ["c", "fold"]], output_core_dims=[[], []], vectorize=True)
+
+
+def _rebuild(point, options, fmap, family):
+    """``delta -> (map, family)`` for curves in ``delta``: the task's membrane with that delta,
+    the same modes (the ROM's), forcing and steps; quadrature kernels (no tables)."""
+    def at(delta):
+        ps = solve_prestretch(replace(point.membrane, delta=delta), options.prestretch)
+        rom = build_rom(ps, fmap.rom.modes, force_table=False)
+        fam = None if family is None else build_family(ps, rom, family.n, family.radial, jacobian_table=False)
+        return ForcedMap(rom, fmap.forcing, fmap.steps), fam
+    return at
 
 
 def _by_symmetry(options) -> bool:
