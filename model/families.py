@@ -37,7 +37,7 @@ import numpy as np
 from .linear import gauss_radial
 from .modes import bessel_roots, mode_shape
 from .prestretch import Prestretch
-from .integrate import _accel
+from .integrate import _rk4_one_mode
 from .rom import Rom, piecewise_chebyshev, rhs
 
 
@@ -245,41 +245,18 @@ def _quadrature_jacobian(q, fam, iaa, ibb, out):
             out[l, j] = acc
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True)
 def _stage_coordinates(y0, t0, h, steps, tab, forcing, out):
     # The axisymmetric modal coordinates at the four RK4 stages of every step,
-    # out[i, s, :] (steps, 4, K), exactly as rk4_steps meets them.  One-mode ROMs run the
-    # scalar table loop while the stages stay in the table's range (returns False when
-    # they leave it: the caller then takes the general loop).
+    # out[i, s, :] (steps, 4, K), exactly as rk4_steps meets them: one-mode ROMs by the
+    # table loop of model.integrate while the stages stay in the table's range, every other
+    # case (or the whole period, when they leave it) by the general loop.
     n = y0.size
     K = n // 2
     if tab.table_max > 0.0:
-        coef, q_max, k_force, load = tab.stiffness_table, tab.table_max, tab.k_force[0], tab.load[0]
-        c_damp, p_load, omega = forcing.damping_rate, forcing.P0, forcing.Omega
-        q = y0[0]
-        v = y0[1]
-        inside = True
-        for i in range(steps):
-            t = t0 + i * h
-            c_half = np.cos(omega * (t + 0.5 * h))
-            out[i, 0, 0] = q
-            a1 = _accel(q, v, np.cos(omega * t), coef, q_max, k_force, load, c_damp, p_load)
-            q2 = q + 0.5 * h * v
-            v2 = v + 0.5 * h * a1
-            out[i, 1, 0] = q2
-            a2 = _accel(q2, v2, c_half, coef, q_max, k_force, load, c_damp, p_load)
-            q3 = q + 0.5 * h * v2
-            v3 = v + 0.5 * h * a2
-            out[i, 2, 0] = q3
-            a3 = _accel(q3, v3, c_half, coef, q_max, k_force, load, c_damp, p_load)
-            q4 = q + h * v3
-            v4 = v + h * a3
-            out[i, 3, 0] = q4
-            a4 = _accel(q4, v4, np.cos(omega * (t + h)), coef, q_max, k_force, load, c_damp, p_load)
-            inside = inside and max(abs(q), abs(q2), abs(q3), abs(q4)) < q_max
-            q += h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
-            v += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
-        if inside:
+        done = _rk4_one_mode(y0.copy(), t0, h, steps, tab.stiffness_table, tab.table_max, tab.k_force[0],
+                             tab.load[0], forcing.damping_rate, forcing.P0, forcing.Omega, out)
+        if done == steps:
             return
     y = y0.copy()
     ys = np.empty(n)

@@ -31,13 +31,15 @@ def _accel(q, v, cos_t, coef, q_max, k_force, load, c_damp, p_load):
 
 
 @nb.njit(cache=True, fastmath=True)
-def _rk4_one_mode(y, t0, h, steps, coef, q_max, k_force, load, c_damp, p_load, omega):
+def _rk4_one_mode(y, t0, h, steps, coef, q_max, k_force, load, c_damp, p_load, omega, stages):
     # (scalars rather than the Forcing tuple: this loop is the one-mode hot path)
     # RK4 steps of the one-mode ROM from the force table; returns the steps done (fewer
     # than ``steps`` when a stage would leave the table's range: y is then the last state).
     # The range is tested before each evaluation (no NaN sentinel: fastmath assumes none);
     # the forcing is evaluated at two times per step, the last stage's reused as the next
-    # step's first.
+    # step's first.  When ``stages`` has rows, stages[i, s, 0] receives the coordinate at
+    # stage s of step i (model.families needs them).
+    record = stages.shape[0] > 0
     q = y[0]
     v = y[1]
     c0 = np.cos(omega * t0)
@@ -63,6 +65,11 @@ def _rk4_one_mode(y, t0, h, steps, coef, q_max, k_force, load, c_damp, p_load, o
         if abs(q4) >= q_max:
             break
         a4 = _accel(q4, v4, c_end, coef, q_max, k_force, load, c_damp, p_load)
+        if record:
+            stages[i, 0, 0] = q
+            stages[i, 1, 0] = q2
+            stages[i, 2, 0] = q3
+            stages[i, 3, 0] = q4
         q += h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
         v += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
         c0 = c_end
@@ -82,7 +89,7 @@ def rk4_steps(y, t0, h, steps, tab, forcing, work):
     """
     if tab.table_max > 0.0:
         done = _rk4_one_mode(y, t0, h, steps, tab.stiffness_table, tab.table_max, tab.k_force[0],
-                             tab.load[0], forcing.damping_rate, forcing.P0, forcing.Omega)
+                             tab.load[0], forcing.damping_rate, forcing.P0, forcing.Omega, np.empty((0, 4, 1)))
         t0 = t0 + done * h
         steps -= done
     n = y.size
@@ -117,13 +124,14 @@ NO_PARAMETER, OMEGA, PRESSURE = 0, 1, 2
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
 def _aug_rhs(t, z, n, tab, forcing, which, g, jac, work, out):
-    # z = (y, V) with V = [Phi | dy/dlambda] stored row-major (n rows, n + 1 columns);
+    # z = (y, V) with V = [Phi | dy/dlambda] stored row-major (n rows, n + 1 columns; n
+    # without a parameter);
     # V' = A V plus, in the last column, dF/dlambda: for P0 the load (0, f cos(Omega t));
     # for Omega at fixed steps per period -F/Omega (the map in the phase tau = Omega t is
     # RK4 on F/Omega with fixed steps, so this is the derivative of the discrete map).
     # A = [[0, I], [-diag(k) J(q), -c I]]; rows are contiguous, so the updates vectorise.
     K = n // 2
-    w = n + 1
+    w = n + 1 if which != NO_PARAMETER else n
     c_damp = forcing.damping_rate
     force_and_jacobian(z[:K], tab, g, jac, work)
     pt = forcing.P0 * np.cos(forcing.Omega * t)
@@ -251,7 +259,7 @@ def monodromy_parameter(y0, t0, period, steps, tab, forcing, which):
         q, v, ok = _monodromy_one_mode(y0, t0, period / steps, steps, tab, forcing, which, phi, dparam)
         if ok:
             return np.array([q, v]), phi, dparam
-    w = n + 1
+    w = n + 1 if which != NO_PARAMETER else n
     m = n + n * w
     z = np.zeros(m)
     z[:n] = y0
@@ -282,7 +290,8 @@ def monodromy_parameter(y0, t0, period, steps, tab, forcing, which):
             z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         t += h
     v = z[n:].reshape(n, w)
-    return z[:n].copy(), np.ascontiguousarray(v[:, :n]), v[:, n].copy()
+    dparam = v[:, n].copy() if which != NO_PARAMETER else np.zeros(n)
+    return z[:n].copy(), np.ascontiguousarray(v[:, :n]), dparam
 
 
 @nb.njit(cache=True)
