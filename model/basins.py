@@ -30,6 +30,20 @@ Algorithm (one tile; everything is deterministic and depends only on the tile's 
   the label ``-1`` (unclassified: a non-periodic attractor, a periodic one of period
   above ``max_period``, or a transient longer than ``max_periods``).
 
+* **Known attractors are not searched for again**: a search from ``y`` that finds a known
+  attractor at distance ``d`` explains the recurrences within ``min(trigger, d / 4)`` of
+  ``y``, which start no search.  A trajectory creeping towards a known attractor
+  (multiplier 0.998 per period) recurs within ``trigger`` long before it is captured:
+  without this, nearly every trajectory of the Fig. 19a lattice started a search that
+  found the known attractor again.  The radius stays a quarter of the way to the
+  attractor found, so a point much nearer to an attractor not yet known is still
+  searched from.
+* **Lock-step**: the tile's trajectories are processed in slots of
+  :data:`model.integrate.LOCKSTEP_WIDTH`; all occupied slots advance one period together
+  (one-mode ROMs: :func:`model.integrate.rk4_one_mode_lockstep`, vectorised across the
+  slots), and a slot whose trajectory is labelled takes the next initial condition.  The
+  result depends only on the tile's inputs.
+
 :func:`classify_lattice` with ``use_cells=False`` and ``discover=False`` is the
 brute-force reference: plain long integration until the trajectory converges into the
 capture disc of an attractor.  :func:`merge_attractors` identifies the attractors that
@@ -45,7 +59,7 @@ import numba as nb
 import numpy as np
 
 from .forced import ForcedMap
-from .integrate import rk4_steps
+from .integrate import LOCKSTEP_WIDTH, lockstep_table, rk4_one_mode_lockstep, rk4_steps
 
 #: Label of an initial condition that could not be classified.
 UNCLASSIFIED = -1
@@ -202,22 +216,43 @@ class _Criteria(NamedTuple):
     max_periods: int
 
 
-class _Trajectory(NamedTuple):
-    # The trajectory in progress, kept across the kernel's returns for a Newton search.
-    y: np.ndarray        # (2K,) current state
-    ring: np.ndarray     # (max_period, 2K) its last stroboscopic points
-    trail: np.ndarray    # cells visited
-    cursor: np.ndarray   # int64 slots, indexed by the _AT_* constants below
+class _Slots(NamedTuple):
+    # The trajectories in progress, one per slot, kept across the kernel's returns for a
+    # Newton search; the slots advance together one period at a time (lock-step).
+    y: np.ndarray        # (B, 2K) current states
+    ring: np.ndarray     # (B, max_period, 2K) their last stroboscopic points
+    trail: np.ndarray    # (B, max_periods + 1) cells visited
+    state: np.ndarray    # (B, _SLOT_FIELDS) int64, indexed by the _SLOT_* constants below
+    cursor: np.ndarray   # (_CURSOR_SLOTS,) int64, indexed by the _AT_* constants below
 
 
-# Slots of _Trajectory.cursor.
-_AT_STATE = 0        # index of the initial state being classified
-_AT_PERIODS = 1      # periods integrated so far (-1: not started)
-_AT_LAST_SEARCH = 2  # period of the last Newton search
-_AT_TRAIL = 3        # cells recorded in trail
-_AT_SEARCH_K = 4     # period of the requested Newton search
-_AT_KNOWN = 5        # attractors known to the kernel
-_CURSOR_SLOTS = 6
+class _Known(NamedTuple):
+    # What the tile knows, in the kernel's terms (rows beyond the counts in cursor unused).
+    points: np.ndarray    # (cap, max_period, 2K) Poincare points of the known attractors
+    period: np.ndarray    # (cap,) int64 their periods
+    searched: np.ndarray  # (E, 2K + 1) start of each search that found a known attractor
+    #                       again, and the squared radius (scaled norm) it explains
+
+
+# Fields of _Slots.state.
+_SLOT_STATE = 0      # index of the initial state being classified (-1: slot empty)
+_SLOT_PERIODS = 1    # periods integrated so far
+_SLOT_SEARCH = 2     # period of the last Newton search
+_SLOT_TRAIL = 3      # cells recorded in trail
+_SLOT_RUN = 4        # consecutive clean-cell hits ...
+_SLOT_RUN_LABEL = 5  # ... of this label
+_SLOT_FIELDS = 6
+
+# Slots of _Slots.cursor.
+_AT_NEXT = 0         # next initial state to load into a slot
+_AT_SLOT = 1         # slot whose check is pending (a kernel return resumes there)
+_AT_SEARCH_K = 2     # period of the requested Newton search (from slot _AT_SLOT)
+_AT_KNOWN = 3        # attractors known to the kernel
+_AT_SEARCHED = 4     # rows of _Known.searched in use
+_CURSOR_SLOTS = 5
+#: A search from y that finds a known attractor at distance d from y explains the
+#: recurrences within min(trigger, d * _EXPLAINED_FRACTION) of y: they start no search.
+_EXPLAINED_FRACTION = 0.25
 
 
 def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settings, attractors=(), *,
@@ -260,11 +295,10 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
     scale = lattice_scale(lattice, n)
     atts = list(attractors)
     cap = max(len(atts), 1) + 8
-    att_pts = np.zeros((cap, s.max_period, n))
-    att_per = np.zeros(cap, np.int64)
+    known = _Known(np.zeros((cap, s.max_period, n)), np.zeros(cap, np.int64), np.zeros((64, n + 1)))
     for a, att in enumerate(atts):
-        att_pts[a, :att.period] = att.points
-        att_per[a] = att.period
+        known.points[a, :att.period] = att.points
+        known.period[a] = att.period
     labels = np.full(N, _PENDING, np.int32)
     periods = np.zeros(N, np.int32)
     nx, ny = lattice.shape
@@ -279,27 +313,39 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
                      s.guard, use_cells)
     criteria = _Criteria(scale, s.radius**2, s.consecutive, s.trigger**2,
                          s.cooldown if discover else s.max_periods + 1, s.max_period, s.max_periods)
-    traj = _Trajectory(np.empty(n), np.zeros((s.max_period, n)), np.zeros(s.max_periods + 1, np.int64),
-                       np.zeros(_CURSOR_SLOTS, np.int64))
-    traj.cursor[_AT_PERIODS] = -1
-    traj.cursor[_AT_KNOWN] = len(atts)
+    width = min(LOCKSTEP_WIDTH, max(N, 1))
+    slots = _Slots(np.zeros((width, n)), np.zeros((width, s.max_period, n)),
+                   np.zeros((width, s.max_periods + 1), np.int64), np.full((width, _SLOT_FIELDS), -1, np.int64),
+                   np.zeros(_CURSOR_SLOTS, np.int64))
+    slots.cursor[_AT_KNOWN] = len(atts)
+    tab = fmap.rom.tables
+    coef_t = lockstep_table(tab) if tab.table_max > 0.0 else np.zeros((0, 0))
     while True:
-        code = _classify_kernel(states, labels, periods, cells, att_pts, att_per, criteria,
-                                fmap.rom.tables, fmap.forcing, fmap.steps, traj)
+        code = _classify_kernel(states, labels, periods, cells, known, criteria, tab, coef_t, fmap.forcing,
+                                fmap.steps, slots)
         if code == 0:
             break
-        att = find_periodic_orbit(traj.y, int(traj.cursor[_AT_SEARCH_K]), fmap, scale, s.newton_tol)
+        start = slots.y[slots.cursor[_AT_SLOT]].copy()
+        att = find_periodic_orbit(start, int(slots.cursor[_AT_SEARCH_K]), fmap, scale, s.newton_tol)
         if att is None or np.max(np.abs(att.multipliers)) >= 1.0:
             continue
-        if match_attractor(att, atts, scale, s.radius) >= 0:
-            continue
-        if len(atts) == att_pts.shape[0]:
-            att_pts = np.concatenate([att_pts, np.zeros_like(att_pts)])
-            att_per = np.concatenate([att_per, np.zeros_like(att_per)])
-        att_pts[len(atts), :att.period] = att.points
-        att_per[len(atts)] = att.period
-        atts.append(att)
-        traj.cursor[_AT_KNOWN] = len(atts)
+        if len(atts) == known.points.shape[0]:
+            known = known._replace(points=np.concatenate([known.points, np.zeros_like(known.points)]),
+                                   period=np.concatenate([known.period, np.zeros_like(known.period)]))
+        a = match_attractor(att, atts, scale, s.radius)
+        if a < 0:
+            a = len(atts)
+            known.points[a, :att.period] = att.points
+            known.period[a] = att.period
+            atts.append(att)
+            slots.cursor[_AT_KNOWN] = len(atts)
+        e = slots.cursor[_AT_SEARCHED]
+        if e == known.searched.shape[0]:
+            known = known._replace(searched=np.concatenate([known.searched, np.zeros_like(known.searched)]))
+        d = np.min(np.linalg.norm((att.points - start) * scale, axis=1))
+        known.searched[e, :n] = start
+        known.searched[e, n] = min(s.trigger, _EXPLAINED_FRACTION * d) ** 2
+        slots.cursor[_AT_SEARCHED] = e + 1
     return labels, atts, periods
 
 
@@ -466,84 +512,145 @@ def _clean_label(flat, c, nx, ny, guard):
 
 
 @nb.njit(cache=True)
-def _classify_kernel(states, labels, periods, cells, att_pts, att_per, crit, tab, forcing, steps, traj):
-    # Returns 0 when every state is labelled, 1 to ask the caller for a Newton search
-    # from traj.y with period traj.cursor[_AT_SEARCH_K]; the trajectory then resumes where
-    # it stopped.
-    N, n = states.shape
-    nx, ny = cells.labels.shape
-    h = 2.0 * np.pi / forcing.Omega / steps
-    work = np.empty((6, n))
-    flat = cells.labels.ravel()
-    ring = traj.ring
-    trail = traj.trail
-    cur = traj.cursor
-    kmax = crit.max_period
-    max_periods = crit.max_periods
-    y = traj.y.copy()  # a local array: no aliasing, so LLVM optimises the RK4 loop
-    while cur[_AT_STATE] < N:
-        i = cur[_AT_STATE]
-        if cur[_AT_PERIODS] < 0:
-            y[:] = states[i]
-            cur[_AT_PERIODS] = 0
-            cur[_AT_LAST_SEARCH] = 0
-            cur[_AT_TRAIL] = 0
-        else:
-            y[:] = traj.y
-        label = -1
-        run_label = -3
-        run = 0
-        while cur[_AT_PERIODS] <= max_periods:
-            nd = cur[_AT_PERIODS]
-            a = _near_attractor(y, att_pts, att_per, cur[_AT_KNOWN], crit.scale, crit.capture2)
-            if a >= 0:
-                label = a
-                break
-            if nd - cur[_AT_LAST_SEARCH] >= crit.cooldown:
-                for k in range(1, min(kmax, nd) + 1):
-                    d = 0.0
-                    for j in range(n):
-                        e = (y[j] - ring[(nd - k) % kmax, j]) * crit.scale[j]
-                        d += e * e
-                    if d < crit.trigger2:
-                        cur[_AT_LAST_SEARCH] = nd
-                        cur[_AT_SEARCH_K] = k
-                        traj.y[:] = y
-                        return 1
-            if cells.enabled:
-                c = _cell(y, cells, nx, ny)
-                if c >= 0 and cur[_AT_TRAIL] < trail.size:
-                    trail[cur[_AT_TRAIL]] = c
-                    cur[_AT_TRAIL] += 1
-                    lab = _clean_label(flat, c, nx, ny, cells.guard)
-                    if lab >= 0:
-                        if lab == run_label:
-                            run += 1
-                        else:
-                            run_label = lab
-                            run = 1
-                        if run >= crit.consecutive:
-                            label = lab
-                            break
-                    else:
-                        run = 0
+def _explained(y, known, n_searched, scale):
+    # True when y lies within the radius of the start of an earlier search that found a
+    # known attractor (_Known.searched).
+    n = y.size
+    for e in range(n_searched):
+        d = 0.0
+        for i in range(n):
+            x = (y[i] - known.searched[e, i]) * scale[i]
+            d += x * x
+        if d < known.searched[e, n]:
+            return True
+    return False
+
+
+@nb.njit(cache=True)
+def _check(b, slots, cells, known, crit, nx, ny):
+    # The tests of slot b at its current stroboscopic point.  Returns its label (>= 0),
+    # -1 (unclassified: out of periods or not finite), -2 (go on integrating) or -3 (a
+    # Newton search is requested; cursor[_AT_SEARCH_K] holds its period).
+    st = slots.state[b]
+    y = slots.y[b]
+    n = y.size
+    nd = st[_SLOT_PERIODS]
+    for i in range(n):
+        if not np.isfinite(y[i]):
+            return -1
+    a = _near_attractor(y, known.points, known.period, slots.cursor[_AT_KNOWN], crit.scale, crit.capture2)
+    if a >= 0:
+        return a
+    if nd - st[_SLOT_SEARCH] >= crit.cooldown:
+        kmax = crit.max_period
+        for k in range(1, min(kmax, nd) + 1):
+            d = 0.0
+            for j in range(n):
+                e = (y[j] - slots.ring[b, (nd - k) % kmax, j]) * crit.scale[j]
+                d += e * e
+            if d < crit.trigger2:
+                st[_SLOT_SEARCH] = nd
+                if _explained(y, known, slots.cursor[_AT_SEARCHED], crit.scale):
+                    break
+                slots.cursor[_AT_SEARCH_K] = k
+                return -3
+    if cells.enabled:
+        flat = cells.labels.ravel()
+        c = _cell(y, cells, nx, ny)
+        if c >= 0 and st[_SLOT_TRAIL] < slots.trail.shape[1]:
+            slots.trail[b, st[_SLOT_TRAIL]] = c
+            st[_SLOT_TRAIL] += 1
+            lab = _clean_label(flat, c, nx, ny, cells.guard)
+            if lab >= 0:
+                if lab == st[_SLOT_RUN_LABEL]:
+                    st[_SLOT_RUN] += 1
                 else:
-                    run = 0
-            if nd == max_periods:
-                break
-            ring[nd % kmax] = y
-            rk4_steps(y, 0.0, h, steps, tab, forcing, work)
-            cur[_AT_PERIODS] = nd + 1
-            if not np.isfinite(y[0]):
-                break
-        labels[i] = label
-        periods[i] = cur[_AT_PERIODS]
-        if cells.enabled and label >= 0:
-            for j in range(cur[_AT_TRAIL]):
-                _mark(flat, trail[j], label)
-            c = _cell(states[i], cells, nx, ny)
-            if c >= 0:
-                _mark(flat, c, label)
-        cur[_AT_STATE] = i + 1
-        cur[_AT_PERIODS] = -1
-    return 0
+                    st[_SLOT_RUN_LABEL] = lab
+                    st[_SLOT_RUN] = 1
+                if st[_SLOT_RUN] >= crit.consecutive:
+                    return lab
+            else:
+                st[_SLOT_RUN] = 0
+        else:
+            st[_SLOT_RUN] = 0
+    if nd == crit.max_periods:
+        return -1
+    return -2
+
+
+@nb.njit(cache=True)
+def _classify_kernel(states, labels, periods, cells, known, crit, tab, coef_t, forcing, steps, slots):
+    # Returns 0 when every state is labelled, 1 to ask the caller for a Newton search
+    # from slots.y[cursor[_AT_SLOT]] with period cursor[_AT_SEARCH_K]; the kernel then
+    # resumes with that slot's tests.  Slots are refilled with the next initial state as
+    # soon as theirs is labelled, and all occupied slots advance one period together.
+    N, n = states.shape
+    B = slots.y.shape[0]
+    nx, ny = cells.labels.shape
+    flat = cells.labels.ravel()
+    h = 2.0 * np.pi / forcing.Omega / steps
+    cur = slots.cursor
+    kmax = crit.max_period
+    lockstep = tab.table_max > 0.0
+    q = np.empty(B)
+    v = np.empty(B)
+    reach = np.empty(B)
+    work = np.empty((6, n))
+    while True:
+        b = cur[_AT_SLOT]
+        while b < B:
+            st = slots.state[b]
+            if st[_SLOT_STATE] < 0:
+                if cur[_AT_NEXT] == N:
+                    b += 1
+                    continue
+                st[_SLOT_STATE] = cur[_AT_NEXT]
+                cur[_AT_NEXT] += 1
+                slots.y[b] = states[st[_SLOT_STATE]]
+                st[_SLOT_PERIODS] = 0
+                st[_SLOT_SEARCH] = 0
+                st[_SLOT_TRAIL] = 0
+                st[_SLOT_RUN] = 0
+                st[_SLOT_RUN_LABEL] = -3
+            label = _check(b, slots, cells, known, crit, nx, ny)
+            if label == -3:
+                cur[_AT_SLOT] = b
+                return 1
+            if label == -2:
+                b += 1
+                continue
+            i = st[_SLOT_STATE]
+            labels[i] = label
+            periods[i] = st[_SLOT_PERIODS]
+            if cells.enabled and label >= 0:
+                for j in range(st[_SLOT_TRAIL]):
+                    _mark(flat, slots.trail[b, j], label)
+                c = _cell(states[i], cells, nx, ny)
+                if c >= 0:
+                    _mark(flat, c, label)
+            st[_SLOT_STATE] = -1  # free: refilled on the next pass of this loop
+        cur[_AT_SLOT] = 0
+        active = 0
+        for b in range(B):
+            if slots.state[b, _SLOT_STATE] >= 0:
+                active += 1
+                nd = slots.state[b, _SLOT_PERIODS]
+                slots.ring[b, nd % kmax] = slots.y[b]
+        if active == 0:
+            return 0
+        if lockstep:
+            for b in range(B):
+                busy = slots.state[b, _SLOT_STATE] >= 0
+                q[b] = slots.y[b, 0] if busy else 0.0
+                v[b] = slots.y[b, 1] if busy else 0.0
+            rk4_one_mode_lockstep(q, v, 0.0, h, steps, coef_t, tab.table_max, tab.k_force[0], tab.load[0],
+                                  forcing.damping_rate, forcing.P0, forcing.Omega, reach)
+        for b in range(B):
+            if slots.state[b, _SLOT_STATE] < 0:
+                continue
+            if lockstep and reach[b] < tab.table_max:
+                slots.y[b, 0] = q[b]
+                slots.y[b, 1] = v[b]
+            else:
+                rk4_steps(slots.y[b], 0.0, h, steps, tab, forcing, work)
+            slots.state[b, _SLOT_PERIODS] += 1

@@ -226,7 +226,7 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
 
 #: The one-mode force table covers ``max |w|`` up to this many times ``Re``.
 TABLE_MAX_W = 4.0
-_TABLE_DEGREE = 7
+TABLE_DEGREE = 7
 #: Relative accuracy of the table against the quadrature it replaces.
 TABLE_TOL = 1e-13
 
@@ -256,7 +256,7 @@ def _force_table(tab: RomTables, q_max: float) -> dict:
 def piecewise_chebyshev(exact, q_max: float, scale) -> np.ndarray:
     """Tables of smooth functions of ``|q|`` on ``[0, q_max]`` for :func:`table_eval`.
 
-    ``2^j`` equal pieces of degree :data:`_TABLE_DEGREE` interpolate ``exact(q)`` (a
+    ``2^j`` equal pieces of degree :data:`TABLE_DEGREE` interpolate ``exact(q)`` (a
     ``(V,)`` vector) at Chebyshev nodes; ``j`` is doubled from 16 pieces until the error
     at points between the nodes, divided by ``scale(exact(q))``, is below
     :data:`TABLE_TOL` (or 4096 pieces are reached).
@@ -266,7 +266,7 @@ def piecewise_chebyshev(exact, q_max: float, scale) -> np.ndarray:
     (V, pieces, degree + 1) array
         Chebyshev coefficients of each function on each piece.
     """
-    deg = _TABLE_DEGREE
+    deg = TABLE_DEGREE
     nodes = np.cos(np.pi * (np.arange(deg + 1) + 0.5) / (deg + 1))
     pieces = 16
     while True:

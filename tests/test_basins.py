@@ -74,6 +74,13 @@ def test_fast_labels_agree_with_converged_brute_force(rom):
     labels, atts, _ = mb.classify_lattice(states, lat, _fmap(rom), mb.Settings())
     assert len(atts) == 2 and all(a.period == 1 for a in atts)
     assert np.all(labels >= 0)
+    # the lock-step slots (last batch partly empty) and the general per-trajectory loop
+    # (no force table) give the same labels
+    general = _fmap(rom)
+    general = ForcedMap(rom.__class__(**{**rom.__dict__, "tables": rom.tables._replace(table_max=0.0)}),
+                        general.forcing, general.steps)
+    assert np.array_equal(mb.classify_lattice(states[:300], lat, general, mb.Settings(), atts)[0],
+                          mb.classify_lattice(states[:300], lat, _fmap(rom), mb.Settings(), atts)[0])
     sample = np.random.default_rng(0).choice(labels.size, 400, replace=False)
     brute, atts2, periods = mb.classify_lattice(states[sample], lat, _fmap(rom, steps=192), mb.Settings(),
                                                 _converged(atts, rom, lat), use_cells=False,
