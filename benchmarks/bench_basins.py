@@ -103,11 +103,11 @@ def labels(path: Path) -> np.ndarray:
 def agreement(path: Path, samples: int) -> None:
     """(c): labels of ``path`` versus converged brute force on ``samples`` random points."""
     with xr.open_dataset(path) as ds:
-        lab = ds["label"].squeeze().values
+        ds = ds.isel({d: 0 for d in CASE})  # the one grid point; the mode dimension stays
+        lab = ds["label"].values
         x, y = ds["ic_x"].values, ds["ic_y"].values
-        per = ds["attractor_period"].squeeze().values
-        pts = np.concatenate([ds["attractor_coordinate"].squeeze().values,
-                              ds["attractor_velocity"].squeeze().values], axis=-1)
+        per = ds["attractor_period"].values
+        pts = np.concatenate([ds["attractor_coordinate"].values, ds["attractor_velocity"].values], axis=-1)
     rom = build_rom(solve_prestretch(Membrane(CASE["delta"], CASE["delta_o"]), "numeric"),
                     [(1, 0)])
     fmap = ForcedMap.from_loading(rom, Loading(CASE["Omega"], CASE["P0"], CASE["c"]), BRUTE_STEPS)
