@@ -527,8 +527,9 @@ def _explained(y, known, n_searched, scale):
 
 
 @nb.njit(cache=True)
-def _check(b, slots, cells, known, crit, nx, ny):
-    # The tests of slot b at its current stroboscopic point.  Returns its label (>= 0),
+def _check(b, slots, cells, flat, known, crit, nx, ny):
+    # The tests of slot b at its current stroboscopic point (flat: the cell map, raveled).
+    # Returns its label (>= 0),
     # -1 (unclassified: out of periods or not finite), -2 (go on integrating) or -3 (a
     # Newton search is requested; cursor[_AT_SEARCH_K] holds its period).
     st = slots.state[b]
@@ -555,7 +556,6 @@ def _check(b, slots, cells, known, crit, nx, ny):
                 slots.cursor[_AT_SEARCH_K] = k
                 return -3
     if cells.enabled:
-        flat = cells.labels.ravel()
         c = _cell(y, cells, nx, ny)
         if c >= 0 and st[_SLOT_TRAIL] < slots.trail.shape[1]:
             slots.trail[b, st[_SLOT_TRAIL]] = c
@@ -612,7 +612,7 @@ def _classify_kernel(states, labels, periods, cells, known, crit, tab, coef_t, f
                 st[_SLOT_TRAIL] = 0
                 st[_SLOT_RUN] = 0
                 st[_SLOT_RUN_LABEL] = -3
-            label = _check(b, slots, cells, known, crit, nx, ny)
+            label = _check(b, slots, cells, flat, known, crit, nx, ny)
             if label == -3:
                 cur[_AT_SLOT] = b
                 return 1
