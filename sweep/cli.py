@@ -20,6 +20,7 @@ from pathlib import Path
 
 from sweep import analyses, progress, provenance
 from sweep.analyses.base import JobError
+from sweep.analyses.mode_sets import ModeSetSweep
 from sweep.errors import RunError
 from sweep.jobspec import Job, load_job, parse_job, read_job_text
 
@@ -127,6 +128,9 @@ def _plan(args: argparse.Namespace) -> int:
     print(f"job {job.name!r}, analysis {job.analysis_name!r}, from {args.job}")
     for dim, values in zip(layout.dims, layout.values):
         print(f"  {dim}: {len(values)} value(s) from {values[0]:g} to {values[-1]:g}")
+    if isinstance(job.analysis, ModeSetSweep):
+        print(f"  mode_set: {len(job.options.labels)} mode set(s), {', '.join(job.options.labels)} "
+              f"({job.options.n_inner} subtask(s) each)")
     print(f"grid shape {layout.shape} (dims {', '.join(layout.dims)}), "
           f"{layout.n_subtasks} subtask(s) per grid point")
     last = len(layout.chunk_tasks(layout.n_chunks - 1))

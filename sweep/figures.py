@@ -77,7 +77,7 @@ def draw(analysis, ds, outdir, *, fmt: str = "png", dpi: float | None = None, st
         with plt.rc_context(HOUSE_STYLE):
             if style is not None:
                 plt.style.use(style)
-            return analysis.figures(ds, Path(outdir))
+            return _per_result(analysis, ds).figures(ds, Path(outdir))
     finally:
         _OUTPUT.reset(token)
 
@@ -97,7 +97,8 @@ def make(analysis, ds, style=None) -> dict:
     Returns
     -------
     dict of str to matplotlib.figure.Figure
-        By file stem (``"bifurcation_P0"``, ``"backbone"``, ...), for the caller to adjust,
+        By file stem (``"bifurcation_P0"``, ``"backbone"``, ...; ``"modes_1_0-2_0/backbone"``
+        for a result over mode sets), for the caller to adjust,
         show or save; the caller's ``rcParams`` and backend are left alone.
     """
     import matplotlib.pyplot as plt
@@ -108,10 +109,18 @@ def make(analysis, ds, style=None) -> dict:
         with plt.rc_context(HOUSE_STYLE):
             if style is not None:
                 plt.style.use(style)
-            analysis.figures(ds, Path("."))
+            _per_result(analysis, ds).figures(ds, Path("."))
     finally:
         _COLLECT.reset(token)
     return figures
+
+
+def _per_result(analysis, ds):
+    """The analysis that draws ``ds``: a result over mode sets is drawn set by set, each in
+    its own subdirectory (:class:`~sweep.analyses.mode_sets.ModeSetSweep`)."""
+    from sweep.analyses.mode_sets import ModeSetSweep
+
+    return ModeSetSweep(analysis) if "mode_set" in ds.dims else analysis
 
 
 def save_figure(fig, outdir, name, dpi: float | None = None) -> Path:
@@ -122,7 +131,8 @@ def save_figure(fig, outdir, name, dpi: float | None = None) -> Path:
 
     collected = _COLLECT.get()
     if collected is not None:
-        collected[Path(name).stem] = fig
+        key = Path(name).stem if Path(outdir) == Path(".") else f"{Path(outdir).as_posix()}/{Path(name).stem}"
+        collected[key] = fig
         return Path(name)
     fmt, chosen = _OUTPUT.get()
     path = (Path(outdir) / name).with_suffix("." + fmt)

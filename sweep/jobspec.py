@@ -24,6 +24,7 @@ import numpy as np
 from model.params import Loading, Membrane, ParameterError, parameter_info
 from sweep import analyses
 from sweep.analyses.base import GRID_KEYS, MISSING, Analysis, JobError, JobErrors, Point, check_keys
+from sweep.analyses.mode_sets import ModeSetSweep, is_mode_set_list
 from sweep.grid import TaskLayout, default_chunk
 
 #: Keys of the ``[membrane]`` table (the grid sets delta and delta_o).
@@ -152,6 +153,10 @@ def parse_job(text: str, source: str = "<job>") -> Job:
     name = checked(_job_name, job.get("name", MISSING))
     analysis_name = _string("job.analysis", job.get("analysis", MISSING))
     analysis = analyses.get(analysis_name)
+    options_table = doc.get(analysis_name)
+    if "modes" in analysis.OPTIONS and isinstance(options_table, dict) \
+            and is_mode_set_list(options_table.get("modes")):
+        analysis = ModeSetSweep(analysis)
 
     tables = ("job", "membrane", "grid", analysis_name)
     for key, value in doc.items():

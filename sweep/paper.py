@@ -27,7 +27,7 @@ from .launch import find_mpiexec
 PAPER_JOBS = (
     "table1", "table1-app1", "table1-app2", "table2",
     "fig02-03-static", "fig04-06-frequencies",
-    "fig09-modes", "fig09-modes-1", "fig09-modes-2", "fig10-11-backbone", "fig12-inner-radius",
+    "fig09-modes", "fig10-11-backbone", "fig12-inner-radius",
     "fig13-resonance", "fig14-bifurcation-omega", "fig15-bifurcation-p0", "fig15-bruteforce",
     "fig16-17-damping", "fig17-cusp", "fig18-damping-resonance",
     "fig14-families", "stability-map-fig14a", "fig14a-bifurcation-curves",

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from model.continuation import KIND_LABELS, resonant_end, stable_amplitudes_at
+from sweep.analyses.mode_sets import select, set_label
 from sweep.errors import RunError
 from sweep.storage import run_attributes
 
@@ -122,39 +123,28 @@ def section_backbone_modes(results: Path) -> list[str]:
            "delta = 1.1, delta_o = 0.2: frequency at a given amplitude max |w(0.5 Re, 0)| relative",
            "to the three-mode ROM, and the largest |A_20| and |A_30| along the branch relative to",
            "A_10 (the paper: A_20 and A_30 stay small against A_10).", ""]
-    ref = _open(results, "fig09-modes")
-    if ref is None:
+    result = _open(results, "fig09-modes")
+    if result is None:
         return out + _missing("fig09-modes")
-    ref = _point(ref, delta=1.1, delta_o=0.2)
+    sets = {int(k): select(_point(result, delta=1.1, delta_o=0.2), label)
+            for label, k in zip(result.mode_set.values, result.n_modes.values)}
+    ref = sets.pop(3)
     amp, w3 = ref.amplitude.values, ref.omega_nl.values
-    runs = {1: _open(results, "fig09-modes-1"), 2: _open(results, "fig09-modes-2")}
     shown = [a for a in (0.01, 0.05, 0.1, 0.2, 0.3, 0.4) if amp.min() <= a <= amp.max()]
     head = ["max abs w(0.5, 0) (m)", "omega, M = 3 (rad/s)"]
-    for k in runs:
-        if runs[k] is not None:
-            head += [f"M = {k}: omega (rad/s)", "rel. diff."]
+    for k in sets:
+        head += [f"M = {k}: omega (rad/s)", "rel. diff."]
     out += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    worst = {}
     for a in shown:
         row = f"| {a:g} | {np.interp(a, amp, w3):.4f} |"
-        for k, ds in runs.items():
-            if ds is None:
-                continue
-            b = _point(ds, delta=1.1, delta_o=0.2)
+        for b in sets.values():
             w = np.interp(a, b.amplitude.values, b.omega_nl.values)
             row += f" {w:.4f} | {_rel(w, np.interp(a, amp, w3))} |"
         out.append(row)
-    for k, ds in runs.items():
-        if ds is not None:
-            b = _point(ds, delta=1.1, delta_o=0.2)
-            w = np.interp(amp, b.amplitude.values, b.omega_nl.values)
-            worst[k] = np.nanmax(np.abs(w / w3 - 1))
     out.append("")
-    for k in runs:
-        if runs[k] is None:
-            out += _missing(f"fig09-modes-{k}")
-        else:
-            out.append(f"Largest relative frequency difference M = {k} vs M = 3 over the branch: {worst[k]:.2%}.")
+    for k, b in sets.items():
+        worst = np.nanmax(np.abs(np.interp(amp, b.amplitude.values, b.omega_nl.values) / w3 - 1))
+        out.append(f"Largest relative frequency difference M = {k} vs M = 3 over the branch: {worst:.2%}.")
     modal = np.abs(ref.modal_amplitude)
     a10 = modal.isel(mode=0).values
     for k in range(1, ref.sizes["mode"]):
@@ -541,7 +531,7 @@ def section_forced_modes(results: Path) -> list[str]:
 
     out = ["## Forced responses: convergence with the number of modes", "",
            "Saddle-nodes of the continued periodic responses with the axisymmetric mode sets",
-           f"{', '.join(_set_label(m) for m in MODE_SETS)} (computed on the spot; delta = 1.1, delta_o = 0.2,",
+           f"{', '.join(set_label(m) for m in MODE_SETS)} (computed on the spot; delta = 1.1, delta_o = 0.2,",
            "numeric pre-stretch, c = 0.05 N s/m^3, 128 RK4 steps per period), and the relative change",
            "from the previous set. Fig. 14a: Omega from 25 to 55 rad/s at P0 = 1 Pa; Fig. 15a: P0 from 0",
            "to 3 Pa at Omega = 33.5 rad/s. Asymmetric modes do not change these axisymmetric responses",
@@ -566,7 +556,7 @@ def section_forced_modes(results: Path) -> list[str]:
             elif previous is not None:
                 change = "number of saddle-nodes changed"
                 last[name] = f"{previous[0].size} -> {folds.size} saddle-nodes"
-            out.append(f"| {name} | {_set_label(modes)} | {', '.join(f'{f:.4f}' for f in folds)} {unit} | {change} "
+            out.append(f"| {name} | {set_label(modes)} | {', '.join(f'{f:.4f}' for f in folds)} {unit} | {change} "
                        f"| {peak:.4f} | {change_amp} |")
             previous = (folds, peak)
         fine, _ = _folds(replace(fmap, steps=2 * fmap.steps), parameter, start, stop)
@@ -590,10 +580,6 @@ def _folds(fmap, parameter, start, stop):
 
     br = continue_orbits(fmap, parameter, start, stop, ds_max=0.3, max_points=1000)
     return np.sort(br.value[br.kind == FOLD]), float(np.max(br.amplitude))
-
-
-def _set_label(modes) -> str:
-    return "+".join(f"({m},{n})" for m, n in modes)
 
 
 SECTIONS = (section_table1, section_table2, section_backbone_modes, section_backbone_limits,

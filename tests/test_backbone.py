@@ -192,4 +192,7 @@ def test_analysis_compute_and_figures(tmp_path):
 @pytest.mark.parametrize("name", ["fig09-modes", "fig10-11-backbone", "fig12-inner-radius"])
 def test_job_files_validate(name):
     job = load_job(JOBS / f"{name}.toml")
-    assert job.analysis_name == "backbone" and job.options.amplitude[1] == 0.4
+    sets = job.options.sets if name == "fig09-modes" else (job.options,)
+    assert job.analysis_name == "backbone" and all(o.amplitude[1] == 0.4 for o in sets)
+    if name == "fig09-modes":
+        assert job.options.labels == ("(1,0)", "(1,0)+(2,0)", "(1,0)+(2,0)+(3,0)")

@@ -66,7 +66,9 @@ def prestretch(table, section: str, default: str = "numeric") -> str:
 
 #: Description of the ``modes`` option, shared by the analyses (docs/options.md).
 MODES_HELP = ("list of [m, n] pairs (n < 0: the sine companion of (m, |n|)) and {n = N, radial = M} shorthands "
-              "for [1, N] .. [M, N] (sine = true adds their sine companions) (default [[1, 0]])")
+              "for [1, N] .. [M, N] (sine = true adds their sine companions) (default [[1, 0]]); or a list of "
+              "such mode sets, [[[1, 0]], [[1, 0], [2, 0]]]: the analysis once per set, a mode_set dimension "
+              "(docs/running.md)")
 
 
 def modes(table, section: str, default=((1, 0),)) -> tuple[tuple[int, int], ...]:

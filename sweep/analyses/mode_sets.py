@@ -1,0 +1,242 @@
+"""Mode sets as a sweep dimension: one job, several Galerkin mode sets, one result.
+
+An analysis that takes ``modes`` accepts either one mode set or a list of them::
+
+    modes = [[[1, 0]], [[1, 0], [2, 0]], [[1, 0], [2, 0], [3, 0]]]
+
+The job then computes the analysis once per mode set at every grid point, and the result
+gains a leading dimension ``mode_set`` whose coordinate is a readable label per set
+(``"(1,0)+(2,0)"``, in the order given) with the number of modes ``n_modes``.  Variables
+whose sizes depend on the set (along ``mode``, ``multiplier``, ``state``, ...) are padded
+to the largest set: floats with NaN, integers with their declared fill value (``-1`` for
+the mode coordinates ``m`` and ``n``, so a padded mode reads ``m = -1``).
+:func:`select` gives one set's part without its padding.
+
+How it runs: :class:`ModeSetSweep` wraps the analysis.  The mode set is the slow part of
+the subtask index (subtask ``s * n + j`` is subtask ``j`` of set ``s``, ``n`` subtasks per
+set), so the runner, the part logs and ``--resume`` see an ordinary analysis; the
+wrapper's ``assemble`` splits the sets apart, lets the analysis assemble each one as it
+would alone, pads them and joins them along ``mode_set``.  Such a result is therefore
+merged in memory on rank 0 (like the basins), not streamed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from .base import Analysis, JobError, Variable
+
+#: Padding of integer variables and coordinates without a declared fill value.
+INT_PAD = -1
+
+
+def is_mode_set_list(value: Any) -> bool:
+    """Whether a ``modes`` value is a list of mode sets (each a list of ``[m, n]`` pairs or
+    ``{n, radial}`` tables) rather than one mode set."""
+    return (isinstance(value, list) and bool(value)
+            and all(isinstance(s, list) and bool(s) and all(isinstance(m, (list, Mapping)) for m in s)
+                    for s in value))
+
+
+def set_label(modes) -> str:
+    """Readable label of a mode set: ``((1, 0), (2, 0))`` -> ``"(1,0)+(2,0)"``."""
+    return "+".join(f"({m},{n})" for m, n in modes)
+
+
+@dataclass(frozen=True)
+class ModeSetOptions:
+    """Options of a mode-set sweep.
+
+    Parameters
+    ----------
+    sets : tuple
+        The wrapped analysis' options, one per mode set, in the job's order.
+    labels : tuple of str
+        :func:`set_label` of each set.
+    n_inner : int
+        Subtasks per grid point of one set.
+    """
+
+    sets: tuple
+    labels: tuple[str, ...]
+    n_inner: int
+
+
+class ModeSetSweep(Analysis):
+    """An analysis run once per mode set (see the module docstring).
+
+    Parameters
+    ----------
+    inner : Analysis
+        The analysis of one mode set; its option table must have the key ``modes``.
+    """
+
+    def __init__(self, inner: Analysis):
+        self.inner = inner
+        self.name = inner.name
+        self.OPTIONS = inner.OPTIONS
+        self.required_grid = inner.required_grid
+
+    def parse_options(self, table, grid, membrane) -> ModeSetOptions:
+        key = f"{self.name}.modes"
+        sets = []
+        for i, modes in enumerate(table["modes"]):
+            try:
+                sets.append(self.inner.parse_options({**table, "modes": modes}, grid, membrane))
+            except JobError as exc:
+                if exc.key == key:
+                    raise JobError(f"{key}[{i}]", exc.value, exc.allowed) from None
+                raise
+        labels = tuple(set_label(o.modes) for o in sets)
+        if len(set(labels)) != len(labels):
+            raise JobError(key, table["modes"], "the mode sets must be distinct")
+        n_inner = {self.inner.n_subtasks(o) for o in sets}
+        if len(n_inner) != 1:
+            raise JobError(key, table["modes"], "mode sets that give the same number of subtasks "
+                                                f"(here they differ: {sorted(n_inner)})")
+        options = ModeSetOptions(tuple(sets), labels, n_inner.pop())
+        self._declared(options)  # the sets must agree on the dimensions of each variable
+        return options
+
+    def _declared(self, options: ModeSetOptions) -> dict[str, Variable]:
+        """The union of the sets' variables, each at its largest shape."""
+        out: dict[str, Variable] = {}
+        for label, o in zip(options.labels, options.sets):
+            for v in self.inner.variables(o):
+                seen = out.get(v.name)
+                if seen is None:
+                    out[v.name] = v
+                    continue
+                if seen.dims != v.dims or seen.dtype != v.dtype:
+                    raise JobError(f"{self.name}.modes", label,
+                                   f"mode sets whose variable {v.name!r} has the same dimensions and type")
+                out[v.name] = replace(seen, shape=tuple(map(max, seen.shape, v.shape)))
+        return out
+
+    def variables(self, options: ModeSetOptions) -> list[Variable]:
+        return list(self._declared(options).values())
+
+    def n_subtasks(self, options: ModeSetOptions) -> int:
+        return len(options.sets) * options.n_inner
+
+    def compute(self, point, options: ModeSetOptions, subtask: int) -> dict[str, np.ndarray]:
+        s, j = divmod(subtask, options.n_inner)
+        result = self.inner.compute(point, options.sets[s], j)
+        out = {k: result[k] for k in ("status", "message") if k in result}
+        for v in self._declared(options).values():
+            padded = np.full(v.shape, v.fill, dtype=v.dtype)
+            if v.name in result:
+                value = np.asarray(result[v.name])
+                padded[tuple(slice(0, n) for n in value.shape)] = value
+            out[v.name] = padded
+        return out
+
+    def warmup(self, options: ModeSetOptions) -> None:
+        for o in options.sets:
+            self.inner.warmup(o)
+
+    def attributes(self, options: ModeSetOptions) -> dict[str, Any]:
+        return self.inner.attributes(options.sets[0])
+
+    def coordinate_variables(self, options: ModeSetOptions) -> tuple[str, ...]:
+        return self.inner.coordinate_variables(options.sets[0])
+
+    def assemble(self, raw, options: ModeSetOptions):
+        """Each set's part of ``raw`` assembled as the analysis does alone, padded, joined
+        along a leading ``mode_set`` dimension."""
+        import pandas as pd
+        import xarray as xr
+
+        n = options.n_inner
+        fills = {v.name: v.fill for v in self.variables(options)}
+        parts = []
+        for s, o in enumerate(options.sets):
+            declared = self.inner.variables(o)
+            sizes = {d: k for v in declared for d, k in zip(v.dims, v.shape)}
+            part = raw[[v.name for v in declared] + [k for k in ("status", "message") if k in raw]]
+            part = part.isel(subtask=slice(s * n, (s + 1) * n), **{d: slice(0, k) for d, k in sizes.items()})
+            part = part.assign_coords(subtask=np.arange(n), **self.inner.coords(o))
+            if self.inner.assemble is not None:
+                part = self.inner.assemble(part, o)
+            elif n == 1:
+                part = part.squeeze("subtask", drop=True)
+            part = part.set_coords([c for c in self.inner.coordinate_variables(o) if c in part])
+            part = part.assign(self.inner.derived(part, o))
+            parts.append(part)
+        parts = _padded(parts, fills)
+        index = pd.Index(list(options.labels), name="mode_set")
+        ds = xr.concat(parts, dim=index, data_vars="all", coords="different", compat="equals")
+        ds["mode_set"].attrs.update(long_name="Galerkin mode set: the (m,n) of its modes")
+        return ds.assign_coords(n_modes=("mode_set", np.array([len(o.modes) for o in options.sets], np.int32),
+                                         {"long_name": "number of modes of the set", "units": "1"}))
+
+    def figures(self, ds, outdir) -> list:
+        paths = []
+        for label in ds["mode_set"].values:
+            paths += self.inner.figures(select(ds, str(label)), outdir / _slug(str(label)))
+        return paths
+
+
+def _slug(label: str) -> str:
+    """A directory name for a set label: ``"(1,0)+(2,0)"`` -> ``"modes_1_0-2_0"``."""
+    return "modes_" + "-".join(p.strip("()").replace(",", "_") for p in label.split("+"))
+
+
+def _padded(parts: list, fills: Mapping[str, Any]) -> list:
+    """The Datasets ``parts`` padded to common sizes: every dimension to its largest size,
+    dimension coordinates taken from the part where it is largest."""
+    sizes: dict[str, int] = {}
+    for p in parts:
+        for d, k in p.sizes.items():
+            sizes[d] = max(sizes.get(d, 0), k)
+    index = {d: next(p[d] for p in parts if p.sizes.get(d) == k and d in p.indexes)
+             for d, k in sizes.items() if any(d in p.indexes for p in parts)}
+    out = []
+    for p in parts:
+        short = {d for d, k in p.sizes.items() if k < sizes[d]}
+        if not short:
+            out.append(p)
+            continue
+        p = p.drop_vars([d for d in short if d in p.indexes])
+        new = {}
+        for name, var in p.variables.items():
+            if not short & set(var.dims):
+                continue
+            kind = var.dtype.kind
+            fill = (np.nan if kind in "fc" else "" if kind in "OUS"
+                    else fills.get(name, INT_PAD) if kind in "iu" else False)
+            data = np.full(tuple(sizes[d] for d in var.dims), fill, dtype=var.dtype)
+            data[tuple(slice(0, k) for k in var.shape)] = var.values
+            new[name] = (var.dims, data, var.attrs)
+        coords = [c for c in new if c in p.coords]
+        p = p.drop_vars(list(new)).assign({k: v for k, v in new.items() if k not in coords})
+        p = p.assign_coords({k: new[k] for k in coords}).assign_coords({d: index[d] for d in short if d in index})
+        out.append(p)
+    return out
+
+
+def select(ds, label: str):
+    """One mode set of a mode-set result, without its padding.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A result with a ``mode_set`` dimension.
+    label : str
+        A value of ``ds.mode_set`` (``"(1,0)+(2,0)"``).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``ds.sel(mode_set=label)`` without the coordinates ``mode_set`` and ``n_modes`` and
+        without the padded entries of the ``mode`` dimension (``m = -1``): what a job of
+        that mode set alone gives.
+    """
+    one = ds.sel(mode_set=label).drop_vars(["mode_set", "n_modes"], errors="ignore")
+    if "m" in one.coords and "mode" in one["m"].dims:
+        one = one.isel(mode=np.flatnonzero(one["m"].values != INT_PAD))
+    return one

@@ -1,0 +1,104 @@
+"""Mode sets as a sweep dimension: a job over several mode sets gives, set by set, exactly
+what a job of that set alone gives, padded to the largest set along the mode dimensions."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from sweep import cli, figures
+from sweep.analyses import get
+from sweep.analyses.base import JobError
+from sweep.analyses.mode_sets import INT_PAD, is_mode_set_list, select, set_label
+from sweep.jobspec import parse_job
+
+BACKBONE_JOB = """
+[job]
+name = "{name}"
+analysis = "backbone"
+[grid]
+delta = [1.1, 1.3]
+delta_o = 0.2
+[backbone]
+modes = {modes}
+prestretch = "analytic"
+amplitude = {{start = 0.001, stop = 0.1, num = 3}}
+"""
+
+BASINS_JOB = """
+[job]
+name = "{name}"
+analysis = "basins"
+[grid]
+delta = 1.1
+delta_o = 0.2
+Omega = 33.5
+P0 = 1.0
+c = 0.05
+[basins]
+modes = {modes}
+tiles = 2
+ic_x = {{start = -0.3, stop = 0.3, num = 5}}
+ic_y = {{start = -10.0, stop = 10.0, num = 4}}
+"""
+
+
+def _run(tmp_path, template, name, modes):
+    job = tmp_path / f"{name}.toml"
+    job.write_text(template.format(name=name, modes=modes))
+    out = tmp_path / f"{name}.nc"
+    assert cli.main(["run", str(job), "-o", str(out), "--progress", "none"]) == 0
+    return xr.load_dataset(out)
+
+
+def test_backbone_over_mode_sets_equals_the_sets_alone_and_pads(tmp_path):
+    both = _run(tmp_path, BACKBONE_JOB, "both", "[[[1, 0]], [[1, 0], [2, 0]]]")
+    assert list(both.mode_set.values) == ["(1,0)", "(1,0)+(2,0)"]
+    assert list(both.n_modes.values) == [1, 2]
+    assert both.omega_nl.dims[0] == "mode_set" and both.sizes["mode"] == 2
+    for name, modes in (("one", "[[1, 0]]"), ("two", "[[1, 0], [2, 0]]")):
+        alone = _run(tmp_path, BACKBONE_JOB, name, modes)
+        part = select(both, set_label(tuple(map(tuple, eval(modes)))))
+        for var in alone.data_vars:
+            xr.testing.assert_identical(part[var], alone[var])
+    padded = both.sel(mode_set="(1,0)")
+    assert list(padded.m.values) == [1, INT_PAD]
+    assert np.isnan(padded.modal_amplitude.isel(mode=1)).all()
+    assert not np.isnan(padded.modal_amplitude.isel(mode=0)).any()
+
+
+def test_basins_over_mode_sets_assemble_each_set_as_alone(tmp_path):
+    both = _run(tmp_path, BASINS_JOB, "both", "[[[1, 0]], [[2, 0]]]")
+    for name, modes, label in (("one", "[[1, 0]]", "(1,0)"), ("two", "[[2, 0]]", "(2,0)")):
+        alone = _run(tmp_path, BASINS_JOB, name, modes)
+        part = select(both, label)
+        for var in ("label", "basin_fraction", "attractor_coordinate", "status"):
+            # equal values and coordinates; the lattice's long_name names the first set's mode
+            xr.testing.assert_equal(part[var], alone[var])
+            assert str(part[var].attrs) == str(alone[var].attrs)
+
+
+def test_figures_of_a_mode_set_result_are_drawn_set_by_set(tmp_path):
+    both = _run(tmp_path, BACKBONE_JOB, "both", "[[[1, 0]], [[1, 0], [2, 0]]]")
+    made = figures.make(get("backbone"), both)
+    assert sorted(made) == ["modes_1_0-2_0/backbone", "modes_1_0-2_0/modal_amplitudes",
+                            "modes_1_0/backbone", "modes_1_0/modal_amplitudes"]
+    paths = figures.draw(get("backbone"), both, tmp_path / "fig")
+    assert {p.parent.name for p in paths} == {"modes_1_0", "modes_1_0-2_0"}
+
+
+@pytest.mark.parametrize("modes,message", [
+    ("[[[1, 0]], [[0, 0]]]", r"backbone.modes\[1\] = \[0, 0\] is invalid: each mode needs m >= 1"),
+    ("[[[1, 0]], [[1, 0]]]", r"backbone.modes = .* is invalid: the mode sets must be distinct"),
+    ("[[[1, 0]], [[1, 0], [1, 0]]]", r"backbone.modes\[1\] = .* is invalid: modes must be distinct"),
+])
+def test_bad_mode_sets_name_the_set(modes, message):
+    with pytest.raises(JobError, match=message):
+        parse_job(BACKBONE_JOB.format(name="bad", modes=modes))
+
+
+def test_one_mode_set_is_not_a_list_of_sets():
+    assert not is_mode_set_list([[1, 0], [2, 0]])
+    assert not is_mode_set_list([{"n": 1, "radial": 2}])
+    assert is_mode_set_list([[[1, 0]], [{"n": 0, "radial": 2}]])
+    job = parse_job(BACKBONE_JOB.format(name="plain", modes="[[1, 0], [2, 0]]"))
+    assert job.analysis is get("backbone")
