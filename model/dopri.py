@@ -70,13 +70,13 @@ def _step(t, y, f0, h, tab, forcing, coef, kst, tmp, g, y_new, f_new, rtol, atol
             for j in range(s):
                 acc += A[s, j] * kst[j, i]
             tmp[i] = y[i] + h * acc
-        rhs(t + C[s] * h, tmp, tab, forcing, g, kst[s])
+        rhs(t + C[s] * h, tmp, tab, forcing, g[0, :n // 2], g[1:], kst[s])
     for i in range(n):
         acc = 0.0
         for j in range(_NS):
             acc += B[j] * kst[j, i]
         y_new[i] = y[i] + h * acc
-    rhs(t + h, y_new, tab, forcing, g, f_new)
+    rhs(t + h, y_new, tab, forcing, g[0, :n // 2], g[1:], f_new)
     for i in range(n):
         kst[_NS, i] = f_new[i]
     e5 = 0.0
@@ -118,10 +118,11 @@ def _new_size(h, err):
 
 
 @nb.njit(cache=True)
-def _workspace(n):
-    # Stage derivatives, a stage state, the force, and the current / proposed state and
-    # derivative of one trajectory.
-    return (np.empty((_NS + 1, n)), np.empty(n), np.empty(n // 2), np.empty(n), np.empty(n),
+def _workspace(n, points):
+    # Stage derivatives, a stage state, the force (row 0 of g) with the force kernel's
+    # work rows (g[1:], rom.force_work), and the current / proposed state and derivative
+    # of one trajectory.
+    return (np.empty((_NS + 1, n)), np.empty(n), np.empty((3, max(points, n // 2))), np.empty(n), np.empty(n),
             np.empty(n), np.empty(n))
 
 
@@ -131,14 +132,14 @@ def _start(i, y, y0, t0, tab, c_damp, p_load, omega, g, f, rtol, atol):
     # trajectory's Forcing and its first step size.
     forcing = Forcing(c_damp[i], p_load[i], omega[i])
     y[:] = y0[i]
-    rhs(t0, y, tab, forcing, g, f)
+    rhs(t0, y, tab, forcing, g[0, :y.size // 2], g[1:], f)
     return forcing, _initial_step(y, f, rtol, atol)
 
 
 @nb.njit(cache=True)
 def _solve_kernel(y0, t0, t_eval, tab, c_damp, p_load, omega, rtol, atol, coef, max_steps, out, nfev):
     N, n = y0.shape
-    kst, tmp, g, y, f, y_new, f_new = _workspace(n)
+    kst, tmp, g, y, f, y_new, f_new = _workspace(n, tab.weight.size)
     for i in range(N):
         t = t0
         forcing, h = _start(i, y, y0, t0, tab, c_damp, p_load, omega, g, f, rtol, atol)
@@ -181,7 +182,7 @@ def _extrema_kernel(y0, t0, t_end, w_stop, tab, c_damp, p_load, omega, rtol, ato
     K = n // 2
     cap = times.shape[1]
     probe = tab.probe
-    kst, tmp, g, y, f, y_new, f_new = _workspace(n)
+    kst, tmp, g, y, f, y_new, f_new = _workspace(n, tab.weight.size)
     y_s = np.empty(n)
     f_s = np.empty(n)
     for i in range(N):

@@ -262,6 +262,7 @@ def _stage_coordinates(y0, t0, h, steps, tab, forcing, out):
     ys = np.empty(n)
     k = np.empty((4, n))
     g = np.empty(K)
+    fw = np.empty((2, tab.weight.size))
     for i in range(steps):
         t = t0 + i * h
         for s in range(4):
@@ -270,7 +271,7 @@ def _stage_coordinates(y0, t0, h, steps, tab, forcing, out):
                 ys[a] = y[a] + f * k[s - 1, a] if s > 0 else y[a]
             for a in range(K):
                 out[i, s, a] = ys[a]
-            rhs(t + f, ys, tab, forcing, g, k[s])
+            rhs(t + f, ys, tab, forcing, g, fw, k[s])
         for a in range(n):
             y[a] += h / 6.0 * (k[0, a] + 2.0 * k[1, a] + 2.0 * k[2, a] + k[3, a])
 

@@ -200,18 +200,19 @@ def rk4_steps(y, t0, h, steps, tab, forcing, work):
     k4 = work[3]
     tmp = work[4]
     g = work[5, :K]
+    fw = np.empty((2, tab.weight.size)) if steps > 0 else np.empty((2, 0))
     t = t0
     for _ in range(steps):
-        rhs(t, y, tab, forcing, g, k1)
+        rhs(t, y, tab, forcing, g, fw, k1)
         for i in range(n):
             tmp[i] = y[i] + 0.5 * h * k1[i]
-        rhs(t + 0.5 * h, tmp, tab, forcing, g, k2)
+        rhs(t + 0.5 * h, tmp, tab, forcing, g, fw, k2)
         for i in range(n):
             tmp[i] = y[i] + 0.5 * h * k2[i]
-        rhs(t + 0.5 * h, tmp, tab, forcing, g, k3)
+        rhs(t + 0.5 * h, tmp, tab, forcing, g, fw, k3)
         for i in range(n):
             tmp[i] = y[i] + h * k3[i]
-        rhs(t + h, tmp, tab, forcing, g, k4)
+        rhs(t + h, tmp, tab, forcing, g, fw, k4)
         for i in range(n):
             y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         t += h

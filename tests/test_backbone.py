@@ -16,7 +16,7 @@ from model.backbone import continue_free_orbits, free_orbit, linear_mode, peak_t
 from model.linear import frequency_bound, galerkin_frequencies
 from model.params import Membrane
 from model.prestretch import solve_prestretch
-from model.rom import build_rom, elastic_force, force_jacobian
+from model.rom import build_rom, elastic_force, force_jacobian, force_work
 from sweep.analyses.backbone import BACKBONE
 from sweep.analyses.base import JobError
 from sweep.jobspec import grid_point, load_job
@@ -69,7 +69,7 @@ def test_weak_nonlinearity_matches_lindstedt(rom1):
     force_jacobian(np.zeros(1), rom1.tables, jac)
 
     def cubic_secant(h):
-        elastic_force(np.array([h]), rom1.tables, g)
+        elastic_force(np.array([h]), rom1.tables, g, force_work(rom1.tables))
         return rom1.tables.k_force[0] * (g[0] - jac[0, 0] * h) / h**3
 
     amplitude = 0.005

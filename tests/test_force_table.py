@@ -11,7 +11,7 @@ import pytest
 from model.integrate import lockstep_table, monodromy, rk4_one_mode_lockstep, rk4_steps
 from model.params import Membrane
 from model.prestretch import solve_prestretch
-from model.rom import TABLE_MAX_W, Forcing, build_rom, elastic_force, force_jacobian
+from model.rom import TABLE_MAX_W, Forcing, build_rom, elastic_force, force_jacobian, force_work
 
 
 @pytest.fixture(scope="module", params=[(1.1, 0.2), (2.0, 0.3), (1.02, 0.6)])
@@ -30,8 +30,8 @@ def test_table_reproduces_the_quadrature(roms):
                         [1e-9, -1e-4, 0.999 * tab.table_max]])
     for x in q:
         g, g_ref = np.zeros(1), np.zeros(1)
-        elastic_force(np.array([x]), tab, g)
-        elastic_force(np.array([x]), exact, g_ref)
+        elastic_force(np.array([x]), tab, g, force_work(tab))
+        elastic_force(np.array([x]), exact, g_ref, force_work(exact))
         j, j_ref = np.zeros((1, 1)), np.zeros((1, 1))
         force_jacobian(np.array([x]), tab, j)
         force_jacobian(np.array([x]), exact, j_ref)
