@@ -32,7 +32,7 @@ import numpy as np
 
 from . import dopri
 from .integrate import monodromy
-from .rom import Forcing, Rom, force_jacobian
+from .rom import Forcing, Rom, linear_frequencies
 
 #: The forcing of the free vibration: no damping, no pressure (Omega is irrelevant).
 _FREE = Forcing(0.0, 0.0, 1.0)
@@ -61,9 +61,7 @@ class Backbone(NamedTuple):
 def linear_mode(rom: Rom):
     """Lowest small-amplitude frequency of the ROM and its mode.
 
-    The linearisation ``q'' = -diag(k_force) J(0) q`` of Eq. (31) with ``J`` the closed-form
-    Jacobian of the elastic force; equal to :func:`model.linear.galerkin_frequencies` on the
-    same basis.
+    The lowest of :func:`model.rom.linear_frequencies`.
 
     Returns
     -------
@@ -72,17 +70,13 @@ def linear_mode(rom: Rom):
     vector : (K,) ndarray
         Its modal vector, scaled so that ``probe @ vector = -1`` (``w = -1`` m at the probe).
     """
-    K = rom.dof
-    jac = np.empty((K, K))
-    force_jacobian(np.zeros(K), rom.tables, jac)
-    d = np.sqrt(rom.tables.k_force)
-    lam, u = np.linalg.eigh(d[:, None] * jac * d[None, :])
-    v = d * u[:, 0]
+    omega, vectors = linear_frequencies(rom)
+    v = vectors[:, 0]
     scale = rom.tables.probe @ v
     if abs(scale) < 1e-12 * np.abs(v).max():
         raise ValueError(f"the lowest mode of {list(rom.modes)} vanishes at the probe point "
                          f"rho = {rom.probe_rho} m: its backbone cannot be measured there")
-    return float(np.sqrt(lam[0])), -v / scale
+    return float(omega[0]), -v / scale
 
 
 def free_orbit(rom: Rom, amplitude: float, q_guess, quarter_guess: float, steps: int = 256,

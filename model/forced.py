@@ -17,6 +17,7 @@ steps per period).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 import numba as nb
@@ -24,7 +25,7 @@ import numpy as np
 
 from .integrate import OMEGA, PRESSURE, monodromy, monodromy_parameter, rk4_steps
 from .params import Loading
-from .rom import Forcing, Rom
+from .rom import Forcing, Rom, linear_frequencies
 
 #: RK4 steps per forcing period of shooting, continuation and stepped sweeps.  At
 #: delta = 1.1, Omega = 33.5, c = 0.05 the fold values in P0 change by 2e-6 (relative) from
@@ -32,6 +33,32 @@ from .rom import Forcing, Rom
 DEFAULT_STEPS = 128
 #: The forcing parameters a map can be varied in (continuation, stepped sweeps).
 PARAMETERS = ("Omega", "P0")
+
+
+def steps_per_period(rom: Rom, base: int) -> int:
+    """RK4 steps per forcing period that integrate the fastest mode of ``rom`` as
+    accurately as ``base`` steps integrate the slowest.
+
+    ``base`` is a default validated for one mode (:data:`DEFAULT_STEPS`,
+    :data:`model.basins.DEFAULT_STEPS`).  With ``n`` steps of ``h = T / n`` per period, a
+    mode of frequency ``omega`` gathers an RK4 error of ``n (h omega)^5 ~ omega^5 / n^4``
+    per period, so equal accuracy takes ``n = base (omega_max / omega_min)^(5/4)``
+    (linear frequencies of the set, :func:`model.rom.linear_frequencies`), rounded up to a
+    multiple of 8.  One mode: ``base``; modes (1..3, 0) at delta = 1.1, delta_o = 0.2
+    (frequency ratio 3.07): 64 -> 264 and 128 -> 520.
+
+    Parameters
+    ----------
+    rom : Rom
+    base : int
+        Steps per period for the slowest mode.
+
+    Returns
+    -------
+    int
+    """
+    omega = linear_frequencies(rom)[0]
+    return max(int(base), 8 * math.ceil(base * float(omega[-1] / omega[0]) ** 1.25 / 8 - 1e-9))
 
 
 def state_scale(dof: int, omega: float) -> np.ndarray:

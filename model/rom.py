@@ -521,6 +521,28 @@ def rhs(t, y, tab, forcing, g, work, out):
         out[K + k] = -c_damp * y[K + k] - tab.k_force[k] * g[k] + pt * tab.load[k]
 
 
+def linear_frequencies(rom: Rom) -> tuple[np.ndarray, np.ndarray]:
+    """Small-amplitude frequencies of the ROM and their modal vectors.
+
+    The linearisation ``q'' = -diag(k_force) J(0) q`` of Eq. (31), ``J`` the closed-form
+    Jacobian of the elastic force; the same as :func:`model.linear.galerkin_frequencies`
+    on the same basis.
+
+    Returns
+    -------
+    omega : (K,) ndarray
+        Frequencies in ascending order (rad s-1).
+    vectors : (K, K) ndarray
+        Column ``j`` is the modal vector of ``omega[j]`` (unnormalised).
+    """
+    K = rom.dof
+    jac = np.empty((K, K))
+    force_jacobian(np.zeros(K), rom.tables, jac)
+    d = np.sqrt(rom.tables.k_force)
+    lam, u = np.linalg.eigh(d[:, None] * jac * d[None, :])
+    return np.sqrt(lam), d[:, None] * u
+
+
 def total_energy(rom: Rom, y) -> float:
     """Kinetic plus strain energy (J) of state ``y`` relative to the pre-stretched rest state."""
     m = rom.membrane

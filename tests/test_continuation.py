@@ -6,7 +6,7 @@ import pytest
 
 from model.backbone import linear_mode
 from model.continuation import FOLD, REGULAR, continue_orbits, cusp_from_folds, stable_amplitudes_at
-from model.forced import ForcedMap
+from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
 from model.rom import build_rom, force_jacobian
@@ -240,7 +240,7 @@ def test_mixed_mode_set_by_symmetry_blocks_equals_the_2d_rom(rom, modes):
     # number and companion (model.families); the reference is the 2-D mixed ROM continued as
     # it is (model.rom quadrature in theta, its own monodromy).
     opts = CONTINUATION.parse_options({"parameter": "P0", "start": 0.0, "stop": 3.0, "max_points": 300,
-                                       "ds_max": 0.3, "modes": modes}, GRID, MEMBRANE)
+                                       "ds_max": 0.3, "modes": modes, "steps": DEFAULT_STEPS}, GRID, MEMBRANE)
     point = grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "Omega": 33.5, "c": 0.05})
     out = CONTINUATION.compute(point, opts, 0)
     mixed = build_rom(solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric"), [tuple(m) for m in modes])

@@ -54,7 +54,7 @@ class BasinsOptions:
     ic_y: tuple[float, float, int]
     method: str
     tiles: int
-    steps: int
+    steps: int | None
     settings: mb.Settings
     max_attractors: int
 
@@ -98,7 +98,7 @@ class Basins(Analysis):
         "method": "fast (cells and proximity, default) | brute (proximity only: the reference)",
         "tiles": "tiles of interleaved ic_x rows, one task each (default 8, at most ic_x.num, raised to "
                  "keep 65,536 initial conditions or fewer per tile)",
-        "steps": "RK4 steps per forcing period (default 64)",
+        "steps": opt.steps_help(mb.DEFAULT_STEPS),
         "max_periods": "periods before a trajectory is unclassified, label -1 (default 20000)",
         "radius": "capture radius around attractor points, fraction of the lattice window (default 0.01)",
         "consecutive": "consecutive clean-cell hits to adopt a cell's label (default 8)",
@@ -139,7 +139,7 @@ class Basins(Analysis):
             ic_x=ic_x, ic_y=ic_y, method=method,
             tiles=min(max(opt.number(table, _SECTION, "tiles", 8, low=1, integer=True),
                           math.ceil(ic_x[2] * ic_y[2] / MAX_TILE_POINTS)), ic_x[2]),
-            steps=opt.number(table, _SECTION, "steps", mb.DEFAULT_STEPS, low=8, integer=True),
+            steps=opt.steps(table, _SECTION, mb.DEFAULT_STEPS, low=8),
             settings=settings,
             max_attractors=opt.number(table, _SECTION, "max_attractors", 6, low=1, high=1000,
                                       integer=True))
@@ -163,6 +163,7 @@ class Basins(Analysis):
                      "max |w(0.5 Re, 0, t)| on the tile's attractors", np.nan),
             Variable("tile_attractor_multiplier", ("tile_attractor",), (A,), "f8", "1",
                      "largest Floquet multiplier modulus of the tile's attractors", np.nan),
+            Variable("tile_rk4_steps", (), (), "i4", "1", "RK4 steps per forcing period", 0),
         ]
 
     def coords(self, options: BasinsOptions):
@@ -180,7 +181,9 @@ class Basins(Analysis):
                "tile_attractor_multiplier": np.full(A, np.nan),
                "status": STATUS_OK}
         rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
-        fmap = ForcedMap.from_loading(rom, point.loading, options.steps)
+        steps = opt.steps_for(point.membrane, options.prestretch, options.modes, options.steps, mb.DEFAULT_STEPS)
+        fmap = ForcedMap.from_loading(rom, point.loading, steps)
+        out["tile_rk4_steps"] = steps
         lattice = options.lattice()
         rows = options.tile_rows(subtask)
         states = mb.lattice_states(lattice, rows, S)
@@ -205,7 +208,7 @@ class Basins(Analysis):
 
     def warmup(self, options: BasinsOptions) -> None:
         rom = opt.rom_for(Membrane(), options.prestretch, options.modes)
-        fmap = ForcedMap.from_loading(rom, Loading(33.5, 1.0, 0.05), options.steps)
+        fmap = ForcedMap.from_loading(rom, Loading(33.5, 1.0, 0.05), options.steps or mb.DEFAULT_STEPS)
         lattice = mb.Lattice(np.array([0.0, 0.01]), np.array([0.0, 0.1]),
                              0, len(options.modes))
         settings = mb.Settings(max_periods=2)
@@ -298,6 +301,8 @@ class Basins(Analysis):
             "attractor_velocity": (G + ("attractor", "phase", "mode"), points[..., K:], {
                 "units": "m s-1", "long_name": "modal velocities dq_mn/dt of the attractor's Poincare points"}),
             "n_attractors": (G, n_att, {"units": "1", "long_name": "attractors found"}),
+            "rk4_steps": (G, raw["tile_rk4_steps"].transpose(*order).values.max(axis=-1).astype(np.int32), {
+                "units": "1", "long_name": "RK4 steps per forcing period"}),
             "unclassified_fraction": (G, uncl, {
                 "units": "1", "long_name": "fraction of the lattice with label -1"}),
         }

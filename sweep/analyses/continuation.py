@@ -118,7 +118,7 @@ class ContinuationOptions:
     prestretch: str
     max_points: int
     ds_max: float
-    steps: int
+    steps: int | None
     fold_curve: tuple[str, float, float] | None = None
     families: tuple[tuple[int, ...], int] | None = None
     bifurcation_curves: tuple[str, float, float] | None = None
@@ -224,7 +224,7 @@ class ContinuationAnalysis(Analysis):
         "max_points": "length of the point dimension: most points on a branch (default 400)",
         "ds_max": "largest arclength step in scaled unknowns: the whole parameter range is 1, 0.05 m "
                   "of displacement is 1 (default 0.1)",
-        "steps": "RK4 steps per forcing period (default 128)",
+        "steps": opt.steps_help(DEFAULT_STEPS),
         "fold_curve": "{parameter, start, stop}: follow the first saddle-node in a second parameter "
                       "(c, or the forcing parameter not continued) through its cusps (default none)",
         "bifurcation_curves": "{parameter, start, stop}: follow every located point of the branch (folds, branch "
@@ -261,7 +261,7 @@ class ContinuationAnalysis(Analysis):
             parameter, start, stop, modes, opt.prestretch(table, s),
             opt.number(table, s, "max_points", 400, low=2, high=100_000, integer=True),
             opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0),
-            opt.number(table, s, "steps", DEFAULT_STEPS, low=16, high=4096, integer=True),
+            opt.steps(table, s, DEFAULT_STEPS, low=16),
             _second_parameter(table, s, parameter), families,
             _curves_option(table, s, parameter, grid), *_switching(table, s, families), _family_check(table, s))
 
@@ -293,6 +293,7 @@ class ContinuationAnalysis(Analysis):
             Variable("fold_amplitude", ("fold",), (MAX_FOLDS,), "f8", "m", "amplitude at the saddle-node points"),
             Variable("n_points", (), (), "i4", "1", "points on the branch", -1),
             Variable("n_folds", (), (), "i4", "1", "saddle-node points on the branch", -1),
+            Variable("rk4_steps", (), (), "i4", "1", "RK4 steps per forcing period", 0),
         ]
 
     @staticmethod
@@ -429,7 +430,8 @@ class ContinuationAnalysis(Analysis):
         by_symmetry = _by_symmetry(options)
         modes = tuple(options.modes[i] for i in axisymmetric) if by_symmetry else options.modes
         rom = opt.rom_for(point.membrane, options.prestretch, modes)
-        fmap = ForcedMap.from_loading(rom, point.loading, options.steps).varied(options.parameter, options.start)
+        steps = opt.steps_for(point.membrane, options.prestretch, options.modes, options.steps, DEFAULT_STEPS)
+        fmap = ForcedMap.from_loading(rom, point.loading, steps).varied(options.parameter, options.start)
         if by_symmetry:
             # a sine block with the radial indices of a cosine block has its multipliers:
             # one family each, so that every point is located once
@@ -455,7 +457,8 @@ class ContinuationAnalysis(Analysis):
                "stable": np.full(n, -1, np.int8), "point_type": np.full(n, -1, np.int8),
                "multiplier_real": np.full((n, k), np.nan), "multiplier_imag": np.full((n, k), np.nan),
                "multiplier_modulus": np.full(n, np.nan),
-               "fold_value": np.full(MAX_FOLDS, np.nan), "fold_amplitude": np.full(MAX_FOLDS, np.nan)}
+               "fold_value": np.full(MAX_FOLDS, np.nan), "fold_amplitude": np.full(MAX_FOLDS, np.nan),
+               "rk4_steps": steps}
         out[options.parameter][:m] = br.value
         out["amplitude"][:m] = br.amplitude
         out["modal_coordinate"][:m], out["modal_velocity"][:m] = br.state[:, :K], br.state[:, K:]

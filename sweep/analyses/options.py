@@ -14,6 +14,7 @@ import numpy as np
 
 from model.families import Family, build_family
 from model.forced import PARAMETERS as FORCING_PARAMETERS
+from model.forced import steps_per_period
 from model.params import Membrane
 from model.prestretch import KINDS, solve_prestretch
 from model.rom import Rom, build_rom
@@ -104,6 +105,31 @@ def modes(table, section: str, default=((1, 0),)) -> tuple[tuple[int, int], ...]
     if len(set(out)) != len(out):
         raise JobError(key, v, "modes must be distinct")
     return tuple(out)
+
+
+def steps(table, section: str, base: int, low: int) -> int | None:
+    """The ``steps`` option: RK4 steps per forcing period, an integer in ``[low, 4096]``, or
+    ``"auto"`` (the default, returned as None): :func:`model.forced.steps_per_period` of
+    the task's ROM with ``base`` (:func:`steps_for`)."""
+    v = table.get("steps", "auto")
+    if v == "auto":
+        return None
+    if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= 4096:
+        raise JobError(f"{section}.steps", v, f'must be "auto" or an integer from {low} to 4096')
+    return v
+
+
+def steps_help(base: int) -> str:
+    """Description of the ``steps`` option (docs/options.md)."""
+    return (f"RK4 steps per forcing period, or \"auto\" (default): {base} for one mode, for several "
+            f"{base} x (highest / lowest linear frequency of the set)^(5/4), rounded up to a multiple of 8 "
+            "(the fastest mode integrated as accurately as the slowest)")
+
+
+def steps_for(membrane: Membrane, prestretch: str, modes, steps: int | None, base: int) -> int:
+    """The steps per period of a task: the option's value, or for ``"auto"``
+    :func:`model.forced.steps_per_period` of the ROM of ``modes`` (:func:`rom_for`)."""
+    return steps if steps is not None else steps_per_period(rom_for(membrane, prestretch, modes), base)
 
 
 def linspace(table, section: str, key: str, default=None, *, low=None, low_open=False,

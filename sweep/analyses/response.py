@@ -33,7 +33,7 @@ class ResponseOptions:
     values: tuple[float, float, int]
     modes: tuple[tuple[int, int], ...]
     prestretch: str
-    steps: int
+    steps: int | None
     tol: float
     consecutive: int
     max_periods: int
@@ -61,7 +61,7 @@ class ResponseAnalysis(Analysis):
         "values": "{start, stop, num} (required): the swept values (rad/s or Pa)",
         "modes": opt.MODES_HELP,
         "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
-        "steps": "RK4 steps per forcing period (default 128)",
+        "steps": opt.steps_help(DEFAULT_STEPS),
         "tol": "relative stroboscopic residual that counts as settled (default 1e-6)",
         "consecutive": "periods in a row below tol to accept a steady state (default 20)",
         "max_periods": "periods before a value is declared not converged (default 30000)",
@@ -75,7 +75,7 @@ class ResponseAnalysis(Analysis):
         values = opt.linspace(table, s, "values", low=0.0, low_open=parameter == "Omega", max_num=10_000)
         return ResponseOptions(
             parameter, values, opt.modes(table, s), opt.prestretch(table, s),
-            opt.number(table, s, "steps", DEFAULT_STEPS, low=16, high=4096, integer=True),
+            opt.steps(table, s, DEFAULT_STEPS, low=16),
             opt.number(table, s, "tol", 1e-6, low=0.0, low_open=True, high=1e-2),
             opt.number(table, s, "consecutive", 20, low=1, high=10_000, integer=True),
             opt.number(table, s, "max_periods", 30_000, low=1, high=10_000_000, integer=True),
@@ -98,6 +98,7 @@ class ResponseAnalysis(Analysis):
             Variable("periods", dims, shape, "i4", "1", "forcing periods integrated at this value", -1),
             Variable("jump_value", ("direction", "jump"), (2, MAX_JUMPS), "f8", GRID_KEYS[options.parameter][0],
                      f"{options.parameter} at which the sweep jumps to another branch (adaptive brute force)"),
+            Variable("rk4_steps", (), (), "i4", "1", "RK4 steps per forcing period", 0),
         ]
 
     def coords(self, options):
@@ -112,7 +113,8 @@ class ResponseAnalysis(Analysis):
     def compute(self, point, options, subtask):
         rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
         values = options.swept_values
-        fmap = ForcedMap.from_loading(rom, point.loading, options.steps).varied(options.parameter, values[0])
+        steps = opt.steps_for(point.membrane, options.prestretch, options.modes, options.steps, DEFAULT_STEPS)
+        fmap = ForcedMap.from_loading(rom, point.loading, steps).varied(options.parameter, values[0])
         res = stepped_sweep(fmap, options.parameter, values, tol=options.tol, consecutive=options.consecutive,
                             max_periods=options.max_periods,
                             min_periods=min(options.consecutive, options.max_periods))
@@ -125,7 +127,7 @@ class ResponseAnalysis(Analysis):
         state = res.state.transpose(1, 0, 2)  # (value, direction, 2K)
         out = {"amplitude": res.amplitude.T.copy(), "converged": conv.astype(np.int8),
                "modal_coordinate": state[..., :K].copy(), "modal_velocity": state[..., K:].copy(),
-               "periods": res.periods.T.astype(np.int32), "jump_value": jumps,
+               "periods": res.periods.T.astype(np.int32), "jump_value": jumps, "rk4_steps": steps,
                "status": STATUS_OK if conv.all() else STATUS_NOT_CONVERGED}
         if not conv.all():
             out["message"] = (f"{np.count_nonzero(~conv)} of {conv.size} steady states did not settle within "
