@@ -18,7 +18,8 @@ Printed:
   and for an ``--memory-size`` lattice (800); the latter with ``max_periods`` capped at
   ``--memory-periods`` (memory only: the labels are then mostly -1).
 
-Run from the repository root:  ``python benchmarks/bench_basins.py``.
+Run from the repository root:  ``python benchmarks/bench_basins.py``; ``--smoke`` (the test
+suite): a 10 x 10 lattice, one repeat, 20 brute-force points, a 12 x 12 memory run of 5 periods.
 Other processes on the machine distort the timings: the load average is printed too.
 """
 
@@ -136,7 +137,7 @@ def agreement(path: Path, samples: int) -> None:
           f"unclassified {np.mean(lab < 0):.4f}")
 
 
-def main() -> None:
+def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--size", type=int, default=200)
     parser.add_argument("--repeats", type=int, default=3)
@@ -144,7 +145,10 @@ def main() -> None:
     parser.add_argument("--memory-size", type=int, default=800)
     parser.add_argument("--memory-periods", type=int, default=0,
                         help="max_periods of the memory run (0: the default, a full run)")
-    args = parser.parse_args()
+    parser.add_argument("--smoke", action="store_true", help="tiny run for the test suite")
+    args = parser.parse_args(argv)
+    if args.smoke:
+        args.size, args.repeats, args.samples, args.memory_size, args.memory_periods = 10, 1, 20, 12, 5
 
     print(f"load average before: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     with tempfile.TemporaryDirectory() as tmp:

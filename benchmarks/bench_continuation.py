@@ -8,7 +8,8 @@ one mode (Fig. 15a).  Prints, side by side in one run:
   its jumps against the continuation's folds;
 * the fold values with modes (1,0), (1,0)+(2,0), (1,0)+(2,0)+(3,0).
 
-Run: ``.venv/bin/python benchmarks/bench_continuation.py [--num 31] [--repeats 3]``.
+Run: ``python benchmarks/bench_continuation.py [--num 31] [--repeats 3] [--smoke]``;
+``--smoke`` (the test suite): 3 brute-force values, one repeat, modes up to (2,0).
 """
 
 from __future__ import annotations
@@ -28,11 +29,15 @@ from model.rom import build_rom
 from model.shooting import shoot
 
 
-def main() -> None:
+def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--num", type=int, default=31, help="brute-force values over 0..3 Pa")
     ap.add_argument("--repeats", type=int, default=3)
-    args = ap.parse_args()
+    ap.add_argument("--smoke", action="store_true", help="tiny run for the test suite")
+    args = ap.parse_args(argv)
+    if args.smoke:
+        args.num, args.repeats = 3, 1
+    mode_sets = ([(1, 0)], [(1, 0), (2, 0)]) + (() if args.smoke else ([(1, 0), (2, 0), (3, 0)],))
     ps = solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric")
     ld = Loading(Omega=33.5, P0=1.0, c=0.05)
     rom = build_rom(ps, [(1, 0)])
@@ -67,7 +72,7 @@ def main() -> None:
           f"jump down at P0 = {jump_down:.3f} (fold {folds[0]:.4f}, {100 * (jump_down / folds[0] - 1):+.2f} %)")
     print(f"ratio brute force / continuation: {t_brute / t_cont:.0f}")
     ref = None
-    for modes in ([(1, 0)], [(1, 0), (2, 0)], [(1, 0), (2, 0), (3, 0)]):
+    for modes in mode_sets:
         r = build_rom(ps, modes)
         t0 = time.perf_counter()
         b = continue_orbits(ForcedMap.from_loading(r, ld), "P0", 0.0, 3.0, ds_max=0.3)

@@ -6,7 +6,9 @@ states), same method (DOP853) and tolerances; scipy gets the right-hand side wri
 plainly in numpy.  Prints medians of repeats, the speed-up, the largest difference of the
 final states, and force evaluations per second per core.  Run:
 
-    python benchmarks/bench_integrators.py [--repeats 3] [--trajectories 4] [--periods 20]
+    python benchmarks/bench_integrators.py [--repeats 3] [--trajectories 4] [--periods 20] [--smoke]
+
+``--smoke`` (the test suite): one trajectory, one period, one repeat.
 """
 
 from __future__ import annotations
@@ -72,15 +74,17 @@ def run(modes, n_traj, periods, repeats, rtol, atol):
           f"max |difference| {diff:.1e}")
 
 
-def main():
+def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--trajectories", type=int, default=4)
     ap.add_argument("--periods", type=int, default=20)
-    args = ap.parse_args()
+    ap.add_argument("--smoke", action="store_true", help="tiny run for the test suite")
+    args = ap.parse_args(argv)
+    trajectories, periods, repeats = (1, 1, 1) if args.smoke else (args.trajectories, args.periods, args.repeats)
     for modes in ([(1, 0)], [(1, 0), (2, 0), (3, 0)]):
         for rtol in (1e-8, 1e-11):
-            run(modes, args.trajectories, args.periods, args.repeats, rtol, 1e-12 * rtol / 1e-8)
+            run(modes, trajectories, periods, repeats, rtol, 1e-12 * rtol / 1e-8)
 
 
 if __name__ == "__main__":

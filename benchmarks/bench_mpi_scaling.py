@@ -10,7 +10,8 @@ times each, through ``mpiexec -n N python -m mpi4py -m sweep run``.  Printed:
 * peak resident memory of each rank after the compute phase, and of rank 0 after the
   collect, for two grid sizes (``--memory-sizes``): flat per rank as the grid grows.
 
-Run from the repository root:  ``python benchmarks/bench_mpi_scaling.py``.
+Run from the repository root:  ``python benchmarks/bench_mpi_scaling.py``; ``--smoke`` (the
+test suite): 16 tasks, one repeat, memory at 8 and 16 tasks.
 Other processes on the machine distort the timings: the load average is printed too.
 """
 
@@ -86,14 +87,17 @@ def memory(stderr: str) -> tuple[list[float], float]:
     return [float(x) for x in match.group(1).split(",")], float(match.group(2))
 
 
-def main() -> None:
+def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tasks", type=int, default=128,
                         help="tasks of the timed sweep (a multiple of 8)")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--memory-sizes", default="64,512",
                         help="comma-separated task counts for the memory measurement")
-    args = parser.parse_args()
+    parser.add_argument("--smoke", action="store_true", help="tiny run for the test suite")
+    args = parser.parse_args(argv)
+    if args.smoke:
+        args.tasks, args.repeats, args.memory_sizes = 16, 1, "8,16"
 
     print(f"load average before: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     with tempfile.TemporaryDirectory() as tmp:

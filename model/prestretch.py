@@ -136,8 +136,9 @@ def _cheb_lobatto(n, dom):
 
 def _polish(s, r, d):
     """Newton on the first-order Chebyshev collocation of Eq. (15), ends held fixed;
-    ``(r, r')`` at the points after at most 30 steps, or None when the last step is still
-    above 1e-10 (relative) or ``r'`` left ``(0, inf)``.
+    ``(r, r')`` at the points once a step falls below 1e-12 (relative; Newton converges
+    quadratically, so the iterate is then at round-off), after at most 30 steps, or None
+    when the last step is still above 1e-10 or ``r'`` left ``(0, inf)``.
 
     Unknowns are ``r`` and ``y = r'`` at the Lobatto points; the equations are
     ``D r = y`` everywhere and Eq. (15) with ``r'' = D y`` at the interior points.  The
@@ -163,8 +164,8 @@ def _polish(s, r, d):
         r, y = r + step[:n1], y + step[n1:]
         if not (np.all(np.isfinite(y)) and np.all(y > 0)):
             return None
-        if np.abs(step).max() < 1e-15 * (1 + np.abs(y).max()):
-            break
+        if np.abs(step).max() < 1e-12 * (1 + np.abs(y).max()):
+            break  # quadratic convergence: the next step would be round-off (~1e-14)
     # Newton stalls at round-off (~1e-14); a last step far above it means no convergence
     return (r, y) if np.abs(step).max() < 1e-10 * (1 + np.abs(y).max()) else None
 

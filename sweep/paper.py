@@ -31,7 +31,7 @@ PAPER_JOBS = (
     "fig13-resonance", "fig14-bifurcation-omega", "fig15-bifurcation-p0", "fig15-bruteforce",
     "fig16-17-damping", "fig17-cusp", "fig18-damping-resonance",
     "fig14-families", "stability-map-fig14a", "fig14a-bifurcation-curves",
-    "fig19-basins", "erosion-profile",
+    "fig19-basins", "fig19a-basins-modes", "erosion-profile",
 )
 QUICK_NUM = 41
 

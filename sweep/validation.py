@@ -267,16 +267,85 @@ def section_basins(results: Path) -> list[str]:
         if bool((p.label == -2).all()):
             continue
         n = int(p.n_attractors)
-        cells = []
-        for a in range(2):
-            if a < n:
-                cells += [f"{float(p.attractor_amplitude.isel(attractor=a)):.4f}",
-                          f"{float(p.basin_fraction.isel(attractor=a)):.3f}"]
-            else:
-                cells += ["-", "-"]
-        out.append(f"| {float(p.delta):g} | {float(p.Omega):g} | {n} | {' | '.join(cells)} | "
+        out.append(f"| {float(p.delta):g} | {float(p.Omega):g} | {n} | {_two_attractors(p)} | "
                    f"{float(p.unclassified_fraction):.3f} |")
     return out + [""]
+
+
+def _two_attractors(p) -> str:
+    """Table cells: amplitude (m) and basin fraction of attractors 0 and 1 of a basins
+    result at one grid point ("-" for an attractor not found)."""
+    cells = []
+    for a in range(2):
+        cells += ([f"{float(p.attractor_amplitude.isel(attractor=a)):.4f}",
+                   f"{float(p.basin_fraction.isel(attractor=a)):.3f}"] if a < int(p.n_attractors) else ["-", "-"])
+    return " | ".join(cells)
+
+
+#: Random lattice points of the basins mode-convergence section checked by brute force.
+BRUTE_SAMPLE = 40
+
+
+def section_basins_modes(results: Path) -> list[str]:
+    out = ["## Basins: convergence with the number of modes (Fig. 19a)", "",
+           "Basins of the Fig. 19a window (delta = 1.1, delta_o = 0.2, Omega = 33.5 rad/s, P0 = 1 Pa,",
+           "c = 0.05 N s/m^3, numeric pre-stretch) with the axisymmetric mode sets of",
+           "`jobs/fig19a-basins-modes.toml`: the lattice spans (A_10, dA_10/dt), the other modal",
+           "coordinates start at zero; attractors by decreasing amplitude (0: resonant). Agreement:",
+           "share of the lattice with the same label as the previous set, and as the one-mode set.", ""]
+    ds = _open(results, "fig19a-basins-modes")
+    if ds is None:
+        return out + _missing("fig19a-basins-modes")
+    ds = ds.isel({d: 0 for d in ("delta", "delta_o", "Omega", "P0", "c") if d in ds.dims})
+    out += [f"Lattice {ds.sizes['ic_x']} x {ds.sizes['ic_y']}.", "",
+            "| modes | RK4 steps | attractors | amplitude 0 (m) | basin 0 | amplitude 1 (m) | basin 1 "
+            "| unclassified | agreement: previous set | agreement: one mode |", "|---|---|---|---|---|---|---|---|---|---|"]
+    previous = first = None
+    for label in ds.mode_set.values:
+        p = select(ds, str(label))
+        lab = p.label.values
+        agree = ["-" if ref is None else f"{np.mean(lab == ref):.1%}" for ref in (previous, first)]
+        out.append(f"| {label} | {int(p.rk4_steps)} | {int(p.n_attractors)} | {_two_attractors(p)} | "
+                   f"{float(p.unclassified_fraction):.3f} | {' | '.join(agree)} |")
+        previous = lab
+        first = lab if first is None else first
+    return out + [""] + _basins_brute_force(ds) + [""]
+
+
+def _basins_brute_force(ds) -> list[str]:
+    """The largest mode set's labels against brute force at twice its steps on random
+    lattice points: integration until the capture disc of one of its attractors."""
+    from model import basins as mb
+    from model.forced import ForcedMap
+    from model.params import Loading, Membrane
+    from model.prestretch import solve_prestretch
+    from model.rom import build_rom
+
+    label = str(ds.mode_set.values[-1])
+    p = select(ds, label)
+    modes = tuple(zip(p.m.values.tolist(), p.n.values.tolist()))
+    K, steps = len(modes), 2 * int(p.rk4_steps)
+    rom = build_rom(solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric"), modes)
+    fmap = ForcedMap.from_loading(rom, Loading(Omega=33.5, P0=1.0, c=0.05), steps)
+    lattice = mb.Lattice(p.ic_x.values, p.ic_y.values, 0, K)
+    n_att = int(p.n_attractors)
+    attractors = []
+    for a in range(n_att):
+        k = int(p.attractor_period.isel(attractor=a))
+        pts = np.concatenate([p.attractor_coordinate.isel(attractor=a).values[:k],
+                              p.attractor_velocity.isel(attractor=a).values[:k]], axis=1)
+        # the attractor at the finer steps: Newton from the stored one
+        att = mb.find_periodic_orbit(pts[0], k, fmap, mb.lattice_scale(lattice, 2 * K), 1e-11)
+        attractors.append(att if att is not None else mb.Attractor(pts, np.zeros(2 * K)))
+    rng = np.random.default_rng(19)
+    pick = rng.choice(p.label.size, size=min(BRUTE_SAMPLE, p.label.size), replace=False)
+    states = mb.lattice_states(lattice, slice(None), 2 * K)[pick]
+    brute, _, _ = mb.classify_lattice(states, lattice, fmap, mb.Settings(), attractors, use_cells=False,
+                                      discover=False)
+    agree = np.mean(brute == p.label.values.ravel()[pick])
+    return [f"Brute force for {label} at {steps} steps per period (twice the job's) on {pick.size} random",
+            f"lattice points (integration until the capture disc of one of its {n_att} attractors): "
+            f"{agree:.1%} agree with the job's labels."]
 
 
 #: Families of the asymmetric-stability sections and the Omega values (rad/s) where the
@@ -583,7 +652,8 @@ def _folds(fmap, parameter, start, stop):
 
 
 SECTIONS = (section_table1, section_table2, section_backbone_modes, section_backbone_limits,
-            section_continuation_bruteforce, section_forced_modes, section_cusp, section_families, section_basins)
+            section_continuation_bruteforce, section_forced_modes, section_cusp, section_families, section_basins,
+            section_basins_modes)
 
 
 def build_report(results: Path) -> str:

@@ -7,10 +7,6 @@ a perturbed orbit.  The family blocks use radial quadrature only, the theta inte
 closed form and, for one-mode ROMs, Chebyshev tables of the Jacobian.
 """
 
-import subprocess
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -166,12 +162,3 @@ def test_families_need_an_axisymmetric_rom_and_n_at_least_one(prestretch, one_mo
         build_family(prestretch, one_mode, 0, 2)
     with pytest.raises(ValueError, match="radial"):
         build_family(prestretch, one_mode, 1, [2, 2])
-
-
-def test_families_benchmark_smoke():
-    bench = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_families.py"
-    proc = subprocess.run([sys.executable, str(bench), "--smoke"], capture_output=True, text=True, timeout=300)
-    assert proc.returncode == 0, proc.stderr
-    lines = proc.stdout.splitlines()
-    assert lines[0].startswith("branch alone:") and lines[1].startswith("6 families, M = 2:")
-    assert "ratio to the axisymmetric monodromy" in lines[-1]

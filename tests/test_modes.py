@@ -2,9 +2,9 @@
 
 import numpy as np
 import pytest
-from scipy.special import jn_zeros
+from scipy.special import jn_zeros, jv, yv
 
-from model.modes import bessel_roots, cross_product, mode_shape
+from model.modes import bessel_jy, bessel_roots, cross_product, mode_shape
 
 
 def bessel_eigenvalues(n, delta_o, count, points=100):
@@ -60,3 +60,12 @@ def test_mode_shape_boundary_values_and_derivative():
 def test_bad_arguments(args, pattern):
     with pytest.raises(ValueError, match=pattern):
         bessel_roots(*args)
+
+
+@pytest.mark.parametrize("n", [0, 1, 2, 5])
+def test_bessel_jy_equals_the_general_functions(n):
+    # orders 0 and 1 come from scipy's dedicated j0/y0/j1/y1 (fast), the others from jv/yv
+    x = np.linspace(0.05, 300.0, 2001)
+    j, y = bessel_jy(n, x)
+    np.testing.assert_allclose(j, jv(n, x), rtol=0, atol=1e-14)
+    np.testing.assert_allclose(y, yv(n, x), rtol=1e-13, atol=1e-14)

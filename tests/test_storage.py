@@ -351,17 +351,6 @@ def test_status_of_a_job_file_is_one_line(capsys, job):
     assert code == 1 and err.count("\n") == 1 and "not a readable NetCDF result" in err
 
 
-@pytest.mark.mpi
-def test_bookkeeping_benchmark_smoke():
-    bench = TESTS.parent / "benchmarks" / "bench_bookkeeping.py"
-    proc = subprocess.run([sys.executable, str(bench), "--tasks", "60", "120"], capture_output=True, text=True,
-                          timeout=300, env={**os.environ, "MPIEXEC_TIMEOUT": str(TIMEOUT)})
-    assert proc.returncode == 0, proc.stderr
-    lines = proc.stdout.splitlines()
-    assert lines[0].strip().startswith("56 tasks:") and "files in the parts directory" in lines[0]
-    assert lines[-1].startswith("ratios 120 / 56 tasks: files 1.00")  # 60 -> 7 x 8, 120 -> 10 x 12
-
-
 # -- a job split into pieces (Slurm arrays) -----------------------------------------
 
 

@@ -170,7 +170,7 @@ class ModeSetSweep(Analysis):
         parts = _padded(parts, fills)
         index = pd.Index(list(options.labels), name="mode_set")
         ds = xr.concat(parts, dim=index, data_vars="all", coords="different", compat="equals")
-        ds["mode_set"].attrs.update(long_name="Galerkin mode set: the (m,n) of its modes")
+        ds["mode_set"].attrs.update(long_name="Galerkin mode set: the (m,n) of its modes", units="1")
         return ds.assign_coords(n_modes=("mode_set", np.array([len(o.modes) for o in options.sets], np.int32),
                                          {"long_name": "number of modes of the set", "units": "1"}))
 

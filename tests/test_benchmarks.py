@@ -1,0 +1,87 @@
+"""Every benchmark of benchmarks/ runs in its smoke mode (tiny sizes), so none can rot.
+
+Timings are printed, never asserted.  What is asserted is what the benchmark compares:
+the agreement of the project's kernels with their references (C programs of the same
+algorithm, scipy, brute force, time integration) and the rank independence of results.
+"""
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
+TIMEOUT = 600  # seconds per benchmark
+
+
+def smoke(name: str, *args: str) -> str:
+    """Run ``benchmarks/<name>.py`` with ``args`` (default ``--smoke``); its stdout."""
+    proc = subprocess.run([sys.executable, str(BENCHMARKS / f"{name}.py"), *(args or ("--smoke",))],
+                          capture_output=True, text=True, timeout=TIMEOUT,
+                          env={**os.environ, "MPIEXEC_TIMEOUT": str(TIMEOUT)})
+    assert proc.returncode == 0, proc.stderr
+    return proc.stdout
+
+
+def test_rk4():
+    """Every variant (numba, numpy and, with a compiler, the C reference) ends on the same
+    states as the scalar numba loop (same algorithm: rounding only, 1e-9 relative is far
+    above it and far below any algorithmic difference)."""
+    out = smoke("bench_rk4")
+    rows = re.findall(r"^  (.+?)\s+([0-9.]+) ns per trajectory and step .*: ([0-9.e+-]+) relative", out, re.M)
+    names = {name for name, _, _ in rows}
+    assert {"numba scalar", "numba lock-step", "numpy lock-step"} <= names
+    assert ("C lock-step" in names) != ("C reference skipped" in out)
+    assert all(float(err) < 1e-9 for _, _, err in rows)
+
+
+def test_integrators():
+    """The DOP853 kernel and scipy's solve_ivp (DOP853, right-hand side in numpy) on the
+    same trajectories: final states within 1e-5 (states of order 10 m/s; two error-controlled
+    runs at rtol <= 1e-8 over one period differ by a few rtol of that)."""
+    out = smoke("bench_integrators")
+    rows = re.findall(r"^(\d) mode\(s\).*rtol=([0-9.e-]+).*speed-up (\d+)x, max \|difference\| ([0-9.e+-]+)$", out, re.M)
+    assert [(k, rtol) for k, rtol, _, _ in rows] == [("1", "1e-08"), ("1", "1e-11"), ("3", "1e-08"), ("3", "1e-11")]
+    assert all(float(diff) < 1e-5 for *_, diff in rows)
+
+
+def test_continuation():
+    """Continuation against brute force: every stable point of the branch is reproduced by
+    time integration from it, and the ratio of the costs is printed."""
+    out = smoke("bench_continuation")
+    stable = re.search(r"reproduced by 200 periods of time integration from them: (\d+)/(\d+)", out)
+    assert stable and stable.group(1) == stable.group(2) and int(stable.group(2)) > 0
+    assert re.search(r"^ratio brute force / continuation: \d+", out, re.M)
+    assert len(re.findall(r"^modes \[", out, re.M)) == 2
+
+
+def test_families():
+    out = smoke("bench_families").splitlines()
+    assert out[0].startswith("branch alone:") and out[1].startswith("6 families, M = 2:")
+    assert "ratio to the axisymmetric monodromy" in out[-1]
+
+
+@pytest.mark.mpi
+def test_basins():
+    """Fig. 19a basins on 1 and 2 ranks, cold and warm: identical labels."""
+    out = smoke("bench_basins")
+    assert "label arrays of all 3 runs (1 and 2 ranks) identical: True" in out
+    assert re.search(r"agreement on 20 random points: [0-9.]+", out)
+    assert re.search(r"^\(d\) 12 x 12 .*peak RSS per rank", out, re.M)
+
+
+@pytest.mark.mpi
+def test_mpi_scaling():
+    out = smoke("bench_mpi_scaling")
+    assert re.search(r"^speed-up 2 ranks / 1 rank: wall [0-9.]+, compute [0-9.]+", out, re.M)
+    assert re.search(r"^16 tasks on 2 ranks: peak RSS per rank", out, re.M)
+
+
+@pytest.mark.mpi
+def test_bookkeeping():
+    lines = smoke("bench_bookkeeping", "--tasks", "60", "120").splitlines()
+    assert lines[0].strip().startswith("56 tasks:") and "files in the parts directory" in lines[0]
+    assert lines[-1].startswith("ratios 120 / 56 tasks: files 1.00")  # 60 -> 7 x 8, 120 -> 10 x 12
