@@ -26,6 +26,25 @@ def smoke(name: str, *args: str) -> str:
     return proc.stdout
 
 
+def test_every_benchmark_has_a_generated_block_in_the_performance_page():
+    """docs/performance.md holds a block per benchmark, rewritten by benchmarks/report.py."""
+    sys.path.insert(0, str(BENCHMARKS))
+    try:
+        import report
+    finally:
+        sys.path.remove(str(BENCHMARKS))
+    commands = report.commands(report.PAGE.read_text())
+    named = {re.search(r"benchmarks/(bench_\w+)\.py", c).group(1) for c in commands}
+    assert named == {p.stem for p in BENCHMARKS.glob("bench_*.py")}
+    assert len(commands) == len(set(commands))
+
+
+def test_linear():
+    out = smoke("bench_linear")
+    assert re.search(r"^linear task, .* [0-9.]+ ms per task", out, re.M)
+    assert re.search(r"scipy jv/yv for the same: [0-9.]+ ms, ratio [0-9.]+", out)
+
+
 def test_rk4():
     """Every variant (numba, numpy and, with a compiler, the C reference) ends on the same
     states as the scalar numba loop (same algorithm: rounding only, 1e-9 relative is far
