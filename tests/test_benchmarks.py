@@ -75,6 +75,7 @@ def test_continuation():
     assert stable and stable.group(1) == stable.group(2) and int(stable.group(2)) > 0
     assert re.search(r"^ratio brute force / continuation: \d+", out, re.M)
     assert len(re.findall(r"^modes \[", out, re.M)) == 2
+    assert len(re.findall(r"^Fig. 14a branch, modes .* median [0-9.]+ s \(target", out, re.M)) == 2
 
 
 def test_families():
