@@ -316,14 +316,14 @@ def elastic_force(q, tab, out, work):
     ``C1 h g``.  ``tab`` is a :class:`RomTables`, ``work`` a :func:`force_work` array
     (the caller's, so that hot loops allocate nothing).  One-mode ROMs read the force
     table (:func:`_force_table`) within its range, every other case the quadrature
-    (:func:`_axisymmetric_force`, :func:`_general_force`).
+    (:func:`axisymmetric_force`, :func:`general_force`).
     """
     if tab.table_max > 0.0 and abs(q[0]) < tab.table_max:
         out[0] = q[0] * table_eval(tab.stiffness_table, tab.table_max, abs(q[0]))
     elif tab.axisymmetric:
-        _axisymmetric_force(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, out, work[0])
+        axisymmetric_force(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, out, work[0])
     else:
-        _general_force(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta, out, work[0], work[1])
+        general_force(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta, out, work[0], work[1])
 
 
 # The quadrature kernels run over the quadrature points innermost so that the loops
@@ -344,8 +344,10 @@ def _project(q, basis, out):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def _axisymmetric_force(q, weight, rho2, r2, dr2, b_rho, out, a):
-    # Every n = 0: no w_theta terms.
+def axisymmetric_force(q, weight, rho2, r2, dr2, b_rho, out, a):
+    """:func:`elastic_force` by quadrature for a set of axisymmetric modes (every n = 0: no
+    ``w_theta`` terms), from the arrays of :class:`RomTables`; ``a`` is a ``(P,)`` work
+    array.  For kernels that unpack the tables once and call it at every stage."""
     K = q.size
     P = weight.size
     _project(q, b_rho, a)
@@ -361,7 +363,9 @@ def _axisymmetric_force(q, weight, rho2, r2, dr2, b_rho, out, a):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def _general_force(q, weight, rho2, r2, dr2, b_rho, b_theta, out, a, b):
+def general_force(q, weight, rho2, r2, dr2, b_rho, b_theta, out, a, b):
+    """:func:`elastic_force` by quadrature for any mode set, from the arrays of
+    :class:`RomTables`; ``a``, ``b`` are ``(P,)`` work arrays."""
     K = q.size
     P = weight.size
     _project(q, b_rho, a)
@@ -411,15 +415,15 @@ def force_and_jacobian(q, tab, g, jac, work):
         g[0] = q[0] * table_eval(tab.stiffness_table, tab.table_max, x)
         jac[0, 0] = table_eval(tab.slope_table, tab.table_max, x)
     elif tab.axisymmetric:
-        _axisymmetric_force_jacobian(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, g, jac, work)
+        axisymmetric_force_jacobian(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, g, jac, work)
     else:
-        _general_force_jacobian(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta, g, jac, work)
+        general_force_jacobian(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta, g, jac, work)
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def _axisymmetric_force_jacobian(q, weight, rho2, r2, dr2, b_rho, g, jac, work):
-    # As _axisymmetric_force and its Jacobian in one pass, sharing the slopes and D
-    # (every n = 0; one kernel per case, like the force kernels).
+def axisymmetric_force_jacobian(q, weight, rho2, r2, dr2, b_rho, g, jac, work):
+    """:func:`axisymmetric_force` into ``g`` and its Jacobian into ``jac`` in one pass,
+    sharing the slopes and ``D``; ``work`` is a ``(7, P)`` array."""
     K = q.size
     P = weight.size
     a, fa, iaa = work[0], work[2], work[4]
@@ -445,8 +449,9 @@ def _axisymmetric_force_jacobian(q, weight, rho2, r2, dr2, b_rho, g, jac, work):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def _general_force_jacobian(q, weight, rho2, r2, dr2, b_rho, b_theta, g, jac, work):
-    # As _general_force and its Jacobian in one pass, sharing the slopes and D.
+def general_force_jacobian(q, weight, rho2, r2, dr2, b_rho, b_theta, g, jac, work):
+    """:func:`general_force` into ``g`` and its Jacobian into ``jac`` in one pass, sharing
+    the slopes and ``D``; ``work`` is a ``(7, P)`` array."""
     K = q.size
     P = weight.size
     a, b, fa, fb, iaa, iab, ibb = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
