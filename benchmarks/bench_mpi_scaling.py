@@ -1,8 +1,9 @@
 """MPI scaling and memory of the sweep runner, measured side by side in one run.
 
-A sweep of the ``linear`` analysis (16 x 8 = 128 grid points of comparable cost: the
-converged Galerkin frequency of mode (1, 0)) runs on 1 and on 2 ranks, ``--repeats``
-times each, through ``mpiexec -n N python -m mpi4py -m sweep run``.  Printed:
+A sweep of the ``linear`` analysis (``--tasks`` grid points of comparable cost, 2048 by
+default: the converged Galerkin frequency of mode (1, 0), a few milliseconds each, so that
+the computation outweighs the start-up of the ranks) runs on 1 and on 2 ranks,
+``--repeats`` times each, through ``mpiexec -n N python -m mpi4py -m sweep run``.  Printed:
 
 * wall time of the whole command (start-up, compute, collect) and of the compute phase
   alone (as the runner reports it), median over the repeats, and the speed-ups (target
@@ -89,7 +90,7 @@ def memory(stderr: str) -> tuple[list[float], float]:
 
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--tasks", type=int, default=128,
+    parser.add_argument("--tasks", type=int, default=2048,
                         help="tasks of the timed sweep (a multiple of 8)")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--memory-sizes", default="64,512",
