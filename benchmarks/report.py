@@ -31,12 +31,22 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "docs" / "performance.md"
 #: A marker line and the fenced block after it.
-BLOCK = re.compile(r"(<!-- benchmark: (?P<command>[^\n]*?) -->\n)```text\n.*?```\n", re.S)
+BLOCK = re.compile(r"(<!-- benchmark: (?P<command>[^\n]*?) -->\n)```text\n.*?^```\n", re.S | re.M)
 
 
 def commands(text: str) -> list[str]:
-    """The commands of the marked blocks of ``text``, in page order."""
-    return [m.group("command") for m in BLOCK.finditer(text)]
+    """The commands of the marked blocks of ``text``, in page order.
+
+    Raises
+    ------
+    SystemExit
+        If a marker is not followed by a ``text`` block (the page would not be rewritten
+        there).
+    """
+    found = [m.group("command") for m in BLOCK.finditer(text)]
+    if len(found) != text.count("<!-- benchmark: "):
+        raise SystemExit(f"{PAGE}: a '<!-- benchmark: ... -->' marker is not directly followed by a ```text block")
+    return found
 
 
 def _run(command: str) -> str:
@@ -46,6 +56,8 @@ def _run(command: str) -> str:
     proc = subprocess.run(argv, cwd=ROOT, capture_output=True, text=True)
     if proc.returncode != 0:
         raise SystemExit(f"{command} failed (exit {proc.returncode}):\n{proc.stderr}")
+    if "```" in proc.stdout:
+        raise SystemExit(f"{command} printed a code fence (```), which would end its block early")
     return proc.stdout
 
 

@@ -45,7 +45,7 @@ def steps_per_period(rom: Rom, base: int) -> int:
     per period, so equal accuracy takes ``n = base (omega_max / omega_min)^(5/4)``
     (linear frequencies of the set, :func:`model.rom.linear_frequencies`), rounded up to a
     multiple of 8.  One mode: ``base``; modes (1..3, 0) at delta = 1.1, delta_o = 0.2
-    (frequency ratio 3.07): 64 -> 264 and 128 -> 520.
+    (frequency ratio 3.07): 64 -> 264 and 128 -> 528.
 
     Parameters
     ----------

@@ -335,11 +335,12 @@ def elastic_force(q, tab, out, work):
 def _project(q, basis, out):
     # out[p] = sum_k q[k] basis[k, p]: a slope of w at every quadrature point (inlined, so
     # it compiles with the caller's error model and vectorises there).
-    for p in range(out.size):
+    P = basis.shape[1]
+    for p in range(P):
         out[p] = q[0] * basis[0, p]
     for k in range(1, q.size):
         qk = q[k]
-        for p in range(out.size):
+        for p in range(P):
             out[p] += qk * basis[k, p]
 
 

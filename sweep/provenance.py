@@ -36,7 +36,8 @@ def source_files(analysis=None) -> list[Path]:
     lives elsewhere (an analysis registered through ``SWEEP_EXTRA_ANALYSES``)."""
     files = sorted([*(ROOT / "model").rglob("*.py"), *(ROOT / "sweep").rglob("*.py")])
     if analysis is not None:
-        extra = Path(inspect.getfile(type(analysis))).resolve()
+        # a mode-set sweep (sweep.analyses.mode_sets) wraps the analysis that matters
+        extra = Path(inspect.getfile(type(getattr(analysis, "inner", analysis)))).resolve()
         if extra not in files:
             files.append(extra)
     return files

@@ -124,7 +124,7 @@ def section_backbone_modes(results: Path) -> list[str]:
            "to the three-mode ROM, and the largest |A_20| and |A_30| along the branch relative to",
            "A_10 (the paper: A_20 and A_30 stay small against A_10).", ""]
     result = _open(results, "fig09-modes")
-    if result is None:
+    if result is None or "mode_set" not in result.dims or 3 not in result.n_modes.values:
         return out + _missing("fig09-modes")
     sets = {int(k): select(_point(result, delta=1.1, delta_o=0.2), label)
             for label, k in zip(result.mode_set.values, result.n_modes.values)}
@@ -294,7 +294,7 @@ def section_basins_modes(results: Path) -> list[str]:
            "coordinates start at zero; attractors by decreasing amplitude (0: resonant). Agreement:",
            "share of the lattice with the same label as the previous set, and as the one-mode set.", ""]
     ds = _open(results, "fig19a-basins-modes")
-    if ds is None:
+    if ds is None or "mode_set" not in ds.dims:
         return out + _missing("fig19a-basins-modes")
     ds = ds.isel({d: 0 for d in ("delta", "delta_o", "Omega", "P0", "c") if d in ds.dims})
     out += [f"Lattice {ds.sizes['ic_x']} x {ds.sizes['ic_y']}.", "",

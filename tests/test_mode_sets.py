@@ -41,6 +41,25 @@ ic_x = {{start = -0.3, stop = 0.3, num = 5}}
 ic_y = {{start = -10.0, stop = 10.0, num = 4}}
 """
 
+CONTINUATION_JOB = """
+[job]
+name = "{name}"
+analysis = "continuation"
+[grid]
+delta = 1.1
+delta_o = 0.2
+P0 = 1.0
+c = 0.05
+[continuation]
+parameter = "Omega"
+start = 30.0
+stop = 40.0
+ds_max = 0.5
+max_points = 60
+steps = 64
+modes = {modes}
+"""
+
 
 def _run(tmp_path, template, name, modes):
     job = tmp_path / f"{name}.toml"
@@ -64,6 +83,19 @@ def test_backbone_over_mode_sets_equals_the_sets_alone_and_pads(tmp_path):
     assert list(padded.m.values) == [1, INT_PAD]
     assert np.isnan(padded.modal_amplitude.isel(mode=1)).all()
     assert not np.isnan(padded.modal_amplitude.isel(mode=0)).any()
+
+
+def test_continuation_over_mode_sets_cuts_every_padded_dimension_back(tmp_path):
+    # multipliers (2K) are padded too, and point_family exists only for the mixed set
+    both = _run(tmp_path, CONTINUATION_JOB, "both", "[[[1, 0]], [[1, 0], [1, 1]]]")
+    assert list(both.multiplier_extent.values) == [2, 4] and list(both.mode_extent.values) == [1, 2]
+    assert both.point_family.attrs["absent_in_mode_sets"] == "(1,0)"
+    for name, modes, label in (("one", "[[1, 0]]", "(1,0)"), ("mixed", "[[1, 0], [1, 1]]", "(1,0)+(1,1)")):
+        alone = _run(tmp_path, CONTINUATION_JOB, name, modes)
+        part = select(both, label)
+        assert set(part.data_vars) == set(alone.data_vars)
+        for var in alone.data_vars:
+            xr.testing.assert_identical(part[var], alone[var])
 
 
 def test_basins_over_mode_sets_assemble_each_set_as_alone(tmp_path):
@@ -90,6 +122,7 @@ def test_figures_of_a_mode_set_result_are_drawn_set_by_set(tmp_path):
     ("[[[1, 0]], [[0, 0]]]", r"backbone.modes\[1\] = \[0, 0\] is invalid: each mode needs m >= 1"),
     ("[[[1, 0]], [[1, 0]]]", r"backbone.modes = .* is invalid: the mode sets must be distinct"),
     ("[[[1, 0]], [[1, 0], [1, 0]]]", r"backbone.modes\[1\] = .* is invalid: modes must be distinct"),
+    ("[[[1, 0]], [{n = 1, radial = 0}]]", r"backbone.modes\[1\].radial = 0 is invalid: must be >= 1"),
 ])
 def test_bad_mode_sets_name_the_set(modes, message):
     with pytest.raises(JobError, match=message):

@@ -139,7 +139,7 @@ class Basins(Analysis):
             ic_x=ic_x, ic_y=ic_y, method=method,
             tiles=min(max(opt.number(table, _SECTION, "tiles", 8, low=1, integer=True),
                           math.ceil(ic_x[2] * ic_y[2] / MAX_TILE_POINTS)), ic_x[2]),
-            steps=opt.steps(table, _SECTION, mb.DEFAULT_STEPS, low=8),
+            steps=opt.steps(table, _SECTION, mb.DEFAULT_STEPS, low=8, high=None),
             settings=settings,
             max_attractors=opt.number(table, _SECTION, "max_attractors", 6, low=1, high=1000,
                                       integer=True))

@@ -224,7 +224,7 @@ class ContinuationAnalysis(Analysis):
         "max_points": "length of the point dimension: most points on a branch (default 400)",
         "ds_max": "largest arclength step in scaled unknowns: the whole parameter range is 1, 0.05 m "
                   "of displacement is 1 (default 0.1)",
-        "steps": opt.steps_help(DEFAULT_STEPS),
+        "steps": opt.steps_help(DEFAULT_STEPS, "the modes of `modes`, not those of `families`"),
         "fold_curve": "{parameter, start, stop}: follow the first saddle-node in a second parameter "
                       "(c, or the forcing parameter not continued) through its cusps (default none)",
         "bifurcation_curves": "{parameter, start, stop}: follow every located point of the branch (folds, branch "

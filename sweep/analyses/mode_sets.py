@@ -9,8 +9,10 @@ gains a leading dimension ``mode_set`` whose coordinate is a readable label per 
 (``"(1,0)+(2,0)"``, in the order given) with the number of modes ``n_modes``.  Variables
 whose sizes depend on the set (along ``mode``, ``multiplier``, ``state``, ...) are padded
 to the largest set: floats with NaN, integers with their declared fill value (``-1`` for
-the mode coordinates ``m`` and ``n``, so a padded mode reads ``m = -1``).
-:func:`select` gives one set's part without its padding.
+the mode coordinates ``m`` and ``n``, so a padded mode reads ``m = -1``); the coordinate
+``<dim>_extent`` gives each set's own size of such a dimension.  A variable that some sets
+do not have holds its fill value there (attribute ``absent_in_mode_sets``).
+:func:`select` gives one set's part as a job of that set alone would.
 
 How it runs: :class:`ModeSetSweep` wraps the analysis.  The mode set is the slow part of
 the subtask index (subtask ``s * n + j`` is subtask ``j`` of set ``s``, ``n`` subtasks per
@@ -88,9 +90,9 @@ class ModeSetSweep(Analysis):
             try:
                 sets.append(self.inner.parse_options({**table, "modes": modes}, grid, membrane))
             except JobError as exc:
-                if exc.key == key:
-                    raise JobError(f"{key}[{i}]", exc.value, exc.allowed) from None
-                raise
+                if exc.key == key or exc.key.startswith(key + "."):
+                    raise JobError(f"{key}[{i}]{exc.key[len(key):]}", exc.value, exc.allowed) from None
+                raise JobError(exc.key, exc.value, f"{exc.allowed} (with mode set {key}[{i}])") from None
         labels = tuple(set_label(o.modes) for o in sets)
         if len(set(labels)) != len(labels):
             raise JobError(key, table["modes"], "the mode sets must be distinct")
@@ -152,8 +154,8 @@ class ModeSetSweep(Analysis):
         import xarray as xr
 
         n = options.n_inner
-        fills = {v.name: v.fill for v in self.variables(options)}
-        parts = []
+        union = self._declared(options)
+        parts, absent = [], {}
         for s, o in enumerate(options.sets):
             declared = self.inner.variables(o)
             sizes = {d: k for v in declared for d, k in zip(v.dims, v.shape)}
@@ -167,12 +169,30 @@ class ModeSetSweep(Analysis):
             part = part.set_coords([c for c in self.inner.coordinate_variables(o) if c in part])
             part = part.assign(self.inner.derived(part, o))
             parts.append(part)
-        parts = _padded(parts, fills)
+        # a variable that a set does not have (continuation's point_family without families)
+        # holds its fill value there, with its own type; the attribute names those sets
+        for s, part in enumerate(parts):
+            for name in set().union(*(p.data_vars for p in parts)) - set(part.data_vars):
+                v = next(p[name] for p in parts if name in p.data_vars)
+                sizes = dict(zip(v.dims, v.shape))
+                fill = union[name].fill if name in union else _fill(v.dtype, INT_PAD)
+                parts[s] = parts[s].assign({name: (v.dims, np.full(tuple(sizes[d] if d not in parts[s].sizes
+                                                                         else parts[s].sizes[d] for d in v.dims),
+                                                                   fill, v.dtype), v.attrs)})
+                absent.setdefault(name, []).append(options.labels[s])
+        sizes = [dict(p.sizes) for p in parts]
+        parts = _padded(parts, {name: v.fill for name, v in union.items()})
         index = pd.Index(list(options.labels), name="mode_set")
-        ds = xr.concat(parts, dim=index, data_vars="all", coords="different", compat="equals")
+        ds = xr.concat(parts, dim=index, data_vars="all", coords="all", compat="equals", join="exact")
         ds["mode_set"].attrs.update(long_name="Galerkin mode set: the (m,n) of its modes", units="1")
+        for name, labels in absent.items():
+            ds[name].attrs["absent_in_mode_sets"] = "; ".join(labels)
+        padded = {d for d in ds.dims if d != "mode_set" and len({z.get(d) for z in sizes}) > 1}
+        extents = {f"{d}_extent": ("mode_set", np.array([z.get(d, 0) for z in sizes], np.int32),
+                                   {"long_name": f"size of the dimension {d} in the set (the rest is padding)",
+                                    "units": "1"}) for d in sorted(padded)}
         return ds.assign_coords(n_modes=("mode_set", np.array([len(o.modes) for o in options.sets], np.int32),
-                                         {"long_name": "number of modes of the set", "units": "1"}))
+                                         {"long_name": "number of modes of the set", "units": "1"}), **extents)
 
     def figures(self, ds, outdir) -> list:
         paths = []
@@ -206,9 +226,7 @@ def _padded(parts: list, fills: Mapping[str, Any]) -> list:
         for name, var in p.variables.items():
             if not short & set(var.dims):
                 continue
-            kind = var.dtype.kind
-            fill = (np.nan if kind in "fc" else "" if kind in "OUS"
-                    else fills.get(name, INT_PAD) if kind in "iu" else False)
+            fill = fills.get(name, INT_PAD) if var.dtype.kind in "iu" else _fill(var.dtype, INT_PAD)
             data = np.full(tuple(sizes[d] for d in var.dims), fill, dtype=var.dtype)
             data[tuple(slice(0, k) for k in var.shape)] = var.values
             new[name] = (var.dims, data, var.attrs)
@@ -217,6 +235,12 @@ def _padded(parts: list, fills: Mapping[str, Any]) -> list:
         p = p.assign_coords({k: new[k] for k in coords}).assign_coords({d: index[d] for d in short if d in index})
         out.append(p)
     return out
+
+
+def _fill(dtype, integer):
+    """Padding of an array of ``dtype``: NaN, ``""``, ``integer`` or False."""
+    kind = np.dtype(dtype).kind
+    return np.nan if kind in "fc" else "" if kind in "OUS" else integer if kind in "iu" else False
 
 
 def select(ds, label: str):
@@ -232,11 +256,16 @@ def select(ds, label: str):
     Returns
     -------
     xarray.Dataset
-        ``ds.sel(mode_set=label)`` without the coordinates ``mode_set`` and ``n_modes`` and
-        without the padded entries of the ``mode`` dimension (``m = -1``): what a job of
-        that mode set alone gives.
+        ``ds.sel(mode_set=label)`` cut back to the set's own sizes (the ``<dim>_extent``
+        coordinates), without the variables the set does not have (attribute
+        ``absent_in_mode_sets``) and without the mode-set coordinates: what a job of that
+        mode set alone gives.
     """
-    one = ds.sel(mode_set=label).drop_vars(["mode_set", "n_modes"], errors="ignore")
-    if "m" in one.coords and "mode" in one["m"].dims:
-        one = one.isel(mode=np.flatnonzero(one["m"].values != INT_PAD))
+    one = ds.sel(mode_set=label)
+    extents = [c for c in one.coords if c.endswith("_extent") and c[:-len("_extent")] in one.dims]
+    one = one.isel({c[:-len("_extent")]: slice(0, int(one[c])) for c in extents})
+    absent = [v for v in one.data_vars if label in one[v].attrs.get("absent_in_mode_sets", "").split("; ")]
+    one = one.drop_vars(["mode_set", "n_modes", *extents, *absent], errors="ignore")
+    for v in one.data_vars:
+        one[v].attrs.pop("absent_in_mode_sets", None)
     return one

@@ -107,22 +107,24 @@ def modes(table, section: str, default=((1, 0),)) -> tuple[tuple[int, int], ...]
     return tuple(out)
 
 
-def steps(table, section: str, base: int, low: int) -> int | None:
-    """The ``steps`` option: RK4 steps per forcing period, an integer in ``[low, 4096]``, or
-    ``"auto"`` (the default, returned as None): :func:`model.forced.steps_per_period` of
-    the task's ROM with ``base`` (:func:`steps_for`)."""
+def steps(table, section: str, base: int, low: int, high: int | None = 4096) -> int | None:
+    """The ``steps`` option: RK4 steps per forcing period, an integer in ``[low, high]``
+    (``high`` None: no upper bound), or ``"auto"`` (the default, returned as None):
+    :func:`model.forced.steps_per_period` of the task's ROM with ``base`` (:func:`steps_for`)."""
     v = table.get("steps", "auto")
     if v == "auto":
         return None
-    if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= 4096:
-        raise JobError(f"{section}.steps", v, f'must be "auto" or an integer from {low} to 4096')
+    if isinstance(v, bool) or not isinstance(v, int) or v < low or (high is not None and v > high):
+        allowed = f"an integer from {low} to {high}" if high is not None else f"an integer >= {low}"
+        raise JobError(f"{section}.steps", v, f'must be "auto" or {allowed}')
     return v
 
 
-def steps_help(base: int) -> str:
-    """Description of the ``steps`` option (docs/options.md)."""
+def steps_help(base: int, which: str = "the set") -> str:
+    """Description of the ``steps`` option (docs/options.md); ``which`` names the modes whose
+    frequencies count."""
     return (f"RK4 steps per forcing period, or \"auto\" (default): {base} for one mode, for several "
-            f"{base} x (highest / lowest linear frequency of the set)^(5/4), rounded up to a multiple of 8 "
+            f"{base} x (highest / lowest linear frequency of {which})^(5/4), rounded up to a multiple of 8 "
             "(the fastest mode integrated as accurately as the slowest)")
 
 
