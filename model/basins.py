@@ -606,7 +606,8 @@ def _classify_kernel(states, labels, periods, cells, known, crit, tab, coef_t, f
                     continue
                 st[_SLOT_STATE] = cur[_AT_NEXT]
                 cur[_AT_NEXT] += 1
-                slots.y[b] = states[st[_SLOT_STATE]]
+                for i in range(n):  # element by element: no broadcast error path to compile
+                    slots.y[b, i] = states[st[_SLOT_STATE], i]
                 st[_SLOT_PERIODS] = 0
                 st[_SLOT_SEARCH] = 0
                 st[_SLOT_TRAIL] = 0
@@ -635,7 +636,8 @@ def _classify_kernel(states, labels, periods, cells, known, crit, tab, coef_t, f
             if slots.state[b, _SLOT_STATE] >= 0:
                 active += 1
                 nd = slots.state[b, _SLOT_PERIODS]
-                slots.ring[b, nd % kmax] = slots.y[b]
+                for i in range(n):
+                    slots.ring[b, nd % kmax, i] = slots.y[b, i]
         if active == 0:
             return 0
         if lockstep:

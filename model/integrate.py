@@ -178,7 +178,8 @@ def rk4_one_mode_lockstep(q, v, t0, h, steps, coef_t, q_max, k_force, load, c_da
         for b in range(B):
             q[b] += h / 6.0 * dq[b]
             v[b] += h / 6.0 * dv[b]
-    reach[:] = far
+    for b in range(B):  # element by element: an array assignment compiles a costly error path
+        reach[b] = far[b]
 
 
 @nb.njit(cache=True)
@@ -384,8 +385,8 @@ def monodromy_parameter(y0, t0, period, steps, tab, forcing, which):
     w = n + 1 if which != NO_PARAMETER else n
     m = n + n * w
     z = np.zeros(m)
-    z[:n] = y0
-    for i in range(n):
+    for i in range(n):  # element by element: an array assignment compiles a costly error path
+        z[i] = y0[i]
         z[n + i * w + i] = 1.0
     k1 = np.empty(m)
     k2 = np.empty(m)
@@ -400,9 +401,15 @@ def monodromy_parameter(y0, t0, period, steps, tab, forcing, which):
     arrays = (tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta, tab.axisymmetric, tab.k_force, tab.load,
               forcing.damping_rate, forcing.P0, forcing.Omega)
     _monodromy_quadrature(z, n, t, h, steps, *arrays, which, g, jac, work, k1, k2, k3, k4, tmp)
-    v = z[n:].reshape(n, w)
-    dparam = v[:, n].copy() if which != NO_PARAMETER else np.zeros(n)
-    return z[:n].copy(), np.ascontiguousarray(v[:, :n]), dparam
+    # V row by row (no reshape: its error path alone costs seconds of compilation)
+    phi = np.empty((n, n))
+    dparam = np.zeros(n)
+    for i in range(n):
+        for j in range(n):
+            phi[i, j] = z[n + i * w + j]
+        if which != NO_PARAMETER:
+            dparam[i] = z[n + i * w + n]
+    return z[:n].copy(), phi, dparam
 
 
 @nb.njit(cache=True)

@@ -400,8 +400,9 @@ def _slopes(q, tab, p):
 def force_jacobian(q, tab, out):
     """``out[k, l] = d g_k / d q_l`` in closed form (the Hessian of U).
 
-    For the hot loops use :func:`force_and_jacobian`, which takes its work space from the
-    caller; this one allocates it.
+    It allocates its work space; :func:`force_and_jacobian` takes the caller's, and the
+    variational equations (:mod:`model.integrate`) call the quadrature kernels
+    :func:`axisymmetric_force_jacobian` / :func:`general_force_jacobian` directly.
     """
     force_and_jacobian(q, tab, np.empty(q.size), out, np.empty((7, tab.weight.size)))
 
