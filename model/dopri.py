@@ -29,7 +29,7 @@ import numba as nb
 import numpy as np
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
-from .rom import Forcing, Rom, rhs
+from .rom import Forcing, Rom, rhs_unpacked, unpack
 
 _NS = _dop.N_STAGES
 
@@ -54,7 +54,7 @@ MAX_STEPS = 50_000_000
 
 
 @nb.njit(cache=True)
-def _step(t, y, f0, h, tab, forcing, coef, kst, tmp, g, y_new, f_new, rtol, atol):
+def _step(t, y, f0, h, model, coef, kst, tmp, g, y_new, f_new, rtol, atol):
     """One DOP853 step of size ``h`` from ``(t, y)`` with ``f0 = F(t, y)``.
 
     Fills ``y_new``, ``f_new = F(t + h, y_new)`` and returns the scaled error norm
@@ -70,13 +70,13 @@ def _step(t, y, f0, h, tab, forcing, coef, kst, tmp, g, y_new, f_new, rtol, atol
             for j in range(s):
                 acc += A[s, j] * kst[j, i]
             tmp[i] = y[i] + h * acc
-        rhs(t + C[s] * h, tmp, tab, forcing, g[0, :n // 2], g[1:], kst[s])
+        rhs_unpacked(t + C[s] * h, tmp, model, g[0, :n // 2], g[1:], kst[s])
     for i in range(n):
         acc = 0.0
         for j in range(_NS):
             acc += B[j] * kst[j, i]
         y_new[i] = y[i] + h * acc
-    rhs(t + h, y_new, tab, forcing, g[0, :n // 2], g[1:], f_new)
+    rhs_unpacked(t + h, y_new, model, g[0, :n // 2], g[1:], f_new)
     for i in range(n):
         kst[_NS, i] = f_new[i]
     e5 = 0.0
@@ -129,11 +129,11 @@ def _workspace(n, points):
 @nb.njit(cache=True)
 def _start(i, y, y0, t0, tab, c_damp, p_load, omega, g, f, rtol, atol):
     # Load trajectory i's initial state and forcing, evaluate F there; returns the
-    # trajectory's Forcing and its first step size.
-    forcing = Forcing(c_damp[i], p_load[i], omega[i])
+    # trajectory's model (model.rom.unpack: the tables and its forcing) and its first step size.
+    model = unpack(tab, Forcing(c_damp[i], p_load[i], omega[i]))
     y[:] = y0[i]
-    rhs(t0, y, tab, forcing, g[0, :y.size // 2], g[1:], f)
-    return forcing, _initial_step(y, f, rtol, atol)
+    rhs_unpacked(t0, y, model, g[0, :y.size // 2], g[1:], f)
+    return model, _initial_step(y, f, rtol, atol)
 
 
 @nb.njit(cache=True)
@@ -142,14 +142,14 @@ def _solve_kernel(y0, t0, t_eval, tab, c_damp, p_load, omega, rtol, atol, coef, 
     kst, tmp, g, y, f, y_new, f_new = _workspace(n, tab.weight.size)
     for i in range(N):
         t = t0
-        forcing, h = _start(i, y, y0, t0, tab, c_damp, p_load, omega, g, f, rtol, atol)
+        model, h = _start(i, y, y0, t0, tab, c_damp, p_load, omega, g, f, rtol, atol)
         evals = 1
         attempts = 0
         for j in range(t_eval.size):
             while t < t_eval[j] and attempts < max_steps:
                 clipped = t + h >= t_eval[j]
                 hs = t_eval[j] - t if clipped else h
-                err = _step(t, y, f, hs, tab, forcing, coef, kst, tmp, g, y_new, f_new, rtol, atol)
+                err = _step(t, y, f, hs, model, coef, kst, tmp, g, y_new, f_new, rtol, atol)
                 evals += _NS
                 attempts += 1
                 if err <= 1.0:
@@ -187,14 +187,14 @@ def _extrema_kernel(y0, t0, t_end, w_stop, tab, c_damp, p_load, omega, rtol, ato
     f_s = np.empty(n)
     for i in range(N):
         t = t0
-        forcing, h = _start(i, y, y0, t0, tab, c_damp, p_load, omega, g, f, rtol, atol)
+        model, h = _start(i, y, y0, t0, tab, c_damp, p_load, omega, g, f, rtol, atol)
         evals = 1
         found = 0
         attempts = 0
         v_old = _probe_rate(y, probe)
         while t < t_end and found < cap and attempts < max_steps:
             hs = min(h, t_end - t)
-            err = _step(t, y, f, hs, tab, forcing, coef, kst, tmp, g, y_new, f_new, rtol, atol)
+            err = _step(t, y, f, hs, model, coef, kst, tmp, g, y_new, f_new, rtol, atol)
             evals += _NS
             attempts += 1
             if err > 1.0:
@@ -210,7 +210,7 @@ def _extrema_kernel(y0, t0, t_end, w_stop, tab, c_damp, p_load, omega, rtol, ato
                     s = (a * fb - b * fa) / (fb - fa)
                     if not (a < s < b):
                         s = 0.5 * (a + b)
-                    _step(t, y, f, s, tab, forcing, coef, kst, tmp, g, y_s, f_s, rtol, atol)
+                    _step(t, y, f, s, model, coef, kst, tmp, g, y_s, f_s, rtol, atol)
                     evals += _NS
                     fs = _probe_rate(y_s, probe)
                     if fs == 0.0 or b - a <= 4e-16 * (abs(t) + hs):

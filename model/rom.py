@@ -522,13 +522,36 @@ def rhs(t, y, tab, forcing, g, work, out):
     out : (2K,) array
         Receives ``y'``.
     """
+    rhs_unpacked(t, y, unpack(tab, forcing), g, work, out)
+
+
+@nb.njit(cache=True)
+def unpack(tab, forcing):
+    """The arrays of ``tab`` and the numbers of ``forcing`` as the plain tuple
+    :func:`rhs_unpacked` takes: ``(table_max, stiffness_table, weight, rho2, r2, dr2, b_rho,
+    b_theta, axisymmetric, k_force, load, damping_rate, P0, Omega)``."""
+    return (tab.table_max, tab.stiffness_table, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta,
+            tab.axisymmetric, tab.k_force, tab.load, forcing.damping_rate, forcing.P0, forcing.Omega)
+
+
+@nb.njit(cache=True, inline="always")
+def rhs_unpacked(t, y, model, g, work, out):
+    """:func:`rhs` on the tuple of :func:`unpack`, for kernels that evaluate it at every
+    stage: made once per integration, it spares handing the records down at every call,
+    which costs about as much as the force itself."""
+    (table_max, stiffness_table, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load,
+     c_damp, p_load, omega) = model
     K = g.size
-    elastic_force(y[:K], tab, g, work)
-    pt = forcing.P0 * np.cos(forcing.Omega * t)
-    c_damp = forcing.damping_rate
+    if table_max > 0.0 and abs(y[0]) < table_max:
+        g[0] = y[0] * table_eval(stiffness_table, table_max, abs(y[0]))
+    elif axisymmetric:
+        axisymmetric_force(y[:K], weight, rho2, r2, dr2, b_rho, g, work[0])
+    else:
+        general_force(y[:K], weight, rho2, r2, dr2, b_rho, b_theta, g, work[0], work[1])
+    pt = p_load * np.cos(omega * t)
     for k in range(K):
         out[k] = y[K + k]
-        out[K + k] = -c_damp * y[K + k] - tab.k_force[k] * g[k] + pt * tab.load[k]
+        out[K + k] = -c_damp * y[K + k] - k_force[k] * g[k] + pt * load[k]
 
 
 def linear_frequencies(rom: Rom) -> tuple[np.ndarray, np.ndarray]:
