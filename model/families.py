@@ -38,7 +38,7 @@ from .linear import gauss_radial
 from .modes import bessel_roots, mode_shape
 from .prestretch import Prestretch
 from .integrate import _rk4_one_mode
-from .rom import Rom, piecewise_chebyshev, rhs
+from .rom import Rom, piecewise_chebyshev, rhs_unpacked, unpack
 
 
 class FamilyTables(NamedTuple):
@@ -263,6 +263,7 @@ def _stage_coordinates(y0, t0, h, steps, tab, forcing, out):
     k = np.empty((4, n))
     g = np.empty(K)
     fw = np.empty((2, tab.weight.size))
+    model = unpack(tab, forcing)
     for i in range(steps):
         t = t0 + i * h
         for s in range(4):
@@ -271,7 +272,7 @@ def _stage_coordinates(y0, t0, h, steps, tab, forcing, out):
                 ys[a] = y[a] + f * k[s - 1, a] if s > 0 else y[a]
             for a in range(K):
                 out[i, s, a] = ys[a]
-            rhs(t + f, ys, tab, forcing, g, fw, k[s])
+            rhs_unpacked(t + f, ys, model, g, fw, k[s])
         for a in range(n):
             y[a] += h / 6.0 * (k[0, a] + 2.0 * k[1, a] + 2.0 * k[2, a] + k[3, a])
 
