@@ -24,7 +24,6 @@ is printed).  Run: ``python benchmarks/bench_rk4.py [--repeats 7] [--smoke]``.
 from __future__ import annotations
 
 import argparse
-import os
 import shutil
 import statistics
 import subprocess
@@ -37,6 +36,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from benchmarks.c_reference import compile_reference  # noqa: E402
 from model.forced import ForcedMap  # noqa: E402
 from model.integrate import LOCKSTEP_WIDTH, lockstep_table, rk4_one_mode_lockstep  # noqa: E402
 from model.params import Loading, Membrane  # noqa: E402
@@ -44,24 +44,6 @@ from model.prestretch import solve_prestretch  # noqa: E402
 from model.rom import build_rom  # noqa: E402
 
 STEPS = 64
-SOURCE = Path(__file__).resolve().parent / "c" / "rk4_one_mode.c"
-
-
-def compile_reference(workdir: Path) -> Path | None:
-    """The C reference, compiled with ``-O3 -march=native``; None (and a message) without a compiler."""
-    cc = os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc")
-    if cc is None:
-        print("C reference skipped: no C compiler (cc, gcc or $CC) found")
-        return None
-    exe = workdir / "rk4_one_mode"
-    proc = subprocess.run([cc, "-O3", "-march=native", "-o", str(exe), str(SOURCE), "-lm"],
-                          capture_output=True, text=True)
-    if proc.returncode:
-        print(f"C reference skipped: {cc} failed:\n{proc.stderr}")
-        return None
-    return exe
-
-
 def numpy_lockstep(states, fmap, coef_t, periods):
     """RK4 on whole arrays in numpy: the vectorised implementation a user would write."""
     tab, f = fmap.rom.tables, fmap.forcing
@@ -128,7 +110,7 @@ def main(argv=None) -> None:
     rng = np.random.default_rng(0)
     states = np.column_stack([rng.uniform(-0.3, 0.3, args.trajectories), rng.uniform(-10.0, 10.0, args.trajectories)])
     work = Path(tempfile.mkdtemp())
-    exe = compile_reference(work)
+    exe = compile_reference("rk4_one_mode", work)
     n_steps = args.trajectories * args.periods * STEPS
 
     def c_variant(mode):

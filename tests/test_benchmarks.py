@@ -45,16 +45,32 @@ def test_linear():
     assert re.search(r"scipy jv/yv for the same: [0-9.]+ ms, ratio [0-9.]+", out)
 
 
+def _rows(out: str, unit: str) -> list[tuple[str, str, str]]:
+    """``(variant, time, relative difference)`` of the variant lines of a kernel benchmark."""
+    return re.findall(rf"^  (.+?)\s+([0-9.]+) {unit} .*: ([0-9.e+-]+) relative", out, re.M)
+
+
 def test_rk4():
     """Every variant (numba, numpy and, with a compiler, the C reference) ends on the same
     states as the scalar numba loop (same algorithm: rounding only, 1e-9 relative is far
     above it and far below any algorithmic difference)."""
     out = smoke("bench_rk4")
-    rows = re.findall(r"^  (.+?)\s+([0-9.]+) ns per trajectory and step .*: ([0-9.e+-]+) relative", out, re.M)
+    rows = _rows(out, "ns per trajectory and step")
     names = {name for name, _, _ in rows}
     assert {"numba scalar", "numba lock-step", "numpy lock-step"} <= names
     assert ("C lock-step" in names) != ("C reference skipped" in out)
     assert all(float(err) < 1e-9 for _, _, err in rows)
+
+
+def test_force():
+    """Three-mode force and force + Jacobian: numba, numpy and (with a compiler) the C
+    program of the same algorithm agree to rounding (1e-12 relative is far above it)."""
+    out = smoke("bench_force")
+    rows = _rows(out, "ns per call")
+    names = {name for name, _, _ in rows}
+    assert {"numba force", "numba force + Jacobian", "numpy force + Jacobian"} <= names
+    assert ("C force + Jacobian" in names) != ("C reference skipped" in out)
+    assert all(float(err) < 1e-12 for _, _, err in rows)
 
 
 def test_integrators():

@@ -17,20 +17,9 @@
 #include <stdlib.h>
 #include <time.h>
 
-#define NCOEF 8
+#include "read_doubles.h"
 
-static double *read_doubles(const char *path, long *count) {
-    FILE *f = fopen(path, "rb");
-    if (!f) { perror(path); exit(2); }
-    fseek(f, 0, SEEK_END);
-    long bytes = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    double *data = malloc(bytes);
-    if (fread(data, 1, bytes, f) != (size_t)bytes) { perror(path); exit(2); }
-    fclose(f);
-    *count = bytes / (long)sizeof(double);
-    return data;
-}
+#define NCOEF 8
 
 static inline double table_row(const double *coef, int pieces, double q_max, double x) {
     double width = q_max / pieces;
