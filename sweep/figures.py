@@ -680,6 +680,54 @@ def backbone_figures(ds, outdir) -> list:
     return paths
 
 
+def mode_set_figures(ds, outdir, analysis: str) -> list:
+    """The mode sets of a result over ``mode_set`` on one figure, per grid point: backbones
+    (Fig. 9 as the paper draws it), continued branches, or basin fractions; none for the
+    other analyses (each set's own figures are drawn too, see
+    :class:`sweep.analyses.mode_sets.ModeSetSweep`)."""
+    from sweep.analyses.mode_sets import select
+
+    plt = pyplot()
+    sets = [str(label) for label in ds.mode_set.values]
+    sels = list(grid_points(ds, ()))
+    if analysis == "backbone":
+        fig, ax = plt.subplots(figsize=(5.5, 4.2))
+        for sel in sels:
+            for label in sets:
+                one = select(ds, label).sel(sel)
+                ax.plot(one.omega_nl, one.amplitude, lw=1.5,
+                        label=label + (f", {point_label(sel)}" if len(sels) > 1 else ""))
+        ax.set(xlabel=r"frequency $\omega$ (rad/s)", ylabel=r"amplitude max $|w(0.5, 0)|$ (m)",
+               title="Backbone by mode set", ylim=(0, None))
+        ax.legend()
+        return [save_figure(fig, outdir, "backbone_mode_sets.png")]
+    if analysis == "continuation":
+        par = ds.attrs.get("continued_parameter", "Omega")
+        fig, ax = plt.subplots(figsize=(5.5, 4.2))
+        for sel in sels:
+            for label in sets:
+                one = select(ds, label).sel(sel)
+                ax.plot(one[par], one.amplitude, lw=1.3,
+                        label=label + (f", {point_label(sel)}" if len(sels) > 1 else ""))
+        ax.set(xlabel=f"{par} ({ds[par].attrs.get('units', '')})", ylabel=r"amplitude max $|w(0.5, 0)|$ (m)",
+               title="Periodic responses by mode set")
+        ax.legend()
+        return [save_figure(fig, outdir, f"branch_{par}_mode_sets.png")]
+    if analysis == "basins":
+        fig, ax = plt.subplots(figsize=(5.5, 4.2))
+        width = 0.8 / max(len(sels), 1)
+        for j, sel in enumerate(sels):
+            fractions = [float(select(ds, label).sel(sel).basin_fraction.isel(attractor=0)) for label in sets]
+            ax.bar(np.arange(len(sets)) + j * width, fractions, width,
+                   label=point_label(sel) if len(sels) > 1 else None)
+        ax.set_xticks(np.arange(len(sets)) + 0.4 - width / 2, sets, rotation=20)
+        ax.set(ylabel="basin fraction of attractor 0", title="Largest-amplitude basin by mode set", ylim=(0, 1))
+        if len(sels) > 1:
+            ax.legend()
+        return [save_figure(fig, outdir, "basin_fraction_mode_sets.png")]
+    return []
+
+
 def basins_figures(ds, outdir) -> list:
     """Basins of attraction (Fig. 19), one figure per grid point, and, over one swept grid
     key, the erosion profile of the integrity measures."""

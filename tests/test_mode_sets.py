@@ -96,6 +96,8 @@ def test_continuation_over_mode_sets_cuts_every_padded_dimension_back(tmp_path):
         assert set(part.data_vars) == set(alone.data_vars)
         for var in alone.data_vars:
             xr.testing.assert_identical(part[var], alone[var])
+    made = figures.make(get("continuation"), both)
+    assert len(made["branch_Omega_mode_sets"].axes[0].lines) == 2
 
 
 def test_basins_over_mode_sets_assemble_each_set_as_alone(tmp_path):
@@ -107,15 +109,18 @@ def test_basins_over_mode_sets_assemble_each_set_as_alone(tmp_path):
             # equal values and coordinates; the lattice's long_name names the first set's mode
             xr.testing.assert_equal(part[var], alone[var])
             assert str(part[var].attrs) == str(alone[var].attrs)
+    made = figures.make(get("basins"), both)
+    assert len(made["basin_fraction_mode_sets"].axes[0].patches) == 2
 
 
 def test_figures_of_a_mode_set_result_are_drawn_set_by_set(tmp_path):
     both = _run(tmp_path, BACKBONE_JOB, "both", "[[[1, 0]], [[1, 0], [2, 0]]]")
     made = figures.make(get("backbone"), both)
-    assert sorted(made) == ["modes_1_0-2_0/backbone", "modes_1_0-2_0/modal_amplitudes",
+    assert sorted(made) == ["backbone_mode_sets", "modes_1_0-2_0/backbone", "modes_1_0-2_0/modal_amplitudes",
                             "modes_1_0/backbone", "modes_1_0/modal_amplitudes"]
+    assert len(made["backbone_mode_sets"].axes[0].lines) == 4   # one backbone per set and delta
     paths = figures.draw(get("backbone"), both, tmp_path / "fig")
-    assert {p.parent.name for p in paths} == {"modes_1_0", "modes_1_0-2_0"}
+    assert {p.parent.name for p in paths} == {"fig", "modes_1_0", "modes_1_0-2_0"}
 
 
 @pytest.mark.parametrize("modes,message", [

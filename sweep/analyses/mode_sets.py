@@ -196,9 +196,11 @@ class ModeSetSweep(Analysis):
 
     def figures(self, ds, outdir) -> list:
         paths = []
+        from sweep.figures import mode_set_figures
+
         for label in ds["mode_set"].values:
             paths += self.inner.figures(select(ds, str(label)), outdir / _slug(str(label)))
-        return paths
+        return paths + mode_set_figures(ds, outdir, self.name)
 
 
 def _slug(label: str) -> str:
