@@ -61,6 +61,14 @@ modes = {modes}
 """
 
 
+def _close(made):
+    """Close the figures that figures.make handed back."""
+    import matplotlib.pyplot as plt
+
+    for fig in made.values():
+        plt.close(fig)
+
+
 def _run(tmp_path, template, name, modes):
     job = tmp_path / f"{name}.toml"
     job.write_text(template.format(name=name, modes=modes))
@@ -98,6 +106,7 @@ def test_continuation_over_mode_sets_cuts_every_padded_dimension_back(tmp_path):
             xr.testing.assert_identical(part[var], alone[var])
     made = figures.make(get("continuation"), both)
     assert len(made["branch_Omega_mode_sets"].axes[0].lines) == 2
+    _close(made)
 
 
 def test_basins_over_mode_sets_assemble_each_set_as_alone(tmp_path):
@@ -111,6 +120,7 @@ def test_basins_over_mode_sets_assemble_each_set_as_alone(tmp_path):
             assert str(part[var].attrs) == str(alone[var].attrs)
     made = figures.make(get("basins"), both)
     assert len(made["basin_fraction_mode_sets"].axes[0].patches) == 2
+    _close(made)
 
 
 def test_figures_of_a_mode_set_result_are_drawn_set_by_set(tmp_path):
@@ -119,6 +129,7 @@ def test_figures_of_a_mode_set_result_are_drawn_set_by_set(tmp_path):
     assert sorted(made) == ["backbone_mode_sets", "modes_1_0-2_0/backbone", "modes_1_0-2_0/modal_amplitudes",
                             "modes_1_0/backbone", "modes_1_0/modal_amplitudes"]
     assert len(made["backbone_mode_sets"].axes[0].lines) == 4   # one backbone per set and delta
+    _close(made)
     paths = figures.draw(get("backbone"), both, tmp_path / "fig")
     assert {p.parent.name for p in paths} == {"fig", "modes_1_0", "modes_1_0-2_0"}
 
