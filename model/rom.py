@@ -318,12 +318,20 @@ def elastic_force(q, tab, out, work):
     table (:func:`_force_table`) within its range, every other case the quadrature
     (:func:`axisymmetric_force`, :func:`general_force`).
     """
-    if tab.table_max > 0.0 and abs(q[0]) < tab.table_max:
-        out[0] = q[0] * table_eval(tab.stiffness_table, tab.table_max, abs(q[0]))
-    elif tab.axisymmetric:
-        axisymmetric_force(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, out, work[0])
+    _force(q, tab.table_max, tab.stiffness_table, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta,
+           tab.axisymmetric, out, work)
+
+
+@nb.njit(cache=True, inline="always")
+def _force(q, table_max, stiffness_table, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, out, work):
+    # The force from the tables' arrays: the one-mode table within its range, else the
+    # quadrature kernel of the case (inlined into elastic_force and rhs_unpacked).
+    if table_max > 0.0 and abs(q[0]) < table_max:
+        out[0] = q[0] * table_eval(stiffness_table, table_max, abs(q[0]))
+    elif axisymmetric:
+        axisymmetric_force(q, weight, rho2, r2, dr2, b_rho, out, work[0])
     else:
-        general_force(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta, out, work[0], work[1])
+        general_force(q, weight, rho2, r2, dr2, b_rho, b_theta, out, work[0], work[1])
 
 
 # The quadrature kernels run over the quadrature points innermost so that the loops
@@ -542,12 +550,7 @@ def rhs_unpacked(t, y, model, g, work, out):
     (table_max, stiffness_table, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load,
      c_damp, p_load, omega) = model
     K = g.size
-    if table_max > 0.0 and abs(y[0]) < table_max:
-        g[0] = y[0] * table_eval(stiffness_table, table_max, abs(y[0]))
-    elif axisymmetric:
-        axisymmetric_force(y[:K], weight, rho2, r2, dr2, b_rho, g, work[0])
-    else:
-        general_force(y[:K], weight, rho2, r2, dr2, b_rho, b_theta, g, work[0], work[1])
+    _force(y[:K], table_max, stiffness_table, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, g, work)
     pt = p_load * np.cos(omega * t)
     for k in range(K):
         out[k] = y[K + k]

@@ -171,14 +171,13 @@ class ModeSetSweep(Analysis):
             parts.append(part)
         # a variable that a set does not have (continuation's point_family without families)
         # holds its fill value there, with its own type; the attribute names those sets
+        names = set().union(*(p.data_vars for p in parts))
         for s, part in enumerate(parts):
-            for name in set().union(*(p.data_vars for p in parts)) - set(part.data_vars):
+            for name in names - set(part.data_vars):
                 v = next(p[name] for p in parts if name in p.data_vars)
-                sizes = dict(zip(v.dims, v.shape))
+                shape = tuple(part.sizes.get(d, size) for d, size in zip(v.dims, v.shape))
                 fill = union[name].fill if name in union else _fill(v.dtype, INT_PAD)
-                parts[s] = parts[s].assign({name: (v.dims, np.full(tuple(sizes[d] if d not in parts[s].sizes
-                                                                         else parts[s].sizes[d] for d in v.dims),
-                                                                   fill, v.dtype), v.attrs)})
+                parts[s] = parts[s].assign({name: (v.dims, np.full(shape, fill, v.dtype), v.attrs)})
                 absent.setdefault(name, []).append(options.labels[s])
         sizes = [dict(p.sizes) for p in parts]
         parts = _padded(parts, {name: v.fill for name, v in union.items()})
