@@ -18,6 +18,11 @@ Printed:
   and for an ``--memory-size`` lattice (800); the latter with ``max_periods`` capped at
   ``--memory-periods`` (memory only: the labels are then mostly -1).
 
+With ``--modes K`` (K > 1) the ROM has the axisymmetric modes (1..K, 0) (the lattice on
+mode (1, 0), steps per period from the mode set, ``steps = "auto"``), and only (a) on 2
+ranks (cold) and (c) run; brute force then uses twice the set's steps (264 and 528 steps
+agree on 200 of 200 random points of the 3-mode lattice).
+
 Run from the repository root:  ``python benchmarks/bench_basins.py``; ``--smoke`` (the test
 suite): a 10 x 10 lattice, one repeat, 20 brute-force points, a 12 x 12 memory run of 5 periods.
 Other processes on the machine distort the timings: the load average is printed too.
@@ -41,7 +46,7 @@ import xarray as xr
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from model import basins as mb  # noqa: E402
-from model.forced import ForcedMap  # noqa: E402
+from model.forced import ForcedMap, steps_per_period  # noqa: E402
 from model.params import Loading, Membrane  # noqa: E402
 from model.prestretch import solve_prestretch  # noqa: E402
 from model.rom import build_rom  # noqa: E402
@@ -64,7 +69,7 @@ P0 = 1.0
 c = 0.05
 
 [basins]
-modes = [[1, 0]]
+modes = {modes}
 ic_x = {{start = -0.3, stop = 0.3, num = {n}}}
 ic_y = {{start = -10.0, stop = 10.0, num = {n}}}
 {extra}
@@ -101,7 +106,7 @@ def labels(path: Path) -> np.ndarray:
         return ds["label"].squeeze().values.copy()
 
 
-def agreement(path: Path, samples: int) -> None:
+def agreement(path: Path, samples: int, K: int) -> None:
     """(c): labels of ``path`` versus converged brute force on ``samples`` random points."""
     with xr.open_dataset(path) as ds:
         ds = ds.isel({d: 0 for d in CASE})  # the one grid point; the mode dimension stays
@@ -109,25 +114,27 @@ def agreement(path: Path, samples: int) -> None:
         x, y = ds["ic_x"].values, ds["ic_y"].values
         per = ds["attractor_period"].values
         pts = np.concatenate([ds["attractor_coordinate"].values, ds["attractor_velocity"].values], axis=-1)
+        steps = int(ds["rk4_steps"])
     rom = build_rom(solve_prestretch(Membrane(CASE["delta"], CASE["delta_o"]), "numeric"),
-                    [(1, 0)])
-    fmap = ForcedMap.from_loading(rom, Loading(CASE["Omega"], CASE["P0"], CASE["c"]), BRUTE_STEPS)
-    lattice = mb.Lattice(x, y)
-    scale = mb.lattice_scale(lattice, 2)
+                    [(m, 0) for m in range(1, K + 1)])
+    brute_steps = BRUTE_STEPS if K == 1 else 2 * steps
+    fmap = ForcedMap.from_loading(rom, Loading(CASE["Omega"], CASE["P0"], CASE["c"]), brute_steps)
+    lattice = mb.Lattice(x, y, 0, K)
+    scale = mb.lattice_scale(lattice, 2 * K)
     # The attractors again, at the brute-force step count (Newton from the stored points).
     atts = [mb.find_periodic_orbit(pts[a, 0], int(per[a]), fmap, scale, 1e-11)
             for a in range(per.size) if per[a] > 0]
     rng = np.random.default_rng(0)
     idx = rng.choice(lab.size, samples, replace=False)
     ii, jj = np.unravel_index(idx, lab.shape)
-    states = np.zeros((samples, 2))
-    states[:, 0], states[:, 1] = x[ii], y[jj]
+    states = np.zeros((samples, 2 * K))
+    states[:, 0], states[:, K] = x[ii], y[jj]
     start = time.perf_counter()
     brute, _, periods = mb.classify_lattice(states, lattice, fmap, mb.Settings(), atts, use_cells=False,
                                             discover=False)
     seconds = time.perf_counter() - start
     same = brute == lab[ii, jj]
-    print(f"(c) brute force at {BRUTE_STEPS} steps/period: {seconds:.1f} s for {samples} points, "
+    print(f"(c) brute force at {brute_steps} steps/period (fast: {steps}): {seconds:.1f} s for {samples} points, "
           f"mean {periods.mean():.0f} periods, unclassified {np.count_nonzero(brute < 0)}")
     for n in sorted({min(400, samples), samples}):
         print(f"    agreement on {n} random points: {same[:n].mean():.4f} "
@@ -145,16 +152,22 @@ def main(argv=None) -> None:
     parser.add_argument("--memory-size", type=int, default=800)
     parser.add_argument("--memory-periods", type=int, default=0,
                         help="max_periods of the memory run (0: the default, a full run)")
+    parser.add_argument("--modes", type=int, default=1,
+                        help="axisymmetric modes (1..K, 0); K > 1: (a) on 2 ranks and (c) only")
+    parser.add_argument("--tiles", type=int, default=0, help="the job's tiles (0: its default)")
     parser.add_argument("--smoke", action="store_true", help="tiny run for the test suite")
     args = parser.parse_args(argv)
     if args.smoke:
         args.size, args.repeats, args.samples, args.memory_size, args.memory_periods = 10, 1, 20, 12, 5
+    if args.modes > 1:
+        several_modes(args)
+        return
 
     print(f"load average before: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         job = work / "fig19a.toml"
-        job.write_text(JOB.format(n=args.size, extra=""))
+        job.write_text(JOB.format(n=args.size, modes="[[1, 0]]", extra=""))
         runs = {2: [], 1: []}
         arrays = []
         for r in range(args.repeats):
@@ -179,13 +192,13 @@ def main(argv=None) -> None:
         print(f"    speed-up 2 ranks / 1 rank: wall {ratio[0]:.2f}, compute {ratio[1]:.2f}")
         identical = all(np.array_equal(arrays[0], a) for a in arrays[1:])
         print(f"    label arrays of all {len(arrays)} runs (1 and 2 ranks) identical: {identical}")
-        agreement(work / "out-2-0.nc", args.samples)
+        agreement(work / "out-2-0.nc", args.samples, 1)
         print(f"(d) {args.size} x {args.size}: peak RSS per rank after compute "
               f"{', '.join(f'{m:.1f}' for m in runs[2][0][2][:-1])} MiB, rank 0 after collect "
               f"{runs[2][0][2][-1]:.1f} MiB")
         big = work / "big.toml"
         extra = f"max_periods = {args.memory_periods}" if args.memory_periods else ""
-        big.write_text(JOB.format(n=args.memory_size, extra=extra))
+        big.write_text(JOB.format(n=args.memory_size, modes="[[1, 0]]", extra=extra))
         wall, compute, rss, _ = sweep(big, 2, work / "big.nc", work / "cache-2-0")
         note = (f"max_periods = {args.memory_periods}, memory only"
                 if args.memory_periods else "full run")
@@ -193,6 +206,29 @@ def main(argv=None) -> None:
               f"RSS per rank after compute {', '.join(f'{m:.1f}' for m in rss[:-1])} MiB, "
               f"rank 0 after collect {rss[-1]:.1f} MiB; unclassified "
               f"{np.mean(labels(work / 'big.nc') < 0):.3f}")
+    print(f"load average after: {os.getloadavg()[0]:.2f}")
+
+
+def several_modes(args) -> None:
+    """(a) on 2 ranks, cold, and (c) for the modes (1..K, 0)."""
+    K = args.modes
+    rom = build_rom(solve_prestretch(Membrane(CASE["delta"], CASE["delta_o"]), "numeric"),
+                    [(m, 0) for m in range(1, K + 1)])
+    print(f"load average before: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    print(f"modes (1..{K}, 0): {steps_per_period(rom, mb.DEFAULT_STEPS)} RK4 steps per period")
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(tmp)
+        job = work / "fig19a.toml"
+        modes = "[" + ", ".join(f"[{m}, 0]" for m in range(1, K + 1)) + "]"
+        job.write_text(JOB.format(n=args.size, modes=modes, extra=f"tiles = {args.tiles}" if args.tiles else ""))
+        wall, compute, rss, _ = sweep(job, 2, work / "out.nc", work / "cache")
+        print(f"(a) {args.size} x {args.size}, {K} modes, {args.tiles or 'default'} tiles, 2 ranks, cold numba "
+              f"cache: wall {wall:.1f} s, "
+              f"compute {compute:.1f} s (one run; target wall <= 300 s); peak RSS per rank after "
+              f"compute {', '.join(f'{m:.1f}' for m in rss[:-1])} MiB")
+        with xr.open_dataset(work / "out.nc") as ds:
+            print(f"    unclassified {float(ds['unclassified_fraction'].squeeze()):.4f}")
+        agreement(work / "out.nc", args.samples, K)
     print(f"load average after: {os.getloadavg()[0]:.2f}")
 
 

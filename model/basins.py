@@ -12,13 +12,21 @@ Algorithm (one tile; everything is deterministic and depends only on the tile's 
   stroboscopic point comes within ``radius`` of a point of a known attractor, in the
   scaled norm ``|dy|_s^2 = sum_i (dy_i / L_i)^2`` (``L`` = lattice extent of the
   displacement, resp. velocity, coordinates), takes that attractor's label.
-* **Cell recurrence** (one mode only, where the stroboscopic map acts on the lattice
-  plane itself; Nusse and Yorke's ``Ncheck``, Attractors.jl's ``consecutive_basin_steps``):
-  the tile keeps a map of the lattice cells whose fate is known (cells visited by a
-  trajectory of known fate, and the lattice initial conditions already classified); a
-  cell reached by trajectories of two fates is marked mixed for good.  A trajectory
-  that falls ``consecutive`` times in a row in "clean" cells of one label (cells whose
-  ``guard`` neighbourhood carries that label only) adopts it.
+* **Cell recurrence** (Nusse and Yorke's ``Ncheck``, Attractors.jl's
+  ``consecutive_basin_steps``): the tile keeps a map of the cells whose fate is known
+  (cells visited by a trajectory of known fate); a cell reached by trajectories of two
+  fates is marked mixed for good.  A trajectory that falls ``consecutive`` times in a row
+  in "clean" cells of one label adopts it.
+
+  - One mode: the stroboscopic map acts on the lattice plane itself, and the map is a
+    dense array of the plane refined to about ``cell_resolution`` cells per axis; a cell
+    is clean when its whole ``guard`` neighbourhood carries its label.
+  - More modes: the map covers the whole state space (Attractors.jl's sparse grid), a
+    hash table of the cells ``floor(y_i L_i cell_resolution)`` (cells of width
+    ``1 / cell_resolution`` in the scaled norm below, in every coordinate), holding only
+    the cells trajectories visited; a cell is clean when it carries one label.  A lattice
+    plane of ``2K``-dimensional initial conditions is not invariant, but trajectories of
+    neighbouring initial conditions travel together and label each other's way.
 * **Discovery**: when a trajectory recurs (``|P^k(y) - y|_s < trigger`` for some
   ``k <= max_period``) and no known attractor is near, a Newton iteration on
   ``P^k(y) - y = 0`` (with the exact derivative of the discrete map,
@@ -66,6 +74,7 @@ UNCLASSIFIED = -1
 _PENDING = -2
 _UNKNOWN_CELL = -2
 _MIXED_CELL = -3
+_EMPTY_CELL = -4     # a free entry of the state-space cell map
 #: RK4 steps per forcing period of the basins' map: with 64 the labels of the Fig. 19a
 #: lattice agree with converged integration (192 steps) on 99.75 % of a random sample;
 #: with 48 steps on 97.75 %.
@@ -137,14 +146,16 @@ class Settings:
     radius : float
         Capture radius around attractor points, scaled norm (fraction of the lattice).
     consecutive : int
-        Consecutive hits of cells of one label needed to adopt it (one mode only).
+        Consecutive hits of cells of one label needed to adopt it.
     guard : int
-        A cell counts as a hit only if every cell within ``guard`` cells of it (a
+        One mode: a cell counts as a hit only if every cell within ``guard`` cells of it (a
         ``(2 guard + 1)^2`` block) has the same known label: trajectories are classified
         by cells only deep inside a basin, not near its boundary.
     cell_resolution : int
-        Resolution of the cell map: about this many cells per lattice axis (the lattice
-        refined by an integer factor, never coarser than it; 0: the lattice's own cells).
+        Resolution of the cell map: about this many cells per lattice axis (one mode: the
+        lattice refined by an integer factor, never coarser than it; more modes: cells of
+        width ``1 / cell_resolution`` of the lattice extents in every state coordinate;
+        0: the lattice's own spacing).
         Cells are labelled by the stroboscopic points of trajectories of known fate, which
         are dense enough to label a map much finer than the lattice; fine cells resolve
         the thin, interleaved basins of the lightly damped membrane, so a clean cell is
@@ -172,6 +183,20 @@ class Settings:
     newton_tol: float = 1e-11
 
 
+def default_settings(n_modes: int) -> Settings:
+    """The default :class:`Settings` for a ROM of ``n_modes`` modes.
+
+    More than one mode: the state-space cell map has cells of 1/100 of the lattice extents
+    and needs 16 consecutive hits.  Measured on a tile of the 200 x 200 Fig. 19a lattice
+    (interleaved rows 0, 8, .., 5000 initial conditions), modes (1..3, 0), 264 RK4 steps:
+    with 8 hits 2.6 % of its labels differ from those with 16 and 3 of 200 random points
+    from brute force of the same map; with 16, 0 of 200.  Cells of 1/200 with 8 hits cost
+    44 % more periods than cells of 1/100 on a 20 x 20 lattice, where both label every
+    point like brute force.
+    """
+    return Settings() if n_modes == 1 else Settings(consecutive=16, cell_resolution=100)
+
+
 def lattice_states(lattice: Lattice, rows, n_state: int) -> np.ndarray:
     """Initial states of lattice rows ``rows`` (a slice or index array), row-major.
 
@@ -182,6 +207,29 @@ def lattice_states(lattice: Lattice, rows, n_state: int) -> np.ndarray:
     out[:, lattice.ix] = np.repeat(xs, lattice.y.size)
     out[:, lattice.iy] = np.tile(lattice.y, xs.size)
     return out
+
+
+def window_states(lattice: Lattice, fmap: ForcedMap, periods: int = 4, per_period: int = 8) -> np.ndarray:
+    """States along the trajectories from the corners and edge midpoints of the lattice
+    window (its most energetic initial conditions), ``per_period`` per forcing period over
+    the first ``periods`` periods: what a lattice's trajectories visit at most, for
+    :func:`model.rom.lean_radial_points`.  Returns shape ``(8 (periods per_period + 1), 2K)``.
+    """
+    n = 2 * fmap.dof
+    xs, ys = lattice.x[[0, lattice.x.size // 2, -1]], lattice.y[[0, lattice.y.size // 2, -1]]
+    starts = np.array([(x, y) for x in xs for y in ys if not (x == xs[1] and y == ys[1])])
+    out = []
+    work = np.empty((6, n))
+    steps = max(1, fmap.steps // per_period)
+    h = fmap.period / (steps * per_period)
+    for x, y in starts:
+        z = np.zeros(n)
+        z[lattice.ix], z[lattice.iy] = x, y
+        out.append(z.copy())
+        for j in range(periods * per_period):
+            rk4_steps(z, j * steps * h, h, steps, fmap.rom.tables, fmap.forcing, work)
+            out.append(z.copy())
+    return np.array(out)
 
 
 def lattice_scale(lattice: Lattice, n_state: int) -> np.ndarray:
@@ -203,6 +251,24 @@ class _CellMap(NamedTuple):
     iy: int
     guard: int
     enabled: bool
+
+
+class _StateCells(NamedTuple):
+    # The cell map of the whole state space (more than one mode), a hash table with open
+    # addressing: cell (c_0 .. c_{2K-1}), c_i = floor(y_i * inv_width_i), is stored at
+    # entry hash(c) or after it; entries are never removed.
+    keys: np.ndarray       # (cap, 2K) int16 cell coordinates of each entry
+    labels: np.ndarray     # (cap,) int8: a label, _UNKNOWN_CELL, _MIXED_CELL or _EMPTY_CELL
+    inv_width: np.ndarray  # (2K,) inverse cell widths (1 / m, s / m)
+    count: np.ndarray      # (1,) int64 entries in use
+    limit: int             # entries in use beyond which no cell is added (the table is then full)
+    enabled: bool
+
+
+#: Entries of the state-space cell map (:class:`_StateCells`): 2**21, about 30 MB for
+#: three modes; once three quarters are in use no new cell is recorded (the cells are a
+#: shortcut: a full table makes the classification slower, not different).
+STATE_CELL_CAPACITY = 1 << 21
 
 
 class _Criteria(NamedTuple):
@@ -271,8 +337,8 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
     attractors : sequence of Attractor
         Attractors known beforehand (kept first, in this order).
     use_cells : bool
-        Use the cell-recurrence shortcut.  Only valid for one mode (``2K = 2``), where
-        the lattice plane is the whole state space.
+        Use the cell-recurrence shortcut (the lattice plane for one mode, the whole state
+        space for more).
     discover : bool
         Look for new attractors (Newton on recurrences).  Without it the method is the
         brute-force reference: integrate until the capture disc of a known attractor.
@@ -288,9 +354,6 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
     """
     states = np.ascontiguousarray(states, dtype=np.float64)
     N, n = states.shape
-    if use_cells and n != 2:
-        raise ValueError(f"use_cells = True is invalid for {n // 2} modes: the cell recurrence "
-                         "needs the one-mode ROM (the lattice plane is its whole state space)")
     s = settings
     scale = lattice_scale(lattice, n)
     atts = list(attractors)
@@ -307,10 +370,16 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
     r = max(1, s.cell_resolution // max(nx - 1, ny - 1, 1))
     dx = (lattice.x[-1] - lattice.x[0]) / (nx - 1) if nx > 1 else 1.0
     dy = (lattice.y[-1] - lattice.y[0]) / (ny - 1) if ny > 1 else 1.0
-    cells = _CellMap(np.full(((nx - 1) * r + 1, (ny - 1) * r + 1) if use_cells else (1, 1), _UNKNOWN_CELL,
+    plane = use_cells and n == 2
+    cells = _CellMap(np.full(((nx - 1) * r + 1, (ny - 1) * r + 1) if plane else (1, 1), _UNKNOWN_CELL,
                              np.int8),
                      float(lattice.x[0]), dx / r, float(lattice.y[0]), dy / r, lattice.ix, lattice.iy,
-                     s.guard, use_cells)
+                     s.guard, plane)
+    whole = use_cells and n > 2
+    entries = STATE_CELL_CAPACITY if whole else 1
+    sc = _StateCells(np.zeros((entries, n), np.int16), np.full(entries, _EMPTY_CELL, np.int8),
+                     scale * (s.cell_resolution or max(nx - 1, ny - 1, 1)), np.zeros(1, np.int64),
+                     3 * entries // 4, whole)
     criteria = _Criteria(scale, s.radius**2, s.consecutive, s.trigger**2,
                          s.cooldown if discover else s.max_periods + 1, s.max_period, s.max_periods)
     width = min(LOCKSTEP_WIDTH, max(N, 1))
@@ -321,7 +390,7 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
     tab = fmap.rom.tables
     coef_t = lockstep_table(tab) if tab.table_max > 0.0 else np.zeros((0, 0))
     while True:
-        code = _classify_kernel(states, labels, periods, cells, known, criteria, tab, coef_t, fmap.forcing,
+        code = _classify_kernel(states, labels, periods, cells, sc, known, criteria, tab, coef_t, fmap.forcing,
                                 fmap.steps, slots)
         if code == 0:
             break
@@ -486,6 +555,37 @@ def _cell(y, cells, nx, ny):
 
 
 @nb.njit(cache=True)
+def _state_cell(y, sc):
+    # Entry of the state-space cell of y in sc (added, with an unknown label, when new),
+    # or -1 (a coordinate beyond the int16 cell range, or the table full).
+    n = y.size
+    mask = sc.labels.size - 1
+    h = 1469598103934665603
+    for i in range(n):
+        c = np.floor(y[i] * sc.inv_width[i])
+        if not abs(c) < 32767.0:
+            return -1
+        h = (h ^ (int(c) & 0xFFFF)) * 1099511628211  # FNV-1a over the coordinates (wraps)
+    e = (h ^ (h >> 29)) & mask
+    while sc.labels[e] != _EMPTY_CELL:
+        same = True
+        for i in range(n):
+            if sc.keys[e, i] != int(np.floor(y[i] * sc.inv_width[i])):
+                same = False
+                break
+        if same:
+            return e
+        e = (e + 1) & mask
+    if sc.count[0] >= sc.limit:
+        return -1
+    for i in range(n):
+        sc.keys[e, i] = int(np.floor(y[i] * sc.inv_width[i]))
+    sc.labels[e] = _UNKNOWN_CELL
+    sc.count[0] += 1
+    return e
+
+
+@nb.njit(cache=True)
 def _mark(flat, c, label):
     # A cell visited by trajectories of two fates straddles a basin boundary: it is
     # marked mixed for good and never counts as clean.
@@ -527,8 +627,9 @@ def _explained(y, known, n_searched, scale):
 
 
 @nb.njit(cache=True)
-def _check(b, slots, cells, flat, known, crit, nx, ny):
-    # The tests of slot b at its current stroboscopic point (flat: the cell map, raveled).
+def _check(b, slots, cells, flat, sc, known, crit, nx, ny):
+    # The tests of slot b at its current stroboscopic point (flat: the lattice-plane cell
+    # map, raveled; sc: the state-space cell map).
     # Returns its label (>= 0),
     # -1 (unclassified: out of periods or not finite), -2 (go on integrating) or -3 (a
     # Newton search is requested; cursor[_AT_SEARCH_K] holds its period).
@@ -555,12 +656,12 @@ def _check(b, slots, cells, flat, known, crit, nx, ny):
                     break
                 slots.cursor[_AT_SEARCH_K] = k
                 return -3
-    if cells.enabled:
-        c = _cell(y, cells, nx, ny)
+    if cells.enabled or sc.enabled:
+        c = _cell(y, cells, nx, ny) if cells.enabled else _state_cell(y, sc)
         if c >= 0 and st[_SLOT_TRAIL] < slots.trail.shape[1]:
             slots.trail[b, st[_SLOT_TRAIL]] = c
             st[_SLOT_TRAIL] += 1
-            lab = _clean_label(flat, c, nx, ny, cells.guard)
+            lab = _clean_label(flat, c, nx, ny, cells.guard) if cells.enabled else max(sc.labels[c], -1)
             if lab >= 0:
                 if lab == st[_SLOT_RUN_LABEL]:
                     st[_SLOT_RUN] += 1
@@ -579,7 +680,7 @@ def _check(b, slots, cells, flat, known, crit, nx, ny):
 
 
 @nb.njit(cache=True)
-def _classify_kernel(states, labels, periods, cells, known, crit, tab, coef_t, forcing, steps, slots):
+def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_t, forcing, steps, slots):
     # Returns 0 when every state is labelled, 1 to ask the caller for a Newton search
     # from slots.y[cursor[_AT_SLOT]] with period cursor[_AT_SEARCH_K]; the kernel then
     # resumes with that slot's tests.  Slots are refilled with the next initial state as
@@ -613,7 +714,7 @@ def _classify_kernel(states, labels, periods, cells, known, crit, tab, coef_t, f
                 st[_SLOT_TRAIL] = 0
                 st[_SLOT_RUN] = 0
                 st[_SLOT_RUN_LABEL] = -3
-            label = _check(b, slots, cells, flat, known, crit, nx, ny)
+            label = _check(b, slots, cells, flat, sc, known, crit, nx, ny)
             if label == -3:
                 cur[_AT_SLOT] = b
                 return 1
@@ -629,6 +730,9 @@ def _classify_kernel(states, labels, periods, cells, known, crit, tab, coef_t, f
                 c = _cell(states[i], cells, nx, ny)
                 if c >= 0:
                     _mark(flat, c, label)
+            elif sc.enabled and label >= 0:
+                for j in range(st[_SLOT_TRAIL]):
+                    _mark(sc.labels, slots.trail[b, j], label)
             st[_SLOT_STATE] = -1  # free: refilled on the next pass of this loop
         cur[_AT_SLOT] = 0
         active = 0

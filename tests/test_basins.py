@@ -117,11 +117,44 @@ def test_unreached_attractor_gives_label_minus_one(rom):
     assert atts == [] and np.all(labels == mb.UNCLASSIFIED) and np.all(periods == 5)
 
 
-def test_cells_need_one_mode(rom):
-    lat = mb.Lattice(np.linspace(-0.2, 0.2, 3), np.linspace(-6.7, 6.7, 3))
+def _state_cells(n_state, entries, resolution=10.0):
+    return mb._StateCells(np.zeros((entries, n_state), np.int16), np.full(entries, mb._EMPTY_CELL, np.int8),
+                          np.full(n_state, resolution), np.zeros(1, np.int64), 3 * entries // 4, True)
+
+
+def test_state_cells_one_entry_per_cell_until_full():
+    """The hash table of the state-space cell map: a state finds the entry of its cell,
+    states of distinct cells (many more than the table's slots would hold without
+    collisions) get distinct entries, and a full table adds nothing (-1)."""
+    sc = _state_cells(4, 64)
+    rng = np.random.default_rng(3)
+    cells = rng.integers(-40, 40, size=(48, 4))
+    cells = cells[np.unique(cells, axis=0, return_index=True)[1]][:40]
+    states = (cells + 0.5) / 10.0
+    entries = [mb._state_cell(y, sc) for y in states]
+    assert len(set(entries)) == len(entries) == sc.count[0] == 40
+    assert [mb._state_cell(y + 0.04, sc) for y in states] == entries  # same cells
+    np.testing.assert_array_equal(sc.keys[entries], cells)
+    more = (rng.integers(100, 200, size=(20, 4)) + 0.5) / 10.0
+    added = [mb._state_cell(y, sc) for y in more]
+    assert sc.count[0] == sc.limit == 48 and added[8:] == [-1] * 12
+    assert mb._state_cell(np.array([1e4, 0.0, 0.0, 0.0]), sc) == -1  # beyond the int16 range
+
+
+def test_state_space_cells_keep_the_labels_and_save_periods():
+    """Two modes: the fast method (state-space cells, default settings) labels a lattice
+    like brute force of the same map (cells off, same attractors) and integrates fewer
+    periods (regression bound: 0.56 of brute force's periods when written)."""
     rom2 = build_rom(solve_prestretch(Membrane(1.1, 0.2), "analytic"), [(1, 0), (2, 0)])
-    with pytest.raises(ValueError, match="use_cells = True is invalid for 2 modes"):
-        mb.classify_lattice(np.zeros((1, 4)), lat, _fmap(rom2), mb.Settings())
+    fmap = _fmap(rom2, steps=128)
+    lat = mb.Lattice(np.linspace(-0.3, 0.3, 7), np.linspace(-10.0, 10.0, 7), 0, 2)
+    states = mb.lattice_states(lat, slice(None), 4)
+    labels, atts, periods = mb.classify_lattice(states, lat, fmap, mb.default_settings(2))
+    brute, _, brute_periods = mb.classify_lattice(states, lat, fmap, mb.Settings(), atts, use_cells=False,
+                                                  discover=False)
+    assert len(atts) == 2 and np.all(brute >= 0)
+    np.testing.assert_array_equal(labels, brute)
+    assert periods.sum() < 0.8 * brute_periods.sum()
 
 
 def _raw(options, subtasks):
