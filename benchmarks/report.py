@@ -15,6 +15,7 @@ ever in these blocks.  Run::
 
     python benchmarks/report.py                   # every block (about 20 minutes)
     python benchmarks/report.py bench_rk4         # only the blocks of these benchmarks
+    python benchmarks/report.py --match "--modes 3"   # only the blocks whose command has this
     python benchmarks/report.py --list            # the commands, nothing run
 """
 
@@ -72,10 +73,12 @@ def _stamp() -> str:
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("only", nargs="*", help="benchmark names (bench_rk4, ...): only their blocks")
+    ap.add_argument("--match", default="", help="only the commands that contain this text")
     ap.add_argument("--list", action="store_true", help="print the commands and stop")
     args = ap.parse_args(argv)
     text = PAGE.read_text()
-    wanted = [c for c in commands(text) if not args.only or any(f"/{name}.py" in c for name in args.only)]
+    wanted = [c for c in commands(text) if (not args.only or any(f"/{name}.py" in c for name in args.only))
+              and args.match in c]
     if args.list or not wanted:
         print("\n".join(wanted) or "no marked block matches")
         return

@@ -137,7 +137,7 @@ class ForcedMap:
             forcing = self.forcing._replace(P0=float(value))
         else:
             raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(PARAMETERS)}, c")
-        return ForcedMap(self.rom, forcing, self.steps)  # not dataclasses.replace: 4x the cost per call
+        return ForcedMap(self.rom, forcing, self.steps)  # dataclasses.replace costs 2.7x this per call
 
     def state_scale(self) -> np.ndarray:
         """:func:`state_scale` at this map's ``Omega``."""
