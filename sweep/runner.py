@@ -26,17 +26,12 @@ import numpy as np
 from mpi4py import MPI
 
 from sweep import partlog, storage
-from sweep.analyses.base import STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, STATUS_SKIPPED, Variable
+from sweep.analyses.base import STATUS_FAILED, STATUS_SKIPPED, TaskError, Variable, check_result
 from sweep.counter import ChunkCounter
 from sweep.errors import RunError
 from sweep.jobspec import Job
 from sweep.progress import Progress
 
-_STATUS_CODES = (STATUS_OK, STATUS_NOT_CONVERGED, STATUS_FAILED)
-
-
-class TaskError(Exception):
-    """A task returned something else than its analysis declares (a bug of the analysis)."""
 
 
 @dataclass
@@ -129,25 +124,10 @@ def _store(result: object, variables: list[Variable], arrays: dict[str, np.ndarr
            i: int) -> tuple[int, str]:
     """Copy one task's result into row ``i`` of the chunk arrays; returns its status and
     message."""
-    if not isinstance(result, dict):
-        raise TaskError(f"compute returned a {type(result).__name__}, not a dict")
-    expected = {v.name for v in variables} | {"status"}
-    if set(result) - {"message"} != expected:
-        raise TaskError(f"compute returned the keys {sorted(result)}, expected "
-                        f"{sorted(expected)} and optionally 'message'")
+    check_result(result, variables)
     for v in variables:
-        value = np.asarray(result[v.name])
-        if value.shape != v.shape:
-            raise TaskError(f"compute returned {v.name!r} with shape {value.shape}, the "
-                            f"analysis declares {v.shape}")
-        arrays[v.name][i] = value
-    status = result["status"]
-    if status not in _STATUS_CODES:
-        raise TaskError(f"compute returned status {status!r}, expected one of {_STATUS_CODES}")
-    message = result.get("message", "")
-    if not isinstance(message, str):
-        raise TaskError(f"compute returned a message of type {type(message).__name__}, not str")
-    return int(status), message
+        arrays[v.name][i] = np.asarray(result[v.name])
+    return int(result["status"]), result.get("message", "")
 
 
 def compute_chunk(job: Job, k: int) -> tuple[range, dict[str, np.ndarray], np.ndarray, dict[int, str]]:
@@ -184,6 +164,8 @@ def compute_chunk(job: Job, k: int) -> tuple[range, dict[str, np.ndarray], np.nd
             continue
         try:
             result = job.analysis.compute(point, job.options, subtask)
+        except TaskError as exc:  # a wrapped analysis broke its declarations: a bug, not data
+            raise TaskError(f"{job.layout.describe(t)}: {exc}") from exc
         except Exception as exc:  # noqa: BLE001 - a failing task is data (status failed)
             for v in variables:
                 arrays[v.name][i] = v.fill

@@ -151,3 +151,22 @@ def test_one_mode_set_is_not_a_list_of_sets():
     assert is_mode_set_list([[[1, 0]], [{"n": 0, "radial": 2}]])
     job = parse_job(BACKBONE_JOB.format(name="plain", modes="[[1, 0], [2, 0]]"))
     assert job.analysis is get("backbone")
+
+
+def test_a_set_result_not_as_declared_fails_the_run(tmp_path, monkeypatch, capsys):
+    """The mode-set wrapper checks each set's result against the analysis' declarations
+    before padding it (as the runner checks any result): a wrong shape is a bug of the
+    analysis, which stops the run naming the task, not a failed task."""
+    backbone = get("backbone")
+    original = backbone.compute
+
+    def short_amplitude(point, options, subtask):
+        result = original(point, options, subtask)
+        name = next(v.name for v in backbone.variables(options) if v.shape)
+        return {**result, name: np.asarray(result[name])[..., :1]}
+
+    monkeypatch.setattr(backbone, "compute", short_amplitude)
+    job = tmp_path / "bad.toml"
+    job.write_text(BACKBONE_JOB.format(name="bad", modes="[[[1, 0]], [[1, 0], [2, 0]]]"))
+    assert cli.main(["run", str(job), "-o", str(tmp_path / "bad.nc"), "--progress", "none"]) == 1
+    assert "with shape" in capsys.readouterr().err

@@ -134,6 +134,39 @@ class Variable:
     attrs: Mapping[str, Any] = field(default_factory=dict)
 
 
+class TaskError(Exception):
+    """A task returned something else than its analysis declares (a bug of the analysis)."""
+
+
+def check_result(result: object, variables: list[Variable]) -> None:
+    """Check what :meth:`Analysis.compute` returned against its declarations.
+
+    ``result`` must be a dict with exactly the declared variables (each of its declared
+    shape), ``status`` (``STATUS_OK``, ``STATUS_NOT_CONVERGED`` or ``STATUS_FAILED``) and
+    optionally a str ``message``.
+
+    Raises
+    ------
+    TaskError
+        Naming what differs.
+    """
+    if not isinstance(result, dict):
+        raise TaskError(f"compute returned a {type(result).__name__}, not a dict")
+    expected = {v.name for v in variables} | {"status"}
+    if set(result) - {"message"} != expected:
+        raise TaskError(f"compute returned the keys {sorted(result)}, expected "
+                        f"{sorted(expected)} and optionally 'message'")
+    for v in variables:
+        shape = np.shape(result[v.name])
+        if shape != v.shape:
+            raise TaskError(f"compute returned {v.name!r} with shape {shape}, the analysis declares {v.shape}")
+    codes = (STATUS_OK, STATUS_NOT_CONVERGED, STATUS_FAILED)
+    if result["status"] not in codes:
+        raise TaskError(f"compute returned status {result['status']!r}, expected one of {codes}")
+    if not isinstance(result.get("message", ""), str):
+        raise TaskError(f"compute returned a message of type {type(result['message']).__name__}, not str")
+
+
 class Analysis(ABC):
     """One kind of computation a job can ask for (``[job] analysis = name``).
 

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from .base import Analysis, JobError, Variable
+from .base import Analysis, JobError, Variable, check_result
 
 #: Padding of integer variables and coordinates without a declared fill value.
 INT_PAD = -1
@@ -128,6 +128,7 @@ class ModeSetSweep(Analysis):
     def compute(self, point, options: ModeSetOptions, subtask: int) -> dict[str, np.ndarray]:
         s, j = divmod(subtask, options.n_inner)
         result = self.inner.compute(point, options.sets[s], j)
+        check_result(result, self.inner.variables(options.sets[s]))  # as the runner would, before padding
         out = {k: result[k] for k in ("status", "message") if k in result}
         for v in self._declared(options).values():
             padded = np.full(v.shape, v.fill, dtype=v.dtype)
