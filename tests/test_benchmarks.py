@@ -73,6 +73,17 @@ def test_force():
     assert all(float(err) < 1e-12 for _, _, err in rows)
 
 
+def test_rk4_quadrature():
+    """Three-mode RK4 with the quadrature force, both radial rules: numba, numpy and (with
+    a compiler) the C program of the same algorithm end on the same states (one period:
+    rounding only, 1e-12 relative is far above it)."""
+    out = smoke("bench_rk4_quadrature")
+    rows = _rows(out, "ns per trajectory and step")
+    assert [name for name, _, _ in rows if name != "C"] == ["numba", "numpy"] * 2
+    assert (len(rows) == 6) != ("C reference skipped" in out)
+    assert all(float(err) < 1e-12 for _, _, err in rows)
+
+
 def test_integrators():
     """The DOP853 kernel and scipy's solve_ivp (DOP853, right-hand side in numpy) on the
     same trajectories: final states within 1e-5 (states of order 10 m/s; two error-controlled
