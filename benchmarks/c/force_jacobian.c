@@ -16,29 +16,13 @@
 #include <stdlib.h>
 #include <time.h>
 
+#include "axisymmetric_force.h"
 #include "read_doubles.h"
 
 static double now(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static void force(const double *restrict q, int K, int P, const double *restrict w, const double *restrict rho2,
-                  const double *restrict r2, const double *restrict dr2, const double *restrict B,
-                  double *restrict a, double *restrict g) {
-    for (int p = 0; p < P; p++) a[p] = q[0] * B[p];
-    for (int k = 1; k < K; k++)
-        for (int p = 0; p < P; p++) a[p] += q[k] * B[(long)k * P + p];
-    for (int p = 0; p < P; p++) {
-        double ap = a[p], D = r2[p] * (dr2[p] + ap * ap);
-        a[p] = 2.0 * ap * (1.0 - rho2[p] * r2[p] / (D * D)) * w[p];
-    }
-    for (int k = 0; k < K; k++) {
-        double acc = 0.0;
-        for (int p = 0; p < P; p++) acc += a[p] * B[(long)k * P + p];
-        g[k] = acc;
-    }
 }
 
 static void force_jacobian(const double *restrict q, int K, int P, const double *restrict w,

@@ -1,0 +1,26 @@
+/* Shared by the C reference programs of benchmarks/: the quadrature force of
+ * model.rom.axisymmetric_force for axisymmetric mode sets.  The slope
+ * a_p = sum_k q_k B_kp at every quadrature point, D = r2 (dr2 + a^2), then
+ *   g_k = sum_p 2 a (1 - rho2 r2 / D^2) w B_kp
+ * (a: P work values; restrict pointers, loops over the points innermost). */
+#ifndef AXISYMMETRIC_FORCE_H
+#define AXISYMMETRIC_FORCE_H
+
+static void force(const double *restrict q, int K, int P, const double *restrict w, const double *restrict rho2,
+                  const double *restrict r2, const double *restrict dr2, const double *restrict B,
+                  double *restrict a, double *restrict g) {
+    for (int p = 0; p < P; p++) a[p] = q[0] * B[p];
+    for (int k = 1; k < K; k++)
+        for (int p = 0; p < P; p++) a[p] += q[k] * B[(long)k * P + p];
+    for (int p = 0; p < P; p++) {
+        double ap = a[p], D = r2[p] * (dr2[p] + ap * ap);
+        a[p] = 2.0 * ap * (1.0 - rho2[p] * r2[p] / (D * D)) * w[p];
+    }
+    for (int k = 0; k < K; k++) {
+        double acc = 0.0;
+        for (int p = 0; p < P; p++) acc += a[p] * B[(long)k * P + p];
+        g[k] = acc;
+    }
+}
+
+#endif
