@@ -167,7 +167,7 @@ def main(argv=None) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         job = work / "fig19a.toml"
-        job.write_text(JOB.format(n=args.size, modes="[[1, 0]]", extra=""))
+        job.write_text(JOB.format(n=args.size, modes="[[1, 0]]", extra=f"tiles = {args.tiles}" if args.tiles else ""))
         runs = {2: [], 1: []}
         arrays = []
         for r in range(args.repeats):

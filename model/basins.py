@@ -77,6 +77,7 @@ _PENDING = -2
 _UNKNOWN_CELL = -2
 _MIXED_CELL = -3
 _EMPTY_CELL = -4     # a free entry of the state-space cell map
+_MAX_CELL_LABEL = 127  # cell maps hold int8 labels: later attractors' cells are not recorded
 #: RK4 steps per forcing period of the basins' map: with 64 the labels of the Fig. 19a
 #: lattice agree with converged integration (192 steps) on 99.75 % of a random sample;
 #: with 48 steps on 97.75 %.
@@ -139,7 +140,8 @@ class Attractor:
 
 @dataclass(frozen=True)
 class Settings:
-    """Settings of the lattice classification.
+    """Settings of the lattice classification (the defaults are those of one mode; for more
+    modes take :func:`default_settings`).
 
     Parameters
     ----------
@@ -215,11 +217,12 @@ def window_states(lattice: Lattice, fmap: ForcedMap, periods: int = 4, per_perio
     """States along the trajectories from the corners and edge midpoints of the lattice
     window (its most energetic initial conditions), ``per_period`` per forcing period over
     the first ``periods`` periods: what a lattice's trajectories visit at most, for
-    :func:`model.rom.lean_radial_points`.  Returns shape ``(8 (periods per_period + 1), 2K)``.
+    :func:`model.rom.lean_radial_points`.  Returns shape ``(S (periods per_period + 1), 2K)``,
+    ``S = 8`` starts (fewer on a lattice of fewer than 3 points per axis).
     """
     n = 2 * fmap.dof
     xs, ys = lattice.x[[0, lattice.x.size // 2, -1]], lattice.y[[0, lattice.y.size // 2, -1]]
-    starts = np.array([(x, y) for x in xs for y in ys if not (x == xs[1] and y == ys[1])])
+    starts = np.unique([(xs[i], ys[j]) for i in range(3) for j in range(3) if (i, j) != (1, 1)], axis=0)
     out = []
     work = np.empty((6, n))
     steps = max(1, fmap.steps // per_period)
@@ -268,8 +271,8 @@ class _StateCells(NamedTuple):
 
 
 #: Entries of the state-space cell map (:class:`_StateCells`): 2**21, about 30 MB for
-#: three modes; once three quarters are in use no new cell is recorded (the cells are a
-#: shortcut: a full table makes the classification slower, not different).
+#: three modes; once three quarters are in use no new cell is recorded, and trajectories
+#: are then classified by the cells already known, by capture or by Newton.
 STATE_CELL_CAPACITY = 1 << 21
 
 
@@ -298,8 +301,8 @@ class _Known(NamedTuple):
     # What the tile knows, in the kernel's terms (rows beyond the counts in cursor unused).
     points: np.ndarray    # (cap, max_period, 2K) Poincare points of the known attractors
     period: np.ndarray    # (cap,) int64 their periods
-    searched: np.ndarray  # (E, 2K + 1) start of each search that found a known attractor
-    #                       again, and the squared radius (scaled norm) it explains
+    searched: np.ndarray  # (E, 2K + 1) start of each search that found a periodic orbit
+    #                       (attractor or unstable), and the squared radius (scaled norm) it explains
 
 
 # Fields of _Slots.state.
@@ -615,7 +618,7 @@ def _clean_label(flat, c, nx, ny, guard):
 @nb.njit(cache=True)
 def _explained(y, known, n_searched, scale):
     # True when y lies within the radius of the start of an earlier search that found a
-    # known attractor (_Known.searched).
+    # periodic orbit (_Known.searched).
     n = y.size
     for e in range(n_searched):
         d = 0.0
@@ -725,13 +728,13 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
             i = st[_SLOT_STATE]
             labels[i] = label
             periods[i] = st[_SLOT_PERIODS]
-            if cells.enabled and label >= 0:
+            if cells.enabled and 0 <= label <= _MAX_CELL_LABEL:
                 for j in range(st[_SLOT_TRAIL]):
                     _mark(flat, slots.trail[b, j], label)
                 c = _cell(states[i], cells, nx, ny)
                 if c >= 0:
                     _mark(flat, c, label)
-            elif sc.enabled and label >= 0:
+            elif sc.enabled and 0 <= label <= _MAX_CELL_LABEL:
                 for j in range(st[_SLOT_TRAIL]):
                     _mark(sc.labels, slots.trail[b, j], label)
             st[_SLOT_STATE] = -1  # free: refilled on the next pass of this loop

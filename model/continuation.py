@@ -403,12 +403,12 @@ def unit_tangent(jac, previous):
     the solution of ``[jac; previous] t = (0, ..., 0, 1)``, normalised."""
     rhs = np.zeros(jac.shape[0] + 1)
     rhs[-1] = 1.0
-    t = solve(np.vstack([jac, previous]), rhs)
+    t = _solve(np.vstack([jac, previous]), rhs)
     return t / np.linalg.norm(t)
 
 
 @nb.njit(cache=True)
-def solve(a, b):
+def _solve(a, b):
     """``np.linalg.solve`` (LAPACK) through numba: a quarter of numpy's cost per call for
     the small bordered systems of continuation; raises ``np.linalg.LinAlgError`` alike."""
     return np.linalg.solve(a, b)
@@ -438,7 +438,7 @@ def bordered_newton(evaluate, x0, normal, anchor, sigma, tol, max_iter):
         r[-1] = normal @ (x - anchor) - sigma
         bordered[:-1] = jac
         try:
-            dx = solve(bordered, -r)
+            dx = _solve(bordered, -r)
         except np.linalg.LinAlgError:
             return None
         if not np.all(np.isfinite(dx)):

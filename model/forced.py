@@ -72,16 +72,8 @@ def state_scale(dof: int, omega: float) -> np.ndarray:
 
 def sorted_multipliers(phi: np.ndarray) -> np.ndarray:
     """Eigenvalues of ``phi`` sorted by decreasing modulus (then by imaginary part)."""
-    mu = _eigvals(np.asarray(phi, dtype=np.complex128))
+    mu = np.linalg.eigvals(phi).astype(complex)
     return mu[np.lexsort((-mu.imag, -np.abs(mu)))]
-
-
-@nb.njit(cache=True)
-def _eigvals(a):
-    # LAPACK through numba: numpy's wrapper costs 7x the call for the small monodromy
-    # matrices of a continuation step (complex input: numba refuses a real matrix with
-    # complex eigenvalues)
-    return np.linalg.eigvals(a)
 
 
 @dataclass(frozen=True)

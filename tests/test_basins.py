@@ -138,13 +138,14 @@ def test_state_cells_one_entry_per_cell_until_full():
     more = (rng.integers(100, 200, size=(20, 4)) + 0.5) / 10.0
     added = [mb._state_cell(y, sc) for y in more]
     assert sc.count[0] == sc.limit == 48 and added[8:] == [-1] * 12
+    assert [mb._state_cell(y, sc) for y in states] == entries  # still found once full
     assert mb._state_cell(np.array([1e4, 0.0, 0.0, 0.0]), sc) == -1  # beyond the int16 range
 
 
 def test_state_space_cells_keep_the_labels_and_save_periods():
     """Two modes: the fast method (state-space cells, default settings) labels a lattice
     like brute force of the same map (cells off, same attractors) and integrates fewer
-    periods (regression bound: 0.56 of brute force's periods when written)."""
+    periods (regression bound 0.8; 0.56 of brute force's periods when written)."""
     rom2 = build_rom(solve_prestretch(Membrane(1.1, 0.2), "analytic"), [(1, 0), (2, 0)])
     fmap = _fmap(rom2, steps=128)
     lat = mb.Lattice(np.linspace(-0.3, 0.3, 7), np.linspace(-10.0, 10.0, 7), 0, 2)

@@ -169,4 +169,5 @@ def test_a_set_result_not_as_declared_fails_the_run(tmp_path, monkeypatch, capsy
     job = tmp_path / "bad.toml"
     job.write_text(BACKBONE_JOB.format(name="bad", modes="[[[1, 0]], [[1, 0], [2, 0]]]"))
     assert cli.main(["run", str(job), "-o", str(tmp_path / "bad.nc"), "--progress", "none"]) == 1
-    assert "with shape" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "error: task " in err and "with shape" in err

@@ -10,8 +10,8 @@ numbers them by decreasing amplitude (attractor 0 is the largest, the resonant o
 Fig. 19), relabels the lattice and computes the integrity measures of
 :mod:`model.integrity` (``basin_fraction`` is the global integrity measure).
 
-A ROM evaluated by quadrature (more than one mode) is rebuilt with the fewest radial
-points that leave its accelerations unchanged to 1e-10 on the states of the trajectories
+With ``method = "fast"``, a ROM evaluated by quadrature (more than one mode) is rebuilt
+with the fewest radial points that leave its accelerations unchanged to 1e-10 on the states of the trajectories
 from the window's corners and edge midpoints (:func:`model.rom.lean_radial_points`,
 :func:`model.basins.window_states`); the result records them (``radial_points``).  For
 modes (1..3, 0) on the Fig. 19a window: 32 points instead of 160, with accelerations within
@@ -197,7 +197,7 @@ class Basins(Analysis):
         steps = opt.steps_for(point.membrane, options.prestretch, options.modes, options.steps, mb.DEFAULT_STEPS)
         fmap = ForcedMap.from_loading(rom, point.loading, steps)
         lattice = options.lattice()
-        if rom.tables.table_max == 0.0:  # quadrature ROM: as few points as the window's states allow
+        if rom.tables.table_max == 0.0 and options.method == "fast":  # brute: the reference keeps the full rule
             ps = opt.prestretch_for(point.membrane, options.prestretch)
             points = lean_radial_points(ps, rom, mb.window_states(lattice, fmap))
             if points < rom.radial_points:
