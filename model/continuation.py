@@ -50,7 +50,6 @@ import numpy as np
 
 from .families import Family, family_monodromy
 from .forced import PARAMETERS, ForcedMap, sorted_multipliers, state_scale
-from .integrate import OMEGA, PRESSURE, monodromy_parameter
 from .shooting import shoot
 
 #: Length scale ``L`` (m) of the scaled displacements.
@@ -167,7 +166,6 @@ class _Problem:
         self.s = state_scale(fmap.dof, fmap.forcing.Omega if parameter == "P0" else 0.5 * (start + stop)) / LENGTH
         self.n = 2 * fmap.dof
         self._ratio = self.s[:, None] / self.s[None, :]  # dG/dy = (s_i / s_j) (Phi - I)_ij
-        self._which = OMEGA if parameter == "Omega" else PRESSURE
         self._diagonal = np.diag_indices(self.n)
 
     def lam(self, x):
@@ -186,10 +184,7 @@ class _Problem:
     def evaluate(self, x):
         """``G(x)``, its Jacobian ``(n, n+1)`` and the monodromy matrix."""
         y, lam = self.unpack(x)
-        # the kernel of ForcedMap.monodromy_parameter, without building a map per call
-        forcing = self.fmap.forcing_for(self.parameter, lam)
-        yT, phi, dparam = monodromy_parameter(y, 0.0, 2.0 * np.pi / forcing.Omega, self.fmap.steps,
-                                              self.fmap.rom.tables, forcing, self._which)
+        yT, phi, dparam = self.at(lam).monodromy_parameter(y, self.parameter)
         g = self.s * (yT - y)
         jac = np.empty((self.n, self.n + 1))
         dy = jac[:, :-1]
