@@ -226,3 +226,19 @@ def test_large_lattices_are_tiled_and_bounded():
     assert options.tiles == 256 and options.rows * 4096 <= 65_536
     with pytest.raises(JobError, match=r"basins.ic_x.num = 100000 is invalid: must be <= 4096"):
         BASINS.parse_options({"ic_x": {"start": -0.3, "stop": 0.3, "num": 100_000}}, GRID, MEMBRANE)
+
+
+def test_two_modes_use_the_lean_rule_and_check_it_on_the_attractors():
+    """Basins of a two-mode ROM: the fast method records a radial rule below the default
+    one and, its attractors checked, status ok; brute force keeps the default rule."""
+    from model.rom import default_quadrature
+
+    table = {"modes": [[1, 0], [2, 0]], "ic_x": {"start": -0.3, "stop": 0.3, "num": 4},
+             "ic_y": {"start": -10.0, "stop": 10.0, "num": 3}, "tiles": 1, "steps": 64}
+    full = default_quadrature([(1, 0), (2, 0)])[0]
+    for method, expected in (("fast", "lean"), ("brute", full)):
+        options = BASINS.parse_options({**table, "method": method}, GRID, MEMBRANE)
+        out = BASINS.compute(POINT, options, 0)
+        assert out["status"] == 0 and np.all(out["tile_label"][:4] >= 0)
+        points = int(out["tile_radial_points"])
+        assert points < full if expected == "lean" else points == full
