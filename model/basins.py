@@ -216,8 +216,9 @@ def lattice_states(lattice: Lattice, rows, n_state: int) -> np.ndarray:
 def window_states(lattice: Lattice, fmap: ForcedMap, periods: int = 4, per_period: int = 8) -> np.ndarray:
     """States along the trajectories from the corners and edge midpoints of the lattice
     window (its most energetic initial conditions), ``per_period`` per forcing period over
-    the first ``periods`` periods: what a lattice's trajectories visit at most, for
-    :func:`model.rom.lean_radial_points`.  Returns shape ``(S (periods per_period + 1), 2K)``,
+    the first ``periods`` periods: a sample of the largest states a lattice's trajectories
+    reach, for :func:`model.rom.lean_radial_points` (the basins analysis checks the rule
+    again on the attractors found).  Returns shape ``(S (periods per_period + 1), 2K)``,
     ``S = 8`` starts (fewer on a lattice of fewer than 3 points per axis).
     """
     n = 2 * fmap.dof
