@@ -536,7 +536,10 @@ def find_periodic_orbit(y0, k: int, fmap: ForcedMap, scale, tol: float, max_iter
     return None
 
 
-@nb.njit(cache=True)
+# The tests run on every trajectory at every period, below, allocate nothing and are
+# compiled without reference counts (_nrt=False; see the note in model.rom).
+
+@nb.njit(cache=True, _nrt=False)
 def _near_attractor(y, att_pts, att_per, n_att, scale, r2):
     n = y.size
     for a in range(n_att):
@@ -550,7 +553,7 @@ def _near_attractor(y, att_pts, att_per, n_att, scale, r2):
     return -1
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _cell(y, cells, nx, ny):
     cx = int(np.floor((y[cells.ix] - cells.x0) / cells.dx + 0.5))
     cy = int(np.floor((y[cells.iy] - cells.y0) / cells.dy + 0.5))
@@ -559,7 +562,7 @@ def _cell(y, cells, nx, ny):
     return cx * ny + cy
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _state_cell(y, sc):
     # Entry of the state-space cell of y in sc (added, with an unknown label, when new),
     # or -1 (a coordinate beyond the int16 cell range, or the table full).
@@ -590,7 +593,7 @@ def _state_cell(y, sc):
     return e
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _mark(flat, c, label):
     # A cell visited by trajectories of two fates straddles a basin boundary: it is
     # marked mixed for good and never counts as clean.
@@ -600,7 +603,7 @@ def _mark(flat, c, label):
         flat[c] = _MIXED_CELL
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _clean_label(flat, c, nx, ny, guard):
     # The label of cell c if every cell within ``guard`` cells of it has that label,
     # else -1: the cell lies deep inside a basin at the lattice's resolution.
@@ -616,7 +619,7 @@ def _clean_label(flat, c, nx, ny, guard):
     return lab
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _explained(y, known, n_searched, scale):
     # True when y lies within the radius of the start of an earlier search that found a
     # periodic orbit (_Known.searched).
@@ -631,7 +634,7 @@ def _explained(y, known, n_searched, scale):
     return False
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _check(b, slots, cells, flat, sc, known, crit, nx, ny):
     # The tests of slot b at its current stroboscopic point (flat: the lattice-plane cell
     # map, raveled; sc: the state-space cell map).

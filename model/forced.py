@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
-from .integrate import OMEGA, PRESSURE, monodromy, monodromy_parameter, rk4_steps
+from .integrate import OMEGA, PRESSURE, _rk4_one_mode, monodromy, monodromy_parameter, rk4_steps
 from .params import Loading
 from .rom import Forcing, Rom, linear_frequencies
 
@@ -72,8 +72,26 @@ def state_scale(dof: int, omega: float) -> np.ndarray:
 
 def sorted_multipliers(phi: np.ndarray) -> np.ndarray:
     """Eigenvalues of ``phi`` sorted by decreasing modulus (then by imaginary part)."""
-    mu = np.linalg.eigvals(phi).astype(complex)
+    if phi.shape == (2, 2):
+        mu = _eigenvalues_2x2(*phi.ravel().tolist())
+    else:
+        mu = np.linalg.eigvals(phi).astype(complex)
     return mu[np.lexsort((-mu.imag, -np.abs(mu)))]
+
+
+def _eigenvalues_2x2(a: float, b: float, c: float, d: float) -> np.ndarray:
+    # Eigenvalues of [[a, b], [c, d]] in closed form: a one-mode branch asks for them at
+    # every point, and LAPACK's call costs 30 us there.  The discriminant is formed as
+    # ((a - d)/2)^2 + bc, free of the cancellation of tr^2/4 - det; of two real roots the
+    # larger in modulus comes from the sum without cancellation, the other from the
+    # determinant.
+    half = 0.5 * (a + d)
+    disc = (0.5 * (a - d)) ** 2 + b * c
+    if disc < 0.0:
+        root = math.sqrt(-disc)
+        return np.array([complex(half, root), complex(half, -root)])
+    big = half + math.copysign(math.sqrt(disc), half)
+    return np.array([big, (a * d - b * c) / big if big != 0.0 else 0.0], dtype=complex)
 
 
 @dataclass(frozen=True)
@@ -214,13 +232,23 @@ def _orbit_amplitude(y, samples, h, tab, forcing, work):
     # RK4 steps from t = 0, in place on y, sampling w = probe @ q before every step; the
     # largest |w| is refined by the vertex of the parabola through its neighbours (the
     # vertex formula holds for |w| when w keeps its sign over the three samples).
+    # One-mode ROMs: the table loop of model.integrate records the coordinate at the start
+    # of each step (one call instead of one per step), the general loop takes over where a
+    # stage leaves the table's range.
     K = y.size // 2
     w = np.empty(samples + 1)
-    w[0] = 0.0
+    done = 0
+    if tab.table_max > 0.0:
+        stages = np.empty((samples, 4, 1))
+        done = _rk4_one_mode(y, 0.0, h, samples, tab.stiffness_table, tab.table_max, tab.k_force[0], tab.load[0],
+                             forcing.damping_rate, forcing.P0, forcing.Omega, stages)
+        for i in range(done):
+            w[i] = tab.probe[0] * stages[i, 0, 0]
+    w[done] = 0.0
     for k in range(K):
-        w[0] += tab.probe[k] * y[k]
-    t = 0.0
-    for i in range(samples):
+        w[done] += tab.probe[k] * y[k]
+    t = done * h
+    for i in range(done, samples):
         t = rk4_steps(y, t, h, 1, tab, forcing, work)
         s = 0.0
         for k in range(K):

@@ -26,7 +26,7 @@ import numpy as np
 
 from .noalias import NoAliasCompiler
 from .rom import (TABLE_DEGREE, axisymmetric_force, axisymmetric_force_jacobian, general_force,
-                  general_force_jacobian, table_eval)
+                  general_force_jacobian, table_eval, table_eval_pair)
 
 
 @nb.njit(cache=True, fastmath=True, inline="always")
@@ -243,7 +243,7 @@ def _rk4_quadrature(y, t0, h, steps, weight, rho2, r2, dr2, b_rho, b_theta, axis
 NO_PARAMETER, OMEGA, PRESSURE = 0, 1, 2
 
 
-@nb.njit(cache=True, fastmath=True, error_model="numpy")
+@nb.njit(cache=True, fastmath=True, error_model="numpy", _nrt=False)
 def _aug_rhs(t, z, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load, c_damp, p_load, omega,
              which, g, jac, work, out):
     # z = (y, V) with V = [Phi | dy/dlambda] stored row-major (n rows, n + 1 columns; n
@@ -253,6 +253,8 @@ def _aug_rhs(t, z, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_for
     # RK4 on F/Omega with fixed steps, so this is the derivative of the discrete map).
     # A = [[0, I], [-diag(k) J(q), -c I]]; rows are contiguous, so the updates vectorise.
     # The tables come unpacked (see _rk4_quadrature), the force and Jacobian by quadrature.
+    # No reference counts (_nrt=False, see the note in model.rom): 650 -> 500 ns per stage
+    # with 3 modes.
     K = n // 2
     w = n + 1 if which != NO_PARAMETER else n
     if axisymmetric:
@@ -283,10 +285,12 @@ def _aug_rhs(t, z, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_for
             out[n + (K + i) * w + n] += load[i] * ct
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath={"contract"})
 def _monodromy_one_mode(y0, t0, h, steps, tab, forcing, which, phi, dparam):
     # State, 2x2 variational matrix and parameter derivative of the one-mode ROM from the
     # force tables; returns (q, v, ok), ok False when a stage leaves the tables' range.
+    # Fused multiply-adds only, no reassociation: the state and matrix stay bit for bit
+    # those of monodromy() whatever the parameter (the compiler specialises the loop on it).
     coef = tab.stiffness_table
     slope = tab.slope_table
     q_max = tab.table_max
@@ -303,19 +307,22 @@ def _monodromy_one_mode(y0, t0, h, steps, tab, forcing, which, phi, dparam):
     kv = np.empty(4)
     kp = np.empty((4, 4))
     kz = np.empty((4, 2))
+    c0 = np.cos(omega * t0)
     for i in range(steps):
         t = t0 + i * h
         cq = q
         cv = v
         c00, c01, c10, c11 = p00, p01, p10, p11
         cz, czv = zq, zv
+        c_half = np.cos(omega * (t + 0.5 * h))
+        c_end = np.cos(omega * (t + h))
         for s in range(4):
-            ts = t + (0.0 if s == 0 else (h if s == 3 else 0.5 * h))
             if abs(cq) >= q_max:
                 return q, v, False
-            cos_t = np.cos(omega * ts)
-            a = -c_damp * cv - k_force * cq * table_eval(coef, q_max, abs(cq)) + p_load * cos_t * load
-            kk = -k_force * table_eval(slope, q_max, abs(cq))
+            cos_t = c0 if s == 0 else (c_end if s == 3 else c_half)
+            stiffness, kk = table_eval_pair(coef, slope, q_max, abs(cq))
+            a = -c_damp * cv - k_force * cq * stiffness + p_load * cos_t * load
+            kk *= -k_force
             ks[s] = cv
             kv[s] = a
             kp[s, 0] = c10
@@ -347,6 +354,7 @@ def _monodromy_one_mode(y0, t0, h, steps, tab, forcing, which, phi, dparam):
         p11 += h / 6.0 * (kp[0, 3] + 2.0 * kp[1, 3] + 2.0 * kp[2, 3] + kp[3, 3])
         zq += h / 6.0 * (kz[0, 0] + 2.0 * kz[1, 0] + 2.0 * kz[2, 0] + kz[3, 0])
         zv += h / 6.0 * (kz[0, 1] + 2.0 * kz[1, 1] + 2.0 * kz[2, 1] + kz[3, 1])
+        c0 = c_end
     phi[0, 0] = p00
     phi[0, 1] = p01
     phi[1, 0] = p10

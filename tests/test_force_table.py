@@ -1,8 +1,11 @@
 """The one-mode force table and the scalar integration paths that read it."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
+from model.forced import ForcedMap
 from model.integrate import lockstep_table, monodromy, rk4_one_mode_lockstep, rk4_steps
 from model.params import Membrane
 from model.prestretch import solve_prestretch
@@ -58,6 +61,8 @@ def test_scalar_paths_match_the_general_ones(roms, y0):
     zb, pb = monodromy(y0, 0.0, period, 64, exact, forcing)
     np.testing.assert_allclose(za, zb, rtol=1e-11, atol=1e-12)
     np.testing.assert_allclose(pa, pb, rtol=1e-10, atol=1e-12)
+    amplitude = [ForcedMap(r, forcing, 64).amplitude(y0) for r in (rom, dataclasses.replace(rom, tables=exact))]
+    assert amplitude[0] == pytest.approx(amplitude[1], rel=1e-11)
 
 
 def test_no_table_for_several_modes():

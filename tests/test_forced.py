@@ -8,7 +8,7 @@ the parameter records' own metadata.
 import numpy as np
 import pytest
 
-from model.forced import ForcedMap, state_scale, steps_per_period
+from model.forced import ForcedMap, sorted_multipliers, state_scale, steps_per_period
 from model.linear import galerkin_frequencies
 from model.params import Loading, Membrane, ParameterError, parameter_info
 from model.prestretch import solve_prestretch
@@ -73,6 +73,22 @@ def test_amplitude_over_several_periods_of_a_periodic_orbit_is_its_one_period_va
     y = np.array([1e-5, 0.0])
     assert f.amplitude(y, periods=3) == pytest.approx(f.amplitude(y), rel=1e-9)
     assert f.amplitude(y) == pytest.approx(abs(rom.tables.probe[0]) * 1e-5, rel=1e-6)
+
+
+def test_two_by_two_multipliers_in_closed_form_are_lapacks():
+    # The closed form of the one-mode case against LAPACK's eigenvalues (numpy), sorted
+    # alike: real and complex pairs, a near double root, a singular and a zero matrix.
+    rng = np.random.default_rng(3)
+    cases = [m for m in rng.normal(size=(200, 2, 2))]
+    cases += [np.array([[1.0, 1e-9], [0.0, 1.0 + 1e-12]]), np.array([[2.0, 4.0], [1.0, 2.0]]), np.zeros((2, 2)),
+              np.array([[0.0, -1.0], [1.0, 0.0]])]
+    for phi in cases:
+        mu = sorted_multipliers(phi)
+        ref = np.linalg.eigvals(phi).astype(complex)
+        ref = ref[np.lexsort((-ref.imag, -np.abs(ref)))]
+        scale = np.abs(phi).max() or 1.0
+        assert np.allclose(mu, ref, rtol=0, atol=1e-12 * scale), (phi, mu, ref)
+        assert mu.dtype == complex and mu.shape == (2,)
 
 
 def test_bad_arguments_are_named():
