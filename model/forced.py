@@ -249,7 +249,7 @@ def _orbit_amplitude(y, samples, h, tab, forcing, work):
         w[done] += tab.probe[k] * y[k]
     t = done * h
     for i in range(done, samples):
-        t = rk4_steps(y, t, h, 1, tab, forcing, work)
+        t = rk4_steps(y, t, h, np.int64(1), tab, forcing, work)  # not a literal: no second compilation
         s = 0.0
         for k in range(K):
             s += tab.probe[k] * y[k]

@@ -457,5 +457,7 @@ def monodromy(y0, t0, period, steps, tab, forcing):
     yT : (2K,) array
     phi : (2K, 2K) array
     """
-    yT, phi, _ = monodromy_parameter(y0, t0, period, steps, tab, forcing, NO_PARAMETER)
+    # np.int64: a literal argument would compile a second copy of monodromy_parameter,
+    # specialised on it, beside the one that Python calls compile (~5 s).
+    yT, phi, _ = monodromy_parameter(y0, t0, period, steps, tab, forcing, np.int64(NO_PARAMETER))
     return yT, phi
