@@ -65,8 +65,9 @@ def _run(command: str) -> str:
 def _stamp() -> str:
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
                             text=True).stdout.strip() or "unknown"
-    dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=ROOT,
-                           capture_output=True, text=True).stdout.strip()
+    # the page itself does not count: an earlier run of this script may have rewritten it
+    dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "--", ".",
+                            f":!{PAGE.relative_to(ROOT)}"], cwd=ROOT, capture_output=True, text=True).stdout.strip()
     return f"# commit {commit}{' (with uncommitted changes)' if dirty else ''}, {datetime.date.today()}"
 
 

@@ -53,13 +53,14 @@ _MAX_FACTOR = 10.0
 MAX_STEPS = 50_000_000
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, fastmath=True, error_model="numpy", _nrt=False)
 def _step(t, y, f0, h, model, coef, kst, tmp, g, y_new, f_new, rtol, atol):
     """One DOP853 step of size ``h`` from ``(t, y)`` with ``f0 = F(t, y)``.
 
     Fills ``y_new``, ``f_new = F(t + h, y_new)`` and returns the scaled error norm
     (accept the step when it is <= 1).  12 evaluations of the right-hand side.  No
-    reference counts (``_nrt=False``, see the note in :mod:`model.rom`).
+    reference counts (``_nrt=False``, see the note in :mod:`model.rom`); numpy's error
+    model and fastmath, as the force kernels (one mode: 40 -> 36 ns per evaluation).
     """
     A, B, C, E3, E5 = coef
     n = y.size

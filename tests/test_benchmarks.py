@@ -86,13 +86,20 @@ def test_rk4_quadrature():
 
 
 def test_integrators():
-    """The DOP853 kernel and scipy's solve_ivp (DOP853, right-hand side in numpy) on the
-    same trajectories: final states within 1e-5 (states of order 10 m/s; two error-controlled
-    runs at rtol <= 1e-8 over one period differ by a few rtol of that)."""
+    """The DOP853 kernel, its C program and scipy's solve_ivp (DOP853, right-hand side in
+    numpy) on the same trajectories: final states within 1e-5 of the project's (states of
+    order 10 m/s; two error-controlled runs at rtol <= 1e-8 over one period differ by a few
+    rtol of that)."""
     out = smoke("bench_integrators")
-    rows = re.findall(r"^(\d) mode\(s\).*rtol=([0-9.e-]+).*speed-up (\d+)x, max \|difference\| ([0-9.e+-]+)$", out, re.M)
-    assert [(k, rtol) for k, rtol, _, _ in rows] == [("1", "1e-08"), ("1", "1e-11"), ("3", "1e-08"), ("3", "1e-11")]
-    assert all(float(diff) < 1e-5 for *_, diff in rows)
+    cases = re.findall(r"^(\d) mode\(s\).*rtol=([0-9.e-]+);", out, re.M)
+    assert cases == [("1", "1e-08"), ("1", "1e-11"), ("3", "1e-08"), ("3", "1e-11")]
+    rows = re.findall(r"^  (\S+) +[0-9.]+ ms +\d+ evals .*\((?:the reference|max \|difference\| from project "
+                      r"([0-9.e+-]+))\)$", out, re.M)
+    names = [name for name, _ in rows]
+    assert names.count("project") == 4 and names.count("solve_ivp") == 4
+    assert names.count("C") == (0 if "C reference skipped" in out else 4)
+    assert all(float(diff) < 1e-5 for name, diff in rows if name != "project")
+    assert len(re.findall(r"^  speed-up over solve_ivp \d+x", out, re.M)) == 4
 
 
 def test_continuation():

@@ -17,20 +17,8 @@
 #include <stdlib.h>
 #include <time.h>
 
+#include "force_table.h"
 #include "read_doubles.h"
-
-#define NCOEF 8
-
-static inline double table_row(const double *coef, int pieces, double q_max, double x) {
-    double width = q_max / pieces;
-    int i = (int)(x / width);
-    if (i > pieces - 1) i = pieces - 1;
-    double t = 2.0 * (x - i * width) / width - 1.0;
-    const double *c = coef + (long)i * NCOEF;
-    double b1 = 0.0, b2 = 0.0;
-    for (int k = NCOEF - 1; k > 0; k--) { double b = 2.0 * t * b1 - b2 + c[k]; b2 = b1; b1 = b; }
-    return t * b1 - b2 + c[0];
-}
 
 static void scalar(double *y, const double *coef, int pieces, double q_max, double kf, double load,
                    double cd, double pl, double om, double h, int steps) {
