@@ -168,7 +168,6 @@ class _Problem:
         self.s = state_scale(fmap.dof, fmap.forcing.Omega if parameter == "P0" else 0.5 * (start + stop)) / LENGTH
         self.n = 2 * fmap.dof
         self._ratio = self.s[:, None] / self.s[None, :]  # dG/dy = (s_i / s_j) (Phi - I)_ij
-        self._diagonal = np.diag_indices(self.n)
 
     def lam(self, x):
         return self.start + x[-1] * self.span
@@ -187,12 +186,7 @@ class _Problem:
         """``G(x)``, its Jacobian ``(n, n+1)`` and the monodromy matrix."""
         y, lam = self.unpack(x)
         yT, phi, dparam = self.at(lam).monodromy_parameter(y, self.parameter)
-        g = self.s * (yT - y)
-        jac = np.empty((self.n, self.n + 1))
-        dy = jac[:, :-1]
-        np.multiply(self._ratio, phi, out=dy)
-        dy[self._diagonal] -= 1.0
-        jac[:, -1] = self.s * dparam * self.span
+        g, jac = _scaled_residual(self.s, self.span, self._ratio, y, yT, phi, dparam)
         return g, jac, phi
 
     def family_blocks(self, x, which=None):
@@ -405,6 +399,37 @@ def unit_tangent(jac, previous):
 
 
 @nb.njit(cache=True)
+def _scaled_residual(s, span, ratio, y, yT, phi, dparam):
+    """``G = s (P(y) - y)`` and its Jacobian ``[ratio (Phi - I) | s dP/dlambda span]`` in the
+    scaled unknowns of :class:`_Problem`, in one compiled pass (eight numpy calls cost
+    three times as much for the small systems of continuation)."""
+    n = y.size
+    g = np.empty(n)
+    jac = np.empty((n, n + 1))
+    for i in range(n):
+        g[i] = s[i] * (yT[i] - y[i])
+        for j in range(n):
+            jac[i, j] = ratio[i, j] * phi[i, j] - (1.0 if i == j else 0.0)
+        jac[i, n] = s[i] * dparam[i] * span
+    return g, jac
+
+
+@nb.njit(cache=True)
+def _bordered_step(bordered, g, jac, normal, x, anchor, sigma):
+    """The Newton step ``dx`` of ``[jac; normal] dx = -(G, normal . (x - anchor) - sigma)``;
+    ``bordered`` is the work matrix (its last row holds ``normal``).  Raises
+    ``np.linalg.LinAlgError`` like numpy when the matrix is singular."""
+    n = g.size
+    r = np.empty(n + 1)
+    for i in range(n):
+        r[i] = -g[i]
+        for j in range(n + 1):
+            bordered[i, j] = jac[i, j]
+    r[n] = sigma - normal @ (x - anchor)
+    return np.linalg.solve(bordered, r)
+
+
+@nb.njit(cache=True)
 def _solve(a, b):
     """``np.linalg.solve`` (LAPACK) through numba: a quarter of numpy's cost per call for
     the small bordered systems of continuation; raises ``np.linalg.LinAlgError`` alike."""
@@ -427,15 +452,11 @@ def bordered_newton(evaluate, x0, normal, anchor, sigma, tol, max_iter):
     x = x0.copy()
     bordered = np.empty((x.size, x.size))
     bordered[-1] = normal
-    r = np.empty(x.size)
     for it in range(1, max_iter + 1):
         values = evaluate(x)
-        g, jac = values[0], values[1]
-        r[:-1] = g
-        r[-1] = normal @ (x - anchor) - sigma
-        bordered[:-1] = jac
+        g = values[0]
         try:
-            dx = _solve(bordered, -r)
+            dx = _bordered_step(bordered, g, values[1], normal, x, anchor, sigma)
         except np.linalg.LinAlgError:
             return None
         step2 = dx @ dx  # squared norms by dot products: a third of np.linalg.norm's cost here
