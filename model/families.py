@@ -182,11 +182,14 @@ def _jacobian_table(fam: FamilyTables, q_max: float) -> np.ndarray:
     P = fam.weight.size
     iaa, ibb, jac = np.empty(P), np.empty(P), np.empty((M, M))
 
-    def exact(q):
-        _quadrature_jacobian(np.array([q]), fam, iaa, ibb, jac)
-        return jac.ravel().copy()
+    def exact(qs):
+        out = np.empty((qs.size, M * M))
+        for k, q in enumerate(qs):
+            _quadrature_jacobian(np.array([q]), fam, iaa, ibb, jac)
+            out[k] = jac.ravel()
+        return out
 
-    return piecewise_chebyshev(exact, q_max, lambda v: np.abs(v).max())
+    return piecewise_chebyshev(exact, q_max, lambda v: np.abs(v).max(axis=1, keepdims=True))
 
 
 @nb.njit(cache=True, error_model="numpy")
