@@ -1,14 +1,16 @@
 """Time integration of the ROM: the project's DOP853 kernel against scipy's solve_ivp
-(what a user would write) and a C program of the same algorithm (the hardware limit).
+(what a user would write) and a C program of the same algorithm (the hardware reference).
 
 Same model (the exact neo-Hookean ROM of Eq. 31, delta = 1.1, delta_o = 0.2, forced and
 damped: P0 = 1 Pa, Omega = 33.5 rad/s, c = 0.05 N s/m^3), same trajectories (N initial
 states), same method (DOP853, the tableau of :mod:`model.dopri`) and tolerances:
 
-* project: :func:`model.dopri.solve` (one trajectory at a time, compiled, one thread);
+* project: :func:`model.dopri.solve` (one trajectory at a time, compiled, one thread),
+  timed around the call (its Python checks, about 60 us, included);
 * C: ``benchmarks/c/dop853.c``, compiled here with ``cc -O3 -march=native -ffast-math``
   (skipped with a message without a compiler), the same step-size controller and force
-  (the one-mode force table in its range, else the quadrature); it times its own loop;
+  (the one-mode force table in its range, else the quadrature); it times its own loop
+  (reading and writing its files excluded);
 * solve_ivp: ``scipy.integrate.solve_ivp(method="DOP853")`` with the right-hand side
   written plainly in numpy.
 
@@ -66,13 +68,19 @@ def numpy_rhs(rom):
 def c_inputs(rom, work: Path) -> list[str]:
     """Write the tableau and tables for ``benchmarks/c/dop853.c``; its TABLES ... Q_MAX arguments."""
     t = rom.tables
+    assert t.axisymmetric, "the C force is the axisymmetric one"
     coef = dopri._COEF
     np.concatenate([coef.A.ravel(), coef.B, coef.C, coef.E3, coef.E5]).tofile(work / "coef.bin")
     pieces = t.stiffness_table.shape[0] if t.table_max > 0 else 0
     np.concatenate([t.weight, t.rho2, t.r2, t.dr2, t.b_rho.ravel(), t.k_force, t.load,
                     t.stiffness_table.ravel() if pieces else []]).tofile(work / "tables.bin")
     return [str(work / "coef.bin"), str(work / "tables.bin"), str(rom.dof), str(t.weight.size), str(pieces),
-            repr(float(t.table_max))]
+            _number(t.table_max)]
+
+
+def _number(x) -> str:
+    """``x`` as a C program's argument: all 17 digits, no numpy repr."""
+    return f"{float(x):.17g}"
 
 
 def run(modes, n_traj, periods, repeats, rtol, atol, exe, work):
@@ -94,8 +102,9 @@ def run(modes, n_traj, periods, repeats, rtol, atol, exe, work):
         Y, nfev = dopri.solve(rom, y0, [t_end], c=C, P0=P0, Omega=OMEGA, rtol=rtol, atol=atol)
         times["project"].append(time.perf_counter() - t0)
         if exe is not None:
-            out = subprocess.run([str(exe), *c_args, str(work / "states.bin"), repr(t_end), repr(rtol), repr(atol),
-                                  repr(rom.membrane.damping_rate(C)), repr(P0), repr(OMEGA), str(work / "out.bin")],
+            numbers = (t_end, rtol, atol, rom.membrane.damping_rate(C), P0, OMEGA)
+            out = subprocess.run([str(exe), *c_args, str(work / "states.bin"), *map(_number, numbers),
+                                  str(work / "out.bin")],
                                  capture_output=True, text=True, check=True)
             ns, c_evals = out.stdout.split()
             c_evals = int(c_evals)
@@ -126,11 +135,12 @@ def main(argv=None) -> None:
     ap.add_argument("--smoke", action="store_true", help="tiny run for the test suite")
     args = ap.parse_args(argv)
     trajectories, periods, repeats = (1, 1, 1) if args.smoke else (args.trajectories, args.periods, args.repeats)
-    work = Path(tempfile.mkdtemp())
-    exe = compile_reference("dop853", work, ("-ffast-math",))
-    for modes in ([(1, 0)], [(1, 0), (2, 0), (3, 0)]):
-        for rtol in (1e-8, 1e-11):
-            run(modes, trajectories, periods, repeats, rtol, 1e-12 * rtol / 1e-8, exe, work)
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(tmp)
+        exe = compile_reference("dop853", work, ("-ffast-math",))
+        for modes in ([(1, 0)], [(1, 0), (2, 0), (3, 0)]):
+            for rtol in (1e-8, 1e-11):
+                run(modes, trajectories, periods, repeats, rtol, 1e-12 * rtol / 1e-8, exe, work)
 
 
 if __name__ == "__main__":

@@ -404,6 +404,8 @@ def _scaled_residual(s, span, ratio, y, yT, phi, dparam):
     scaled unknowns of :class:`_Problem`, in one compiled pass (eight numpy calls cost
     three times as much for the small systems of continuation)."""
     n = y.size
+    if yT.size != n or dparam.size != n or phi.shape[0] != n or phi.shape[1] != n:
+        raise ValueError("the map returned a state, monodromy matrix or parameter derivative of the wrong shape")
     g = np.empty(n)
     jac = np.empty((n, n + 1))
     for i in range(n):
@@ -420,6 +422,8 @@ def _bordered_step(bordered, g, jac, normal, x, anchor, sigma):
     ``bordered`` is the work matrix (its last row holds ``normal``).  Raises
     ``np.linalg.LinAlgError`` like numpy when the matrix is singular."""
     n = g.size
+    if bordered.shape[0] != n + 1 or jac.shape[0] != n or jac.shape[1] != n + 1:
+        raise ValueError("the residual and its Jacobian do not match the unknowns")
     r = np.empty(n + 1)
     for i in range(n):
         r[i] = -g[i]

@@ -71,27 +71,32 @@ def state_scale(dof: int, omega: float) -> np.ndarray:
 
 
 def sorted_multipliers(phi: np.ndarray) -> np.ndarray:
-    """Eigenvalues of ``phi`` sorted by decreasing modulus (then by imaginary part)."""
-    if phi.shape == (2, 2):
-        mu = _eigenvalues_2x2(*phi.ravel().tolist())
-    else:
+    """Eigenvalues of ``phi`` sorted by decreasing modulus, then by decreasing imaginary
+    and real part (a conjugate pair: positive imaginary part first)."""
+    mu = _eigenvalues_2x2(*phi.ravel().tolist()) if phi.shape == (2, 2) else None
+    if mu is None:
         mu = np.linalg.eigvals(phi).astype(complex)
-    return mu[np.lexsort((-mu.imag, -np.abs(mu)))]
+    return mu[np.lexsort((-mu.real, -mu.imag, -np.abs(mu)))]
 
 
-def _eigenvalues_2x2(a: float, b: float, c: float, d: float) -> np.ndarray:
-    # Eigenvalues of [[a, b], [c, d]] in closed form: a one-mode branch asks for them at
-    # every point, and LAPACK's call costs 30 us there.  The discriminant is formed as
-    # ((a - d)/2)^2 + bc, free of the cancellation of tr^2/4 - det; of two real roots the
-    # larger in modulus comes from the sum without cancellation, the other from the
-    # determinant.
+def _eigenvalues_2x2(a: float, b: float, c: float, d: float) -> np.ndarray | None:
+    # Eigenvalues of [[a, b], [c, d]] in closed form, or None for entries that are not
+    # finite or overflow (LAPACK then decides, and raises as it does for every size): a
+    # one-mode branch asks at every point, and numpy's eigvals costs 10 us a call there
+    # against 1 us.  The discriminant is formed as ((a - d)/2)^2 + bc, free of the
+    # cancellation of tr^2/4 - det; of two real roots the larger in modulus comes from the
+    # sum without cancellation, the other from the determinant.
     half = 0.5 * (a + d)
-    disc = (0.5 * (a - d)) ** 2 + b * c
+    e = 0.5 * (a - d)
+    disc = e * e + b * c
+    if not (math.isfinite(half) and math.isfinite(disc)):
+        return None
     if disc < 0.0:
         root = math.sqrt(-disc)
         return np.array([complex(half, root), complex(half, -root)])
     big = half + math.copysign(math.sqrt(disc), half)
-    return np.array([big, (a * d - b * c) / big if big != 0.0 else 0.0], dtype=complex)
+    small = (a * d - b * c) / big if big != 0.0 else 0.0
+    return np.array([big, small], dtype=complex) if math.isfinite(big) and math.isfinite(small) else None
 
 
 @dataclass(frozen=True)

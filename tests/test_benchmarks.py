@@ -93,12 +93,20 @@ def test_integrators():
     out = smoke("bench_integrators")
     cases = re.findall(r"^(\d) mode\(s\).*rtol=([0-9.e-]+);", out, re.M)
     assert cases == [("1", "1e-08"), ("1", "1e-11"), ("3", "1e-08"), ("3", "1e-11")]
-    rows = re.findall(r"^  (\S+) +[0-9.]+ ms +\d+ evals .*\((?:the reference|max \|difference\| from project "
+    rows = re.findall(r"^  (\S+) +[0-9.]+ ms +(\d+) evals .*\((?:the reference|max \|difference\| from project "
                       r"([0-9.e+-]+))\)$", out, re.M)
-    names = [name for name, _ in rows]
+    names = [name for name, _, _ in rows]
     assert names.count("project") == 4 and names.count("solve_ivp") == 4
     assert names.count("C") == (0 if "C reference skipped" in out else 4)
-    assert all(float(diff) < 1e-5 for name, diff in rows if name != "project")
+    assert all(float(diff) < 1e-5 for name, _, diff in rows if name != "project")
+    # The C program runs the project's controller: the same steps but for rounding, which
+    # moves an error estimate across 1 now and then (a regression bound: 2 steps of 12
+    # evaluations were seen, allowed are 3 or 5 %).
+    evals = {}
+    for name, count, _ in rows:
+        evals.setdefault(name, []).append(int(count))
+    for project, c in zip(evals["project"], evals.get("C", [])):
+        assert abs(c - project) <= max(36, 0.05 * project)
     assert len(re.findall(r"^  speed-up over solve_ivp \d+x", out, re.M)) == 4
 
 

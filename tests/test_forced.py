@@ -77,18 +77,24 @@ def test_amplitude_over_several_periods_of_a_periodic_orbit_is_its_one_period_va
 
 def test_two_by_two_multipliers_in_closed_form_are_lapacks():
     # The closed form of the one-mode case against LAPACK's eigenvalues (numpy), sorted
-    # alike: real and complex pairs, a near double root, a singular and a zero matrix.
+    # alike: real and complex pairs, a near double root, a singular and a zero matrix, a
+    # tie in modulus; entries that overflow or are not finite go to LAPACK, which raises.
     rng = np.random.default_rng(3)
     cases = [m for m in rng.normal(size=(200, 2, 2))]
     cases += [np.array([[1.0, 1e-9], [0.0, 1.0 + 1e-12]]), np.array([[2.0, 4.0], [1.0, 2.0]]), np.zeros((2, 2)),
-              np.array([[0.0, -1.0], [1.0, 0.0]])]
+              np.array([[0.0, -1.0], [1.0, 0.0]]), np.diag([-1.0, 1.0]), np.diag([1.0, -1.0])]
     for phi in cases:
         mu = sorted_multipliers(phi)
         ref = np.linalg.eigvals(phi).astype(complex)
-        ref = ref[np.lexsort((-ref.imag, -np.abs(ref)))]
+        ref = ref[np.lexsort((-ref.real, -ref.imag, -np.abs(ref)))]
         scale = np.abs(phi).max() or 1.0
         assert np.allclose(mu, ref, rtol=0, atol=1e-12 * scale), (phi, mu, ref)
         assert mu.dtype == complex and mu.shape == (2,)
+    huge = np.array([[1e200, 1.0], [1.0, -1e200]])
+    assert np.allclose(sorted_multipliers(huge), [1e200, -1e200], rtol=1e-12)
+    for bad in (np.array([[np.inf, 0.0], [0.0, 1.0]]), np.array([[np.nan, 0.0], [0.0, 1.0]])):
+        with pytest.raises(np.linalg.LinAlgError):
+            sorted_multipliers(bad)
 
 
 def test_bad_arguments_are_named():

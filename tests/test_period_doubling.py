@@ -58,3 +58,18 @@ def test_time_integration_gives_period_one_below_and_period_two_above(located, s
         assert one <= 1e-6
     else:
         assert two <= 1e-6 and one >= 1e-3
+
+
+class _TruncatedMap(EscapeMap):
+    """A map whose monodromy matrix lacks a row and a column (a user's map gone wrong)."""
+
+    def monodromy_parameter(self, y, parameter):
+        yT, phi, d = super().monodromy_parameter(y, parameter)
+        return yT, phi[:1, :1], d
+
+
+def test_a_map_returning_the_wrong_shapes_is_refused():
+    # The compiled residual reads the arrays by index: it must check their shapes rather
+    # than read past them and converge to a wrong point.
+    with pytest.raises(ValueError, match="wrong shape"):
+        continue_orbits(_TruncatedMap(0.1, Forcing(0.1, 0.0, 1.0), 64), "P0", 0.0, 0.3, max_points=5)

@@ -196,6 +196,7 @@ def test_monodromy_matches_finite_differences(roms):
 
 @pytest.mark.parametrize("call,message", [
     (lambda r: dopri.solve(r, np.zeros(3), [1.0]), r"y0 shape \(1, 3\) is invalid: need \(N, 2\)"),
+    (lambda r: dopri.solve(r, [np.nan, 0.0], [1.0]), r"y0 is invalid: the initial states must be finite"),
     (lambda r: dopri.solve(r, np.zeros(2), [1.0], c=-1.0), r"c = -1.0 is invalid: must be finite and >= 0"),
     (lambda r: dopri.solve(r, np.zeros(2), [1.0], Omega=0.0), r"Omega = 0.0 is invalid: must be finite and > 0"),
     (lambda r: dopri.solve(r, np.zeros(2), [1.0], rtol=0.0), r"rtol = 0.0, atol = 1e-12 is invalid"),

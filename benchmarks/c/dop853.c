@@ -13,7 +13,8 @@
  * COEF: A (12 x 12), B (12), C (12), E3 (13), E5 (13), float64.
  * TABLES: weight, rho2, r2, dr2 (P each), B (K x P), k_force (K), load (K), then the
  * force table (PIECES x 8) when PIECES > 0, float64.
- * STATES: (M, 2K) float64 initial states; OUT receives the final states.
+ * STATES: (M, 2K) float64 initial states; OUT receives the final states (NaN for a
+ * trajectory that ran out of MAX_STEPS attempted steps).
  * Prints the time per right-hand side evaluation in ns and the evaluations made.
  */
 #include <math.h>
@@ -26,6 +27,7 @@
 #include "read_doubles.h"
 
 #define NS 12
+#define MAX_STEPS 50000000L /* attempted steps per trajectory, model.dopri.MAX_STEPS */
 
 typedef struct {
     int K, P, pieces;
@@ -148,8 +150,9 @@ int main(int argc, char **argv) {
         double *y = Y + traj * n, t = 0.0;
         rhs(t, y, &m, f);
         double h = initial_step(y, f, rtol, atol, n);
+        long attempts = 0;
         evals += 1;
-        while (t < t_end) {
+        while (t < t_end && attempts++ < MAX_STEPS) {
             int clipped = t + h >= t_end;
             double hs = clipped ? t_end - t : h;
             double err = step(t, y, f, hs, &m, &c, kst, tmp, y_new, f_new, rtol, atol, n);
@@ -162,6 +165,8 @@ int main(int argc, char **argv) {
                 h = new_size(hs, err);
             }
         }
+        if (t < t_end)
+            for (int i = 0; i < n; i++) y[i] = NAN; /* out of steps, as model.dopri.solve */
     }
     double t1 = now();
     FILE *out = fopen(argv[14], "wb");
