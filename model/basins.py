@@ -329,7 +329,7 @@ _EXPLAINED_FRACTION = 0.25
 
 
 def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settings, attractors=(), *,
-                     use_cells: bool = True, discover: bool = True):
+                     use_cells: bool = True, discover: bool = True, report: dict | None = None):
     """Label initial states by the attractor their trajectory ends on.
 
     Parameters
@@ -349,6 +349,11 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
     discover : bool
         Look for new attractors (Newton on recurrences).  Without it the method is the
         brute-force reference: integrate until the capture disc of a known attractor.
+    report : dict, optional
+        Receives ``"state_cells"``, the cells in the state-space cell map (several modes
+        with ``use_cells``; else 0), and ``"state_cell_limit"``, the number at which the map
+        stops taking new cells (it is then full: trajectories are classified by the cells
+        already labelled, capture and Newton, which costs periods, not correctness).
 
     Returns
     -------
@@ -420,6 +425,9 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
         known.searched[e, :n] = start
         known.searched[e, n] = min(s.trigger, _EXPLAINED_FRACTION * d) ** 2
         slots.cursor[_AT_SEARCHED] = e + 1
+    if report is not None:
+        report["state_cells"] = int(sc.count[0])
+        report["state_cell_limit"] = int(sc.limit) if whole else 0
     return labels, atts, periods
 
 

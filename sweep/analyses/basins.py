@@ -213,8 +213,9 @@ class Basins(Analysis):
         out["tile_radial_points"] = rom.radial_points
         rows = options.tile_rows(subtask)
         states = mb.lattice_states(lattice, rows, S)
+        cells: dict = {}
         labels, atts, periods = mb.classify_lattice(states, lattice, fmap, options.settings,
-                                                    use_cells=options.method == "fast")
+                                                    use_cells=options.method == "fast", report=cells)
         labels = np.where(labels >= A, -1, labels)
         n = rows.size
         out["tile_label"][:n] = labels.reshape(n, ny)
@@ -237,6 +238,10 @@ class Basins(Analysis):
             out["message"] = (f"more than max_attractors = {A} attractors (raise max_attractors)" if len(atts) > A
                               else f"initial conditions unclassified after max_periods = "
                                    f"{options.settings.max_periods} (label -1)")
+        if 0 < cells["state_cell_limit"] <= cells["state_cells"]:  # status unchanged: slower, not wrong
+            full_note = (f"the state-space cell map filled up ({cells['state_cells']} cells); later trajectories "
+                         f"ran on without new cells (a coarser cell_resolution or more tiles keep it below)")
+            out["message"] = "; ".join(m for m in (out.get("message"), full_note) if m)
         return out
 
     def warmup(self, options: BasinsOptions) -> None:
