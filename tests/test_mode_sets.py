@@ -115,9 +115,11 @@ def test_basins_over_mode_sets_assemble_each_set_as_alone(tmp_path):
         alone = _run(tmp_path, BASINS_JOB, name, modes)
         part = select(both, label)
         for var in ("label", "basin_fraction", "attractor_coordinate", "status"):
-            # equal values and coordinates; the lattice's long_name names the first set's mode
             xr.testing.assert_equal(part[var], alone[var])
             assert str(part[var].attrs) == str(alone[var].attrs)
+    # the lattice axes are the mode of each set: their long names say so set by set
+    assert both["ic_x"].attrs["long_name"] == ("(1,0): initial displacement of mode (1, 0); "
+                                               "(2,0): initial displacement of mode (2, 0)")
     made = figures.make(get("basins"), both)
     assert len(made["basin_fraction_mode_sets"].axes[0].patches) == 2
     _close(made)

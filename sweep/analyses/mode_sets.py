@@ -181,12 +181,15 @@ class ModeSetSweep(Analysis):
                 parts[s] = parts[s].assign({name: (v.dims, np.full(shape, fill, v.dtype), v.attrs)})
                 absent.setdefault(name, []).append(options.labels[s])
         sizes = [dict(p.sizes) for p in parts]
+        described = _coordinate_names(parts, options.labels)
         parts = _padded(parts, {name: v.fill for name, v in union.items()})
         index = pd.Index(list(options.labels), name="mode_set")
         ds = xr.concat(parts, dim=index, data_vars="all", coords="all", compat="equals", join="exact")
         ds["mode_set"].attrs.update(long_name="Galerkin mode set: the (m,n) of its modes", units="1")
         for name, labels in absent.items():
             ds[name].attrs["absent_in_mode_sets"] = "; ".join(labels)
+        for name, long_name in described.items():
+            ds[name].attrs["long_name"] = long_name
         padded = {d for d in ds.dims if d != "mode_set" and len({z.get(d) for z in sizes}) > 1}
         extents = {f"{d}_extent": ("mode_set", np.array([z.get(d, 0) for z in sizes], np.int32),
                                    {"long_name": f"size of the dimension {d} in the set (the rest is padding)",
@@ -206,6 +209,18 @@ class ModeSetSweep(Analysis):
 def _slug(label: str) -> str:
     """A directory name for a set label: ``"(1,0)+(2,0)"`` -> ``"modes_1_0-2_0"``."""
     return "modes_" + "-".join(p.strip("()").replace(",", "_") for p in label.split("+"))
+
+
+def _coordinate_names(parts, labels) -> dict[str, str]:
+    """The long names of the coordinates that the sets describe differently (the basins
+    lattice axes name each set's lattice mode), joined set by set: concatenation keeps
+    the first set's attributes only."""
+    out = {}
+    for name in set().union(*(p.coords for p in parts)):
+        named = [(label, p[name].attrs.get("long_name")) for label, p in zip(labels, parts) if name in p.coords]
+        if len({long_name for _, long_name in named}) > 1:
+            out[name] = "; ".join(f"{label}: {long_name}" for label, long_name in named)
+    return out
 
 
 def _padded(parts: list, fills: Mapping[str, Any]) -> list:
