@@ -43,7 +43,6 @@ below ``ds_min``.
 from __future__ import annotations
 
 import math
-
 from collections.abc import Sequence
 from dataclasses import dataclass
 
