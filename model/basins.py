@@ -271,9 +271,10 @@ class _StateCells(NamedTuple):
     enabled: bool
 
 
-#: Entries of the state-space cell map (:class:`_StateCells`): 2**21, about 30 MB for
-#: three modes; once three quarters are in use no new cell is recorded, and trajectories
-#: are then classified by the cells already known, by capture or by Newton.
+#: Entries of the state-space cell map (:class:`_StateCells`), a power of two (the hash is
+#: masked): 2**21, 2K int16 coordinates and a label each, 27 MB for three modes; once
+#: :func:`state_cell_limit` are in use no new cell is recorded, and trajectories are then
+#: classified by the cells already known, by capture or by Newton.
 STATE_CELL_CAPACITY = 1 << 21
 
 
@@ -351,9 +352,9 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
         brute-force reference: integrate until the capture disc of a known attractor.
     report : dict, optional
         Receives ``"state_cells"``, the cells in the state-space cell map (several modes
-        with ``use_cells``; else 0), and ``"state_cell_limit"``, the number at which the map
-        stops taking new cells (it is then full: trajectories are classified by the cells
-        already labelled, capture and Newton, which costs periods, not correctness).
+        with ``use_cells``; else 0).  At :func:`state_cell_limit` the map takes no new
+        cells: trajectories are then classified by the cells already labelled, capture and
+        Newton, which costs periods, not correctness.
 
     Returns
     -------
@@ -391,7 +392,7 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
     entries = STATE_CELL_CAPACITY if whole else 1
     sc = _StateCells(np.zeros((entries, n), np.int16), np.full(entries, _EMPTY_CELL, np.int8),
                      scale * (s.cell_resolution or max(nx - 1, ny - 1, 1)), np.zeros(1, np.int64),
-                     3 * entries // 4, whole)
+                     state_cell_limit(entries), whole)
     criteria = _Criteria(scale, s.radius**2, s.consecutive, s.trigger**2,
                          s.cooldown if discover else s.max_periods + 1, s.max_period, s.max_periods)
     width = min(LOCKSTEP_WIDTH, max(N, 1))
@@ -426,9 +427,15 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
         known.searched[e, n] = min(s.trigger, _EXPLAINED_FRACTION * d) ** 2
         slots.cursor[_AT_SEARCHED] = e + 1
     if report is not None:
-        report["state_cells"] = int(sc.count[0])
-        report["state_cell_limit"] = int(sc.limit) if whole else 0
+        report["state_cells"] = int(sc.count[0]) if whole else 0
     return labels, atts, periods
+
+
+def state_cell_limit(capacity: int | None = None) -> int:
+    """Cells a state-space cell map of ``capacity`` entries (default
+    :data:`STATE_CELL_CAPACITY`) takes before it is full: three quarters, which keeps the
+    probe sequences of the open addressing short."""
+    return 3 * (STATE_CELL_CAPACITY if capacity is None else capacity) // 4
 
 
 def match_attractor(att: Attractor, attractors, scale, tol: float) -> int:

@@ -72,7 +72,10 @@ def state_scale(dof: int, omega: float) -> np.ndarray:
 
 def sorted_multipliers(phi: np.ndarray) -> np.ndarray:
     """Eigenvalues of ``phi`` sorted by decreasing modulus, then by decreasing imaginary
-    and real part (a conjugate pair: positive imaginary part first)."""
+    and real part (a conjugate pair: positive imaginary part first); all NaN when ``phi``
+    is not finite (a diverged integration: the caller reports it, nothing raises)."""
+    if not np.all(np.isfinite(phi)):
+        return np.full(phi.shape[0], np.nan + 0j)
     mu = _eigenvalues_2x2(*phi.ravel().tolist()) if phi.shape == (2, 2) else None
     if mu is None:
         mu = np.linalg.eigvals(phi).astype(complex)
@@ -80,10 +83,9 @@ def sorted_multipliers(phi: np.ndarray) -> np.ndarray:
 
 
 def _eigenvalues_2x2(a: float, b: float, c: float, d: float) -> np.ndarray | None:
-    # Eigenvalues of [[a, b], [c, d]] in closed form, or None for entries that are not
-    # finite or overflow (LAPACK then decides, and raises as it does for every size): a
-    # one-mode branch asks at every point, and numpy's eigvals costs 10 us a call there
-    # against 1 us.  The discriminant is formed as ((a - d)/2)^2 + bc, free of the
+    # Eigenvalues of [[a, b], [c, d]] (finite) in closed form, or None when the formula
+    # overflows (LAPACK then decides): a one-mode branch asks at every point, and numpy's
+    # eigvals costs 10 us a call there against 1 us.  The discriminant is formed as ((a - d)/2)^2 + bc, free of the
     # cancellation of tr^2/4 - det; of two real roots the larger in modulus comes from the
     # sum without cancellation, the other from the determinant.
     half = 0.5 * (a + d)

@@ -355,8 +355,8 @@ def piecewise_chebyshev(exact, q_max: float, scale) -> np.ndarray:
 @nb.njit(cache=True, fastmath=True, inline="always")
 def _table_piece(pieces, q_max, x):
     # The piece of a table of `pieces` equal pieces on [0, q_max) containing x, and x
-    # mapped to [-1, 1] on it.  The index is clamped on both sides: a NaN x converts to
-    # the most negative integer, which must not become a read before the table.
+    # mapped to [-1, 1] on it.  The index is clamped on both sides: on x86 a NaN x
+    # converts to the most negative integer, which must not become a read before the table.
     width = q_max / pieces
     i = max(0, min(int(x / width), pieces - 1))
     return i, 2.0 * (x - i * width) / width - 1.0
@@ -639,7 +639,7 @@ def unpack(tab, forcing):
 # or per period that allocate nothing are therefore compiled with _nrt=False (numba's
 # option for code without managed memory, which it uses itself): no reference counts,
 # and functions inlined into them inherit that.  Measured: DOP853 per evaluation, 1 mode
-# 186 -> 40 ns, 3 modes 350 -> 200 ns; the one-mode basins tile 1.34 -> 1.17 s.
+# 186 -> 35-40 ns, 3 modes 350 -> 200 ns; the one-mode basins tile 1.34 -> 1.17 s.
 
 @nb.njit(cache=True, inline="always")
 def rhs_unpacked(t, y, model, g, work, out):

@@ -245,15 +245,15 @@ def test_two_modes_use_the_lean_rule_and_check_it_on_the_attractors():
 
 
 def test_a_full_state_cell_map_is_reported_and_changes_no_label(monkeypatch):
-    """A state-space cell map too small for the tile fills up: the tile says so in its
-    message, keeps status ok, and labels every initial condition as with room to spare
-    (a full map only stops adding cells)."""
+    """A state-space cell map too small for the tile fills up: the tile records its cell
+    count at the limit, keeps status ok, and labels every initial condition as with room
+    to spare (a full map only stops adding cells)."""
     table = {"modes": [[1, 0], [2, 0]], "ic_x": {"start": -0.3, "stop": 0.3, "num": 4},
              "ic_y": {"start": -10.0, "stop": 10.0, "num": 3}, "tiles": 1, "steps": 64}
     options = BASINS.parse_options(table, GRID, MEMBRANE)
     roomy = BASINS.compute(POINT, options, 0)
-    assert "filled up" not in roomy.get("message", "")
+    assert 0 < roomy["tile_state_cells"] < mb.state_cell_limit()
     monkeypatch.setattr(mb, "STATE_CELL_CAPACITY", 64)
     cramped = BASINS.compute(POINT, options, 0)
-    assert cramped["status"] == 0 and "state-space cell map filled up (48 cells)" in cramped["message"]
+    assert cramped["status"] == 0 and cramped["tile_state_cells"] == mb.state_cell_limit() == 48
     assert np.array_equal(cramped["tile_label"], roomy["tile_label"])

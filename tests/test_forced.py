@@ -78,7 +78,7 @@ def test_amplitude_over_several_periods_of_a_periodic_orbit_is_its_one_period_va
 def test_two_by_two_multipliers_in_closed_form_are_lapacks():
     # The closed form of the one-mode case against LAPACK's eigenvalues (numpy), sorted
     # alike: real and complex pairs, a near double root, a singular and a zero matrix, a
-    # tie in modulus; entries that overflow or are not finite go to LAPACK, which raises.
+    # tie in modulus, entries whose formula overflows (LAPACK then); not finite: NaN.
     rng = np.random.default_rng(3)
     cases = [m for m in rng.normal(size=(200, 2, 2))]
     cases += [np.array([[1.0, 1e-9], [0.0, 1.0 + 1e-12]]), np.array([[2.0, 4.0], [1.0, 2.0]]), np.zeros((2, 2)),
@@ -92,9 +92,24 @@ def test_two_by_two_multipliers_in_closed_form_are_lapacks():
         assert mu.dtype == complex and mu.shape == (2,)
     huge = np.array([[1e200, 1.0], [1.0, -1e200]])
     assert np.allclose(sorted_multipliers(huge), [1e200, -1e200], rtol=1e-12)
-    for bad in (np.array([[np.inf, 0.0], [0.0, 1.0]]), np.array([[np.nan, 0.0], [0.0, 1.0]])):
-        with pytest.raises(np.linalg.LinAlgError):
-            sorted_multipliers(bad)
+    for bad in (np.array([[np.inf, 0.0], [0.0, 1.0]]), np.array([[np.nan, 0.0], [0.0, 1.0]]), np.full((4, 4), np.nan)):
+        mu = sorted_multipliers(bad)
+        assert mu.shape == (bad.shape[0],) and np.all(np.isnan(mu))
+
+
+def test_a_diverging_guess_is_not_converged_rather_than_an_error():
+    # shoot() reports failure (its docstring: it never raises for that) and the branch
+    # reports that it found no response, for one mode (the closed-form multipliers) too.
+    from model.continuation import continue_orbits
+    from model.shooting import shoot
+
+    rom = build_rom(solve_prestretch(Membrane(), "analytic"), [(1, 0)])
+    fmap = ForcedMap.from_loading(rom, PAPER, steps=64)
+    with np.errstate(over="ignore", invalid="ignore"):  # the guess overflows on purpose
+        res = shoot(fmap, np.array([1e300, 1e300]))
+        branch = continue_orbits(fmap, "P0", 1.0, 2.0, guess=np.array([1e300, 1e300]))
+    assert not res.converged
+    assert not branch.complete and "no periodic response found" in branch.message
 
 
 def test_bad_arguments_are_named():

@@ -117,9 +117,12 @@ def test_basins_over_mode_sets_assemble_each_set_as_alone(tmp_path):
         for var in ("label", "basin_fraction", "attractor_coordinate", "status"):
             xr.testing.assert_equal(part[var], alone[var])
             assert str(part[var].attrs) == str(alone[var].attrs)
-    # the lattice axes are the mode of each set: their long names say so set by set
+    # the lattice axes are the mode of each set: their long names say so set by set, and
+    # each set selected has its own again
     assert both["ic_x"].attrs["long_name"] == ("(1,0): initial displacement of mode (1, 0); "
                                                "(2,0): initial displacement of mode (2, 0)")
+    for label, mode in (("(1,0)", "(1, 0)"), ("(2,0)", "(2, 0)")):
+        assert select(both, label)["ic_x"].attrs == {"units": "m", "long_name": f"initial displacement of mode {mode}"}
     made = figures.make(get("basins"), both)
     assert len(made["basin_fraction_mode_sets"].axes[0].patches) == 2
     _close(made)

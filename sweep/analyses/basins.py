@@ -182,6 +182,8 @@ class Basins(Analysis):
                      "largest Floquet multiplier modulus of the tile's attractors", np.nan),
             Variable("tile_rk4_steps", (), (), "i4", "1", "RK4 steps per forcing period", 0),
             Variable("tile_radial_points", (), (), "i4", "1", "radial quadrature points of the ROM", 0),
+            Variable("tile_state_cells", (), (), "i4", "1",
+                     "cells in the tile's state-space cell map (several modes, fast method; else 0)", 0),
         ]
 
     def coords(self, options: BasinsOptions):
@@ -213,9 +215,10 @@ class Basins(Analysis):
         out["tile_radial_points"] = rom.radial_points
         rows = options.tile_rows(subtask)
         states = mb.lattice_states(lattice, rows, S)
-        cells: dict = {}
+        cell_report: dict = {}
         labels, atts, periods = mb.classify_lattice(states, lattice, fmap, options.settings,
-                                                    use_cells=options.method == "fast", report=cells)
+                                                    use_cells=options.method == "fast", report=cell_report)
+        out["tile_state_cells"] = cell_report["state_cells"]
         labels = np.where(labels >= A, -1, labels)
         n = rows.size
         out["tile_label"][:n] = labels.reshape(n, ny)
@@ -238,10 +241,6 @@ class Basins(Analysis):
             out["message"] = (f"more than max_attractors = {A} attractors (raise max_attractors)" if len(atts) > A
                               else f"initial conditions unclassified after max_periods = "
                                    f"{options.settings.max_periods} (label -1)")
-        if 0 < cells["state_cell_limit"] <= cells["state_cells"]:  # status unchanged: slower, not wrong
-            full_note = (f"the state-space cell map filled up ({cells['state_cells']} cells); later trajectories "
-                         f"ran on without new cells (a coarser cell_resolution or more tiles keep it below)")
-            out["message"] = "; ".join(m for m in (out.get("message"), full_note) if m)
         return out
 
     def warmup(self, options: BasinsOptions) -> None:
@@ -343,6 +342,12 @@ class Basins(Analysis):
                 "units": "1", "long_name": "RK4 steps per forcing period"}),
             "radial_points": (G, raw["tile_radial_points"].transpose(*order).values.max(axis=-1).astype(np.int32), {
                 "units": "1", "long_name": "radial Gauss-Legendre points of the ROM (model.rom.lean_radial_points)"}),
+            "state_cells": (G, raw["tile_state_cells"].transpose(*order).values.max(axis=-1).astype(np.int32), {
+                "units": "1", "long_name": "most cells in a tile's state-space cell map (several modes)",
+                "state_cell_limit": np.int32(mb.state_cell_limit()),
+                "comment": "at state_cell_limit a map takes no new cells: its tile's last trajectories ran longer "
+                           "(labels still from labelled cells, capture and Newton); a coarser cell_resolution "
+                           "or more tiles keep it below"}),
             "unclassified_fraction": (G, uncl, {
                 "units": "1", "long_name": "fraction of the lattice with label -1"}),
         }

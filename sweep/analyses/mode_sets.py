@@ -24,6 +24,7 @@ merged in memory on rank 0 (like the basins), not streamed.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
@@ -188,8 +189,9 @@ class ModeSetSweep(Analysis):
         ds["mode_set"].attrs.update(long_name="Galerkin mode set: the (m,n) of its modes", units="1")
         for name, labels in absent.items():
             ds[name].attrs["absent_in_mode_sets"] = "; ".join(labels)
-        for name, long_name in described.items():
-            ds[name].attrs["long_name"] = long_name
+        for name, named in described.items():  # select() gives each set its own back
+            ds[name].attrs["long_name"] = "; ".join(f"{label}: {long_name}" for label, long_name in named.items())
+            ds[name].attrs[_NAME_BY_SET] = json.dumps(named)
         padded = {d for d in ds.dims if d != "mode_set" and len({z.get(d) for z in sizes}) > 1}
         extents = {f"{d}_extent": ("mode_set", np.array([z.get(d, 0) for z in sizes], np.int32),
                                    {"long_name": f"size of the dimension {d} in the set (the rest is padding)",
@@ -206,20 +208,24 @@ class ModeSetSweep(Analysis):
         return paths + mode_set_figures(ds, outdir, self.name)
 
 
+#: Attribute of a coordinate that the sets describe differently: set label -> long name (JSON).
+_NAME_BY_SET = "long_name_by_mode_set"
+
+
 def _slug(label: str) -> str:
     """A directory name for a set label: ``"(1,0)+(2,0)"`` -> ``"modes_1_0-2_0"``."""
     return "modes_" + "-".join(p.strip("()").replace(",", "_") for p in label.split("+"))
 
 
-def _coordinate_names(parts, labels) -> dict[str, str]:
+def _coordinate_names(parts, labels) -> dict[str, dict[str, str]]:
     """The long names of the coordinates that the sets describe differently (the basins
-    lattice axes name each set's lattice mode), joined set by set: concatenation keeps
-    the first set's attributes only."""
+    lattice axes name each set's lattice mode), set label -> long name (the coordinate's
+    name where a set gives none): concatenation keeps the first set's attributes only."""
     out = {}
     for name in set().union(*(p.coords for p in parts)):
-        named = [(label, p[name].attrs.get("long_name")) for label, p in zip(labels, parts) if name in p.coords]
-        if len({long_name for _, long_name in named}) > 1:
-            out[name] = "; ".join(f"{label}: {long_name}" for label, long_name in named)
+        named = {label: p[name].attrs.get("long_name") or name for label, p in zip(labels, parts) if name in p.coords}
+        if len(set(named.values())) > 1:
+            out[name] = named
     return out
 
 
@@ -282,7 +288,10 @@ def select(ds, label: str):
     extents = [c for c in one.coords if c.endswith("_extent") and c[:-len("_extent")] in one.dims]
     one = one.isel({c[:-len("_extent")]: slice(0, int(one[c])) for c in extents})
     absent = [v for v in one.data_vars if label in one[v].attrs.get("absent_in_mode_sets", "").split("; ")]
-    one = one.drop_vars(["mode_set", "n_modes", *extents, *absent], errors="ignore")
+    one = one.drop_vars(["mode_set", "n_modes", *extents, *absent], errors="ignore").copy()  # own attributes
     for v in one.data_vars:
         one[v].attrs.pop("absent_in_mode_sets", None)
+    for c in one.coords:
+        if _NAME_BY_SET in one[c].attrs:
+            one[c].attrs["long_name"] = json.loads(one[c].attrs.pop(_NAME_BY_SET))[label]
     return one
