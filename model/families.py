@@ -192,12 +192,13 @@ def _jacobian_table(fam: FamilyTables, q_max: float) -> np.ndarray:
     return piecewise_chebyshev(exact, q_max, lambda v: np.abs(v).max(axis=1, keepdims=True))
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def family_jacobian(q, fam, iaa, ibb, out):
     """``out[j, l] = J_jl(q)`` (m2 per unit of ``u``) of the family ``fam`` at the
     axisymmetric modal coordinates ``q``; ``iaa``, ``ibb`` are ``(P,)`` work arrays.
 
-    One-mode ROMs read the table within its range, every other case the quadrature.
+    One-mode ROMs read the table within its range, every other case the quadrature.  Called
+    at every RK4 stage: no reference counts (``_nrt=False``, see the note in :mod:`model.rom`).
     """
     if fam.table_max > 0.0 and abs(q[0]) < fam.table_max:
         _table_jacobian(fam.jacobian_table, fam.table_max, abs(q[0]), out)
@@ -261,12 +262,16 @@ def _stage_coordinates(y0, t0, h, steps, tab, forcing, out):
                              tab.load[0], forcing.damping_rate, forcing.P0, forcing.Omega, out)
         if done == steps:
             return
-    y = y0.copy()
-    ys = np.empty(n)
-    k = np.empty((4, n))
-    g = np.empty(K)
-    fw = np.empty((2, tab.weight.size))
-    model = unpack(tab, forcing)
+    _stage_loop(y0.copy(), t0, h, steps, unpack(tab, forcing), np.empty(n), np.empty((4, n)), np.empty(K),
+                np.empty((2, tab.weight.size)), out)
+
+
+@nb.njit(cache=True, _nrt=False)
+def _stage_loop(y, t0, h, steps, model, ys, k, g, fw, out):
+    # The general loop of _stage_coordinates on work arrays allocated by the caller: no
+    # reference counts at the right-hand side of every stage (see the note in model.rom).
+    n = y.size
+    K = n // 2
     for i in range(steps):
         t = t0 + i * h
         for s in range(4):
