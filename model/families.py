@@ -178,18 +178,25 @@ def _jacobian_table(fam: FamilyTables, q_max: float) -> np.ndarray:
     largest entry, so that one evaluation costs ``M^2`` Clenshaw sums instead of a
     quadrature.
     """
+    return piecewise_chebyshev(lambda qs: _jacobian_values(qs, fam), q_max,
+                               lambda v: np.abs(v).max(axis=1, keepdims=True))
+
+
+@nb.njit(cache=True)
+def _jacobian_values(qs, fam):
+    # J(q) of the family by its quadrature at every one-mode coordinate q of qs, raveled
+    # row by row: the values _jacobian_table interpolates, in one call.
     M = fam.k_force.size
     P = fam.weight.size
-    iaa, ibb, jac = np.empty(P), np.empty(P), np.empty((M, M))
-
-    def exact(qs):
-        out = np.empty((qs.size, M * M))
-        for k, q in enumerate(qs):
-            _quadrature_jacobian(np.array([q]), fam, iaa, ibb, jac)
-            out[k] = jac.ravel()
-        return out
-
-    return piecewise_chebyshev(exact, q_max, lambda v: np.abs(v).max(axis=1, keepdims=True))
+    iaa, ibb, jac, q = np.empty(P), np.empty(P), np.empty((M, M)), np.empty(1)
+    out = np.empty((qs.size, M * M))
+    for i in range(qs.size):
+        q[0] = qs[i]
+        _quadrature_jacobian(q, fam, iaa, ibb, jac)
+        for j in range(M):
+            for l in range(M):
+                out[i, j * M + l] = jac[j, l]
+    return out
 
 
 @nb.njit(cache=True, error_model="numpy", _nrt=False)
