@@ -1,5 +1,5 @@
-"""RK4 step of a three-mode ROM (quadrature force) per trajectory: the project's kernel
-against a C program of the same algorithm (the hardware reference) and numpy (what a user
+"""RK4 step of a three-mode ROM (quadrature force) per trajectory: the project's kernels
+against C programs of the same algorithms (the hardware reference) and numpy (what a user
 would write).
 
 Case: Fig. 19a, delta = 1.1, delta_o = 0.2 (numeric pre-stretch), Omega = 33.5 rad/s,
@@ -10,15 +10,18 @@ set's ``steps = "auto"``), ``--trajectories`` random initial states (|q_1| < 0.3
 (:func:`model.rom.lean_radial_points`).  Variants, interleaved in each of ``--repeats``
 rounds (medians printed, compilation excluded):
 
-* numba: ``ForcedMap.advance_batch`` (``model.integrate._rk4_quadrature``, one trajectory
-  at a time; the force vectorises over the quadrature points);
-* C: ``benchmarks/c/rk4_quadrature.c``, compiled here with ``cc -O3 -march=native
-  -ffast-math`` (the numba kernels use fastmath too; skipped with a message without a
-  compiler); the program times its own loop;
+* numba scalar: ``ForcedMap.advance_batch`` (``model.integrate._rk4_quadrature``, one
+  trajectory at a time; the force vectorises over the quadrature points: what shooting,
+  continuation and time series use);
+* numba lock-step: ``model.integrate.rk4_quadrature_lockstep`` on blocks of
+  ``LOCKSTEP_WIDTH`` trajectories, one per column (what the basins use);
+* C scalar and C lock-step: ``benchmarks/c/rk4_quadrature.c``, the same two algorithms,
+  compiled here with ``cc -O3 -march=native -ffast-math`` (the numba kernels use fastmath
+  too; skipped with a message without a compiler); the program times its own loop;
 * numpy: the same RK4 with the force on whole arrays of quadrature points (one trajectory,
   one period per round: it is slow).
 
-Final states are compared with numba's (relative difference printed).  Run:
+Final states are compared with numba scalar's (relative difference printed).  Run:
 ``python benchmarks/bench_rk4_quadrature.py [--repeats 7] [--smoke]``.
 """
 
@@ -38,6 +41,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from benchmarks.c_reference import compile_reference  # noqa: E402
 from model.forced import ForcedMap, steps_per_period  # noqa: E402
+from model.integrate import LOCKSTEP_WIDTH, rk4_quadrature_lockstep  # noqa: E402
 from model.params import Loading, Membrane  # noqa: E402
 from model.prestretch import solve_prestretch  # noqa: E402
 from model.rom import build_rom  # noqa: E402
@@ -71,18 +75,35 @@ def numpy_rk4(y, fmap, periods):
     return y
 
 
+def lockstep_rk4(states, fmap, periods):
+    """``rk4_quadrature_lockstep`` over blocks of ``LOCKSTEP_WIDTH`` trajectories."""
+    t, f = fmap.rom.tables, fmap.forcing
+    out = np.empty_like(states)
+    h = fmap.period / fmap.steps
+    for s in range(0, states.shape[0], LOCKSTEP_WIDTH):
+        block = states[s:s + LOCKSTEP_WIDTH]
+        columns = np.zeros((states.shape[1], LOCKSTEP_WIDTH))
+        columns[:, :block.shape[0]] = block.T
+        for _ in range(periods):
+            rk4_quadrature_lockstep(columns, block.shape[0], 0.0, h, fmap.steps, t.weight, t.rho2, t.r2, t.dr2,
+                                    t.b_rho, t.b_theta, t.axisymmetric, t.k_force, t.load, f.damping_rate, f.P0,
+                                    f.Omega)
+        out[s:s + block.shape[0]] = columns[:, :block.shape[0]].T
+    return out
+
+
 def _rel(x, ref) -> float:
     return float(np.max(np.abs(x - ref)) / np.max(np.abs(ref)))
 
 
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--trajectories", type=int, default=16)
-    ap.add_argument("--periods", type=int, default=4)
+    ap.add_argument("--trajectories", type=int, default=128)
+    ap.add_argument("--periods", type=int, default=2)
     ap.add_argument("--repeats", type=int, default=7)
     ap.add_argument("--smoke", action="store_true", help="tiny run for the test suite")
     args = ap.parse_args(argv)
-    n_traj, periods, rounds = (2, 1, 1) if args.smoke else (args.trajectories, args.periods, args.repeats)
+    n_traj, periods, rounds = (3, 1, 1) if args.smoke else (args.trajectories, args.periods, args.repeats)
     ps = solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric")
     rng = np.random.default_rng(0)
     states = np.zeros((n_traj, 2 * len(MODES)))
@@ -99,33 +120,44 @@ def main(argv=None) -> None:
         np.concatenate([t.weight, t.rho2, t.r2, t.dr2, t.b_rho.ravel(), t.k_force, t.load]).tofile(work / "tables.bin")
         states.tofile(work / "states.bin")
         fmap.advance_batch(states[:1], 1)
-        times = {"numba": [], "C": [], "numpy": []}
+        lockstep_rk4(states[:1], fmap, 1)
+        per_step = n_traj * periods * steps
+        times = {"numba scalar": [], "numba lock-step": [], "C scalar": [], "C lock-step": [], "numpy": []}
+        final = {}
         for _ in range(rounds):
             t0 = time.perf_counter()
-            final = fmap.advance_batch(states, periods)
-            times["numba"].append((time.perf_counter() - t0) / (n_traj * periods * steps) * 1e9)
-            if exe is not None:
-                out = subprocess.run([str(exe), str(work / "tables.bin"), str(K), str(P), str(work / "states.bin"),
-                                      str(steps), str(periods), repr(fmap.period / steps), repr(f.damping_rate),
-                                      repr(f.P0), repr(f.Omega), str(work / "out.bin")],
-                                     capture_output=True, text=True, check=True)
-                times["C"].append(float(out.stdout))
+            final["numba scalar"] = fmap.advance_batch(states, periods)
+            times["numba scalar"].append((time.perf_counter() - t0) / per_step * 1e9)
+            t0 = time.perf_counter()
+            final["numba lock-step"] = lockstep_rk4(states, fmap, periods)
+            times["numba lock-step"].append((time.perf_counter() - t0) / per_step * 1e9)
+            for mode, name in ((0, "C scalar"), (1, "C lock-step")):
+                if exe is None:
+                    continue
+                out = subprocess.run([str(exe), str(mode), str(LOCKSTEP_WIDTH), str(work / "tables.bin"), str(K),
+                                      str(P), str(work / "states.bin"), str(steps), str(periods),
+                                      repr(fmap.period / steps), repr(f.damping_rate), repr(f.P0), repr(f.Omega),
+                                      str(work / "out.bin")], capture_output=True, text=True, check=True)
+                times[name].append(float(out.stdout))
+                final[name] = np.fromfile(work / "out.bin").reshape(states.shape)
             t0 = time.perf_counter()
             numpy_final = numpy_rk4(states[0], fmap, 1)
             times["numpy"].append((time.perf_counter() - t0) / steps * 1e9)
-        err = {"numpy": _rel(numpy_final, fmap.advance_batch(states[:1], 1)[0])}
-        if exe is not None:
-            err["C"] = _rel(np.fromfile(work / "out.bin").reshape(final.shape), final)
+        ref = final["numba scalar"]
+        err = {name: _rel(x, ref) for name, x in final.items() if name != "numba scalar"}
+        err["numpy"] = _rel(numpy_final, fmap.advance_batch(states[:1], 1)[0])
         med = {k: statistics.median(v) for k, v in times.items() if v}
         print(f"three-mode RK4, {P} radial points, {steps} steps per period, {n_traj} trajectories x {periods} "
-              f"periods; medians of {rounds} interleaved rounds")
+              f"periods, lock-step width {LOCKSTEP_WIDTH}; medians of {rounds} interleaved rounds")
         for name, ns in med.items():
-            compared = f"final states vs numba: {err[name]:.1e} relative" if name in err else "the reference"
-            print(f"  {name:6s} {ns:9.1f} ns per trajectory and step   ({compared})")
+            compared = f"final states vs numba scalar: {err[name]:.1e} relative" if name in err else "the reference"
+            print(f"  {name:16s} {ns:9.1f} ns per trajectory and step   ({compared})")
         if exe is not None:
-            print(f"  ratio numba / C: {med['numba'] / med['C']:.2f} (target <= 1.5)")
-        print(f"  ratio numpy / numba: {med['numpy'] / med['numba']:.1f}")
-
+            print(f"  ratio numba lock-step / C lock-step: {med['numba lock-step'] / med['C lock-step']:.2f} "
+                  f"(target <= 1.5)")
+            print(f"  ratio numba scalar / C scalar:       {med['numba scalar'] / med['C scalar']:.2f}")
+        print(f"  ratio numba scalar / numba lock-step: {med['numba scalar'] / med['numba lock-step']:.2f}")
+        print(f"  ratio numpy / numba lock-step: {med['numpy'] / med['numba lock-step']:.1f}")
 
 if __name__ == "__main__":
     main()

@@ -49,10 +49,12 @@ Algorithm (one tile; everything is deterministic and depends only on the tile's 
   radius stays a quarter of the way to the orbit found, so a point much nearer to an
   attractor not yet known is still searched from.
 * **Lock-step**: the tile's trajectories are processed in slots of
-  :data:`model.integrate.LOCKSTEP_WIDTH`; all occupied slots advance one period together
-  (one-mode ROMs: :func:`model.integrate.rk4_one_mode_lockstep`, vectorised across the
-  slots), and a slot whose trajectory is labelled takes the next initial condition.  The
-  result depends only on the tile's inputs.
+  :data:`model.integrate.LOCKSTEP_WIDTH`; all occupied slots advance one period together,
+  vectorised across the slots (one-mode ROMs: :func:`model.integrate.rk4_one_mode_lockstep`
+  from the force table; other mode sets: :func:`model.integrate.rk4_quadrature_lockstep`,
+  or the scalar loop when fewer than :data:`model.integrate.QUADRATURE_LOCKSTEP_MIN` slots
+  are occupied), and a slot whose trajectory is labelled takes the next initial condition.
+  The result depends only on the tile's inputs.
 
 :func:`classify_lattice` with ``use_cells=False`` and ``discover=False`` is the
 brute-force reference: plain long integration until the trajectory converges into the
@@ -69,7 +71,8 @@ import numba as nb
 import numpy as np
 
 from .forced import ForcedMap
-from .integrate import LOCKSTEP_WIDTH, lockstep_table, rk4_one_mode_lockstep, rk4_steps
+from .integrate import (LOCKSTEP_WIDTH, QUADRATURE_LOCKSTEP_MIN, lockstep_table, rk4_one_mode_lockstep,
+                        rk4_quadrature_lockstep, rk4_steps)
 
 #: Label of an initial condition that could not be classified.
 UNCLASSIFIED = -1
@@ -401,10 +404,15 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
                    np.zeros(_CURSOR_SLOTS, np.int64))
     slots.cursor[_AT_KNOWN] = len(atts)
     tab = fmap.rom.tables
-    coef_t = lockstep_table(tab) if tab.table_max > 0.0 else np.zeros((0, 0))
+    # The table's lock-step loop (coef_t) or the quadrature's (columns: the occupied slots'
+    # states, one per column); the other is None, which numba prunes with its branch, so a
+    # job compiles only the loop it runs (the quadrature's costs 2.5 s)
+    table = tab.table_max > 0.0
+    coef_t = lockstep_table(tab) if table else None
+    columns = None if table else np.empty((n, width))
     while True:
-        code = _classify_kernel(states, labels, periods, cells, sc, known, criteria, tab, coef_t, fmap.forcing,
-                                fmap.steps, slots)
+        code = _classify_kernel(states, labels, periods, cells, sc, known, criteria, tab, coef_t, columns,
+                                fmap.forcing, fmap.steps, slots)
         if code == 0:
             break
         start = slots.y[slots.cursor[_AT_SLOT]].copy()
@@ -703,7 +711,7 @@ def _check(b, slots, cells, flat, sc, known, crit, nx, ny):
 
 
 @nb.njit(cache=True)
-def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_t, forcing, steps, slots):
+def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_t, columns, forcing, steps, slots):
     # Returns 0 when every state is labelled, 1 to ask the caller for a Newton search
     # from slots.y[cursor[_AT_SLOT]] with period cursor[_AT_SEARCH_K]; the kernel then
     # resumes with that slot's tests.  Slots are refilled with the next initial state as
@@ -715,11 +723,11 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
     h = 2.0 * np.pi / forcing.Omega / steps
     cur = slots.cursor
     kmax = crit.max_period
-    lockstep = tab.table_max > 0.0
     q = np.empty(B)
     v = np.empty(B)
     reach = np.empty(B)
     work = np.empty((6, n))
+    lanes = np.empty(B, np.int64)  # the slots of the columns
     while True:
         b = cur[_AT_SLOT]
         while b < B:
@@ -767,19 +775,39 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
                     slots.ring[b, nd % kmax, i] = slots.y[b, i]
         if active == 0:
             return 0
-        if lockstep:
+        if coef_t is not None:
             for b in range(B):
                 busy = slots.state[b, _SLOT_STATE] >= 0
                 q[b] = slots.y[b, 0] if busy else 0.0
                 v[b] = slots.y[b, 1] if busy else 0.0
             rk4_one_mode_lockstep(q, v, 0.0, h, steps, coef_t, tab.table_max, tab.k_force[0], tab.load[0],
                                   forcing.damping_rate, forcing.P0, forcing.Omega, reach)
+        elif columns is not None:
+            if active >= QUADRATURE_LOCKSTEP_MIN:
+                # the occupied slots packed into the first columns (a tile's last
+                # trajectories do not drag empty slots along)
+                m = 0
+                for b in range(B):
+                    if slots.state[b, _SLOT_STATE] >= 0:
+                        lanes[m] = b
+                        for i in range(n):
+                            columns[i, m] = slots.y[b, i]
+                        m += 1
+                rk4_quadrature_lockstep(columns, m, 0.0, h, steps, tab.weight, tab.rho2, tab.r2, tab.dr2,
+                                        tab.b_rho, tab.b_theta, tab.axisymmetric, tab.k_force, tab.load,
+                                        forcing.damping_rate, forcing.P0, forcing.Omega)
+                for j in range(m):
+                    for i in range(n):
+                        slots.y[lanes[j], i] = columns[i, j]
         for b in range(B):
             if slots.state[b, _SLOT_STATE] < 0:
                 continue
-            if lockstep and reach[b] < tab.table_max:
-                slots.y[b, 0] = q[b]
-                slots.y[b, 1] = v[b]
-            else:
+            if coef_t is not None:
+                if reach[b] < tab.table_max:
+                    slots.y[b, 0] = q[b]
+                    slots.y[b, 1] = v[b]
+                else:
+                    rk4_steps(slots.y[b], 0.0, h, steps, tab, forcing, work)
+            elif active < QUADRATURE_LOCKSTEP_MIN:
                 rk4_steps(slots.y[b], 0.0, h, steps, tab, forcing, work)
             slots.state[b, _SLOT_PERIODS] += 1

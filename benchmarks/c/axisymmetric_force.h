@@ -1,10 +1,21 @@
-/* Shared by the C reference programs of benchmarks/: the quadrature force of
- * model.rom.axisymmetric_force for axisymmetric mode sets.  The slope
+/* Shared by the C reference programs of benchmarks/: the tables of an axisymmetric ROM as
+ * the benchmarks write them, and the quadrature force of model.rom.axisymmetric_force.
+ * The slope
  * a_p = sum_k q_k B_kp at every quadrature point, D = r2 (dr2 + a^2), then
  *   g_k = sum_p 2 a (1 - rho2 r2 / D^2) w B_kp
  * (a: P work values; restrict pointers, loops over the points innermost). */
 #ifndef AXISYMMETRIC_FORCE_H
 #define AXISYMMETRIC_FORCE_H
+
+/* The arrays of model.rom.RomTables, in the order of the benchmarks' tables file: weight,
+ * rho2, r2, dr2 (P each), B (K x P, row-major), k_force (K), load (K), float64. */
+typedef struct { const double *w, *rho2, *r2, *dr2, *B, *k_force, *load; } QuadratureTables;
+
+static QuadratureTables quadrature_tables(const double *tables, int K, int P) {
+    QuadratureTables t = {tables, tables + P, tables + 2 * P, tables + 3 * P, tables + 4 * P,
+                          tables + 4 * P + (long)K * P, tables + 4 * P + (long)K * P + K};
+    return t;
+}
 
 static void force(const double *restrict q, int K, int P, const double *restrict w, const double *restrict rho2,
                   const double *restrict r2, const double *restrict dr2, const double *restrict B,

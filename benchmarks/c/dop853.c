@@ -32,7 +32,8 @@
 typedef struct {
     int K, P, pieces;
     double q_max, c_damp, p_load, omega;
-    const double *w, *rho2, *r2, *dr2, *B, *k_force, *load, *table;
+    QuadratureTables tab;
+    const double *table;
     double *a, *g;
 } Model;
 
@@ -49,11 +50,11 @@ static void rhs(double t, const double *y, const Model *m, double *out) {
     if (m->pieces > 0 && fabs(y[0]) < m->q_max)
         m->g[0] = y[0] * table_row(m->table, m->pieces, m->q_max, fabs(y[0]));
     else
-        force(y, K, m->P, m->w, m->rho2, m->r2, m->dr2, m->B, m->a, m->g);
+        force(y, K, m->P, m->tab.w, m->tab.rho2, m->tab.r2, m->tab.dr2, m->tab.B, m->a, m->g);
     double pt = m->p_load * cos(m->omega * t);
     for (int k = 0; k < K; k++) {
         out[k] = y[K + k];
-        out[K + k] = -m->c_damp * y[K + k] - m->k_force[k] * m->g[k] + pt * m->load[k];
+        out[K + k] = -m->c_damp * y[K + k] - m->tab.k_force[k] * m->g[k] + pt * m->tab.load[k];
     }
 }
 
@@ -132,14 +133,8 @@ int main(int argc, char **argv) {
         return 2;
     }
     Tableau c = {coef, coef + NS * NS, coef + NS * NS + NS, coef + NS * NS + 2 * NS, coef + NS * NS + 3 * NS + 1};
-    m.w = tables;
-    m.rho2 = tables + P;
-    m.r2 = tables + 2 * P;
-    m.dr2 = tables + 3 * P;
-    m.B = tables + 4 * P;
-    m.k_force = m.B + (long)K * P;
-    m.load = m.k_force + K;
-    m.table = m.load + K;
+    m.tab = quadrature_tables(tables, K, P);
+    m.table = m.tab.load + K;
     m.a = malloc(P * sizeof(double));
     m.g = malloc(K * sizeof(double));
     double *kst = malloc((NS + 1) * n * sizeof(double)), *tmp = malloc(n * sizeof(double));

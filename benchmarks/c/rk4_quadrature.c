@@ -2,12 +2,15 @@
  * reference of benchmarks/bench_rk4_quadrature.py (compiled there with -O3 -march=native
  * -ffast-math, the freedom the numba kernels' fastmath has).
  *
- * Same algorithm as model.integrate._rk4_quadrature with model.rom.axisymmetric_force:
- * y = (q, q'), four stages per step, at each stage the slope a_p = sum_k q_k B_kp at every
- * quadrature point, D = r2 (dr2 + a^2), g_k = sum_p 2 a (1 - rho2 r2 / D^2) w B_kp, and
+ * Same algorithm as the numba kernels: y = (q, q'), four stages per step, at each stage the
+ * slope a_p = sum_k q_k B_kp at every quadrature point, D = r2 (dr2 + a^2),
+ * g_k = sum_p 2 a (1 - rho2 r2 / D^2) w B_kp, and
  *   q'' = -c q' - k_force g + P0 cos(Omega t) load.
- * One trajectory at a time (the force vectorises over the quadrature points).
- * Usage: rk4_quadrature TABLES K P STATES STEPS PERIODS H C_DAMP P0 OMEGA OUT
+ *   mode 0, "scalar":   one trajectory at a time (model.integrate._rk4_quadrature with
+ *                       model.rom.axisymmetric_force: the force vectorises over the points);
+ *   mode 1, "lockstep": blocks of WIDTH trajectories, one per column, every inner loop over
+ *                       the block (model.integrate.rk4_quadrature_lockstep), restrict pointers.
+ * Usage: rk4_quadrature MODE WIDTH TABLES K P STATES STEPS PERIODS H C_DAMP P0 OMEGA OUT
  * TABLES: weight, rho2, r2, dr2 (P each), B (K x P), k_force (K), load (K), float64.
  * STATES: (M, 2K) float64 initial states; OUT receives the final states.
  * Prints the time per step and trajectory in ns.
@@ -26,47 +29,136 @@ static double now(void) {
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
+typedef struct {
+    int K, P;
+    QuadratureTables tab;
+    double h, c_damp, p_load, omega;
+} Model;
+
+static void scalar(double *y, const Model *m, int steps, double *a, double *g, double *tmp, double *stages) {
+    int K = m->K, n = 2 * K;
+    double t = 0.0;
+    for (int step = 0; step < steps; step++) {
+        for (int s = 0; s < 4; s++) {
+            double f = s == 0 ? 0.0 : (s == 3 ? m->h : 0.5 * m->h);
+            for (int i = 0; i < n; i++) tmp[i] = s == 0 ? y[i] : y[i] + f * stages[(s - 1) * n + i];
+            force(tmp, K, m->P, m->tab.w, m->tab.rho2, m->tab.r2, m->tab.dr2, m->tab.B, a, g);
+            double pt = m->p_load * cos(m->omega * (t + f));
+            for (int i = 0; i < K; i++) {
+                stages[s * n + i] = tmp[K + i];
+                stages[s * n + K + i] = -m->c_damp * tmp[K + i] - m->tab.k_force[i] * g[i] + pt * m->tab.load[i];
+            }
+        }
+        for (int i = 0; i < n; i++)
+            y[i] += m->h / 6.0 * (stages[i] + 2.0 * stages[n + i] + 2.0 * stages[2 * n + i] + stages[3 * n + i]);
+        t += m->h;
+    }
+}
+
+/* y: (2K, W) one trajectory per column; ys, dy: (2K, W), acc: (K, W), sa: (W) work. */
+static void lockstep(double *restrict y, int W, const Model *m, int steps, double *restrict ys,
+                     double *restrict acc, double *restrict dy, double *restrict sa) {
+    int K = m->K, n = 2 * K, P = m->P;
+    const double *restrict B = m->tab.B;
+    double h = m->h;
+    for (int i = 0; i < steps; i++) {
+        double t = i * h;
+        for (int s = 0; s < 4; s++) {
+            double f = s == 0 ? 0.0 : (s == 3 ? h : 0.5 * h);
+            double ct = cos(m->omega * (t + f));
+            if (s == 0) {
+                for (int k = 0; k < n; k++)
+                    for (int b = 0; b < W; b++) ys[k * W + b] = y[k * W + b];
+            } else {
+                for (int k = 0; k < K; k++)
+                    for (int b = 0; b < W; b++) {
+                        ys[k * W + b] = y[k * W + b] + f * ys[(K + k) * W + b];
+                        ys[(K + k) * W + b] = y[(K + k) * W + b] + f * acc[k * W + b];
+                    }
+            }
+            for (int k = 0; k < K; k++)
+                for (int b = 0; b < W; b++) acc[k * W + b] = 0.0;
+            for (int p = 0; p < P; p++) {
+                for (int b = 0; b < W; b++) sa[b] = ys[b] * B[p];
+                for (int k = 1; k < K; k++) {
+                    double bk = B[(long)k * P + p];
+                    for (int b = 0; b < W; b++) sa[b] += ys[k * W + b] * bk;
+                }
+                double w2 = 2.0 * m->tab.w[p], r2 = m->tab.r2[p], dr2 = m->tab.dr2[p];
+                double rr = m->tab.rho2[p] * r2;
+                for (int b = 0; b < W; b++) {
+                    double a = sa[b], D = r2 * (dr2 + a * a);
+                    sa[b] = w2 * a * (1.0 - rr / (D * D));
+                }
+                for (int k = 0; k < K; k++) {
+                    double bk = B[(long)k * P + p];
+                    for (int b = 0; b < W; b++) acc[k * W + b] += sa[b] * bk;
+                }
+            }
+            double pt = m->p_load * ct;
+            for (int k = 0; k < K; k++) {
+                double kf = m->tab.k_force[k], lk = pt * m->tab.load[k];
+                for (int b = 0; b < W; b++) acc[k * W + b] = -m->c_damp * ys[(K + k) * W + b] - kf * acc[k * W + b] + lk;
+            }
+            double wt = (s == 0 || s == 3) ? 1.0 : 2.0;
+            for (int k = 0; k < K; k++)
+                for (int b = 0; b < W; b++) {
+                    if (s == 0) {
+                        dy[k * W + b] = ys[(K + k) * W + b];
+                        dy[(K + k) * W + b] = acc[k * W + b];
+                    } else {
+                        dy[k * W + b] += wt * ys[(K + k) * W + b];
+                        dy[(K + k) * W + b] += wt * acc[k * W + b];
+                    }
+                }
+        }
+        for (int k = 0; k < n; k++)
+            for (int b = 0; b < W; b++) y[k * W + b] += h / 6.0 * dy[k * W + b];
+    }
+}
+
 int main(int argc, char **argv) {
-    if (argc != 12) {
-        fprintf(stderr, "usage: %s TABLES K P STATES STEPS PERIODS H C_DAMP P0 OMEGA OUT\n", argv[0]);
+    if (argc != 14) {
+        fprintf(stderr, "usage: %s MODE WIDTH TABLES K P STATES STEPS PERIODS H C_DAMP P0 OMEGA OUT\n", argv[0]);
         return 2;
     }
+    int mode = atoi(argv[1]), width = atoi(argv[2]);
     long n_tab, n_states;
-    double *tables = read_doubles(argv[1], &n_tab);
-    int K = atoi(argv[2]), P = atoi(argv[3]), steps = atoi(argv[5]), periods = atoi(argv[6]);
-    double h = atof(argv[7]), c_damp = atof(argv[8]), p_load = atof(argv[9]), omega = atof(argv[10]);
-    double *w = tables, *rho2 = tables + P, *r2 = tables + 2 * P, *dr2 = tables + 3 * P, *B = tables + 4 * P;
-    double *k_force = B + (long)K * P, *load = k_force + K;
-    double *Y = read_doubles(argv[4], &n_states);
-    int n = 2 * K;
+    double *tables = read_doubles(argv[3], &n_tab);
+    Model m;
+    m.K = atoi(argv[4]);
+    m.P = atoi(argv[5]);
+    int steps = atoi(argv[7]), periods = atoi(argv[8]);
+    m.h = atof(argv[9]);
+    m.c_damp = atof(argv[10]);
+    m.p_load = atof(argv[11]);
+    m.omega = atof(argv[12]);
+    int K = m.K, P = m.P, n = 2 * K;
+    m.tab = quadrature_tables(tables, K, P);
+    double *Y = read_doubles(argv[6], &n_states);
     long M = n_states / n;
     double *a = malloc(P * sizeof(double)), *g = malloc(K * sizeof(double));
     double *tmp = malloc(n * sizeof(double)), *stages = malloc(4 * n * sizeof(double));
+    double *cols = malloc((long)n * width * sizeof(double)), *ys = malloc((long)n * width * sizeof(double));
+    double *dy = malloc((long)n * width * sizeof(double)), *acc = malloc((long)K * width * sizeof(double));
+    double *sa = malloc(width * sizeof(double));
     double t0 = now();
-    for (long m = 0; m < M; m++) {
-        double *y = Y + m * n;
-        for (int period = 0; period < periods; period++) {
-            double t = 0.0;
-            for (int step = 0; step < steps; step++) {
-                for (int s = 0; s < 4; s++) {
-                    double f = s == 0 ? 0.0 : (s == 3 ? h : 0.5 * h);
-                    for (int i = 0; i < n; i++) tmp[i] = s == 0 ? y[i] : y[i] + f * stages[(s - 1) * n + i];
-                    force(tmp, K, P, w, rho2, r2, dr2, B, a, g);
-                    double pt = p_load * cos(omega * (t + f));
-                    for (int i = 0; i < K; i++) {
-                        stages[s * n + i] = tmp[K + i];
-                        stages[s * n + K + i] = -c_damp * tmp[K + i] - k_force[i] * g[i] + pt * load[i];
-                    }
-                }
-                for (int i = 0; i < n; i++)
-                    y[i] += h / 6.0 * (stages[i] + 2.0 * stages[n + i] + 2.0 * stages[2 * n + i] + stages[3 * n + i]);
-                t += h;
-            }
+    if (mode == 0) {
+        for (long j = 0; j < M; j++)
+            for (int period = 0; period < periods; period++) scalar(Y + j * n, &m, steps, a, g, tmp, stages);
+    } else {
+        for (long s0 = 0; s0 < M; s0 += width) {
+            int W = M - s0 < width ? (int)(M - s0) : width;
+            for (int b = 0; b < W; b++)
+                for (int k = 0; k < n; k++) cols[k * W + b] = Y[(s0 + b) * n + k];
+            for (int period = 0; period < periods; period++) lockstep(cols, W, &m, steps, ys, acc, dy, sa);
+            for (int b = 0; b < W; b++)
+                for (int k = 0; k < n; k++) Y[(s0 + b) * n + k] = cols[k * W + b];
         }
     }
     double t1 = now();
-    FILE *out = fopen(argv[11], "wb");
-    if (!out) { perror(argv[11]); return 2; }
+    FILE *out = fopen(argv[13], "wb");
+    if (!out) { perror(argv[13]); return 2; }
     fwrite(Y, sizeof(double), M * n, out);
     fclose(out);
     printf("%.3f\n", (t1 - t0) / ((double)M * periods * steps) * 1e9);
