@@ -317,7 +317,8 @@ _SLOT_SEARCH = 2     # period of the last Newton search
 _SLOT_TRAIL = 3      # cells recorded in trail
 _SLOT_RUN = 4        # consecutive clean-cell hits ...
 _SLOT_RUN_LABEL = 5  # ... of this label
-_SLOT_FIELDS = 6
+_SLOT_QUADRATURE = 6  # 1: the period left the force table; the caller integrates it on the quadrature
+_SLOT_FIELDS = 7
 
 # Slots of _Slots.cursor.
 _AT_NEXT = 0         # next initial state to load into a slot
@@ -415,6 +416,12 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
                                 fmap.forcing, fmap.steps, slots)
         if code == 0:
             break
+        if code == 2:  # a period that left the force table, again on the quadrature
+            b = slots.cursor[_AT_SLOT]
+            rk4_steps(slots.y[b], 0.0, fmap.period / fmap.steps, fmap.steps, tab, fmap.forcing, np.empty((6, n)))
+            slots.state[b, _SLOT_QUADRATURE] = 0
+            slots.state[b, _SLOT_PERIODS] += 1
+            continue
         start = slots.y[slots.cursor[_AT_SLOT]].copy()
         att = find_periodic_orbit(start, int(slots.cursor[_AT_SEARCH_K]), fmap, scale, s.newton_tol)
         if att is None:
@@ -713,8 +720,10 @@ def _check(b, slots, cells, flat, sc, known, crit, nx, ny):
 @nb.njit(cache=True)
 def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_t, columns, forcing, steps, slots):
     # Returns 0 when every state is labelled, 1 to ask the caller for a Newton search
-    # from slots.y[cursor[_AT_SLOT]] with period cursor[_AT_SEARCH_K]; the kernel then
-    # resumes with that slot's tests.  Slots are refilled with the next initial state as
+    # from slots.y[cursor[_AT_SLOT]] with period cursor[_AT_SEARCH_K], 2 to ask it to
+    # integrate that slot's period on the quadrature (its lock-step period left the force
+    # table: a one-mode job that stays in the table never compiles the quadrature loop);
+    # the kernel then resumes with that slot's tests.  Slots are refilled with the next initial state as
     # soon as theirs is labelled, and all occupied slots advance one period together.
     N, n = states.shape
     B = slots.y.shape[0]
@@ -745,6 +754,10 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
                 st[_SLOT_TRAIL] = 0
                 st[_SLOT_RUN] = 0
                 st[_SLOT_RUN_LABEL] = -3
+                st[_SLOT_QUADRATURE] = 0
+            if st[_SLOT_QUADRATURE] == 1:
+                cur[_AT_SLOT] = b
+                return 2
             label = _check(b, slots, cells, flat, sc, known, crit, nx, ny)
             if label == -3:
                 cur[_AT_SLOT] = b
@@ -803,11 +816,12 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
             if slots.state[b, _SLOT_STATE] < 0:
                 continue
             if coef_t is not None:
-                if reach[b] < tab.table_max:
-                    slots.y[b, 0] = q[b]
-                    slots.y[b, 1] = v[b]
-                else:
+                if reach[b] >= tab.table_max:
+                    slots.state[b, _SLOT_QUADRATURE] = 1
+                    continue
+                slots.y[b, 0] = q[b]
+                slots.y[b, 1] = v[b]
+            if columns is not None:
+                if active < QUADRATURE_LOCKSTEP_MIN:
                     rk4_steps(slots.y[b], 0.0, h, steps, tab, forcing, work)
-            elif active < QUADRATURE_LOCKSTEP_MIN:
-                rk4_steps(slots.y[b], 0.0, h, steps, tab, forcing, work)
             slots.state[b, _SLOT_PERIODS] += 1

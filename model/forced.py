@@ -57,6 +57,8 @@ def steps_per_period(rom: Rom, base: int) -> int:
     -------
     int
     """
+    if rom.dof == 1:  # (without the Jacobian's compilation, 1 s of a cold one-mode run)
+        return int(base)
     omega = linear_frequencies(rom)[0]
     return max(int(base), 8 * math.ceil(base * float(omega[-1] / omega[0]) ** 1.25 / 8 - 1e-9))
 
@@ -220,9 +222,16 @@ class ForcedMap:
         ``periods`` forcing periods); the largest one is refined by a parabola.
         """
         y = self._state(y)
-        work = np.empty((6, y.size))
-        return float(_orbit_amplitude(y, periods * self.steps, self.period / self.steps,
-                                      self.rom.tables, self.forcing, work))
+        tab = self.rom.tables
+        samples = periods * self.steps
+        h = self.period / self.steps
+        w = np.empty(samples + 1)
+        done = _table_samples(y, samples, h, tab, self.forcing, w) if tab.table_max > 0.0 else 0
+        if done < samples:
+            _quadrature_samples(y, done, samples, h, tab, self.forcing, w)
+        else:
+            w[samples] = tab.probe @ y[:self.dof]
+        return _peak(w, samples)
 
 
 @nb.njit(cache=True)
@@ -235,22 +244,25 @@ def _advance_batch(states, periods, h, steps, tab, forcing):
 
 
 @nb.njit(cache=True)
-def _orbit_amplitude(y, samples, h, tab, forcing, work):
-    # RK4 steps from t = 0, in place on y, sampling w = probe @ q before every step; the
-    # largest |w| is refined by the vertex of the parabola through its neighbours (the
-    # vertex formula holds for |w| when w keeps its sign over the three samples).
-    # One-mode ROMs: the table loop of model.integrate records the coordinate at the start
-    # of each step (one call instead of one per step), the general loop takes over where a
-    # stage leaves the table's range.
+def _table_samples(y, samples, h, tab, forcing, w):
+    # The one-mode table loop of model.integrate from t = 0, in place on y, recording
+    # w[i] = probe q before each step (one call instead of one per step); returns the
+    # steps done (fewer than samples where a stage leaves the table's range).
+    stages = np.empty((samples, 4, 1))
+    done = _rk4_one_mode(y, 0.0, h, samples, tab.stiffness_table, tab.table_max, tab.k_force[0], tab.load[0],
+                         forcing.damping_rate, forcing.P0, forcing.Omega, stages)
+    for i in range(done):
+        w[i] = tab.probe[0] * stages[i, 0, 0]
+    return done
+
+
+@nb.njit(cache=True)
+def _quadrature_samples(y, done, samples, h, tab, forcing, w):
+    # RK4 steps done .. samples on the quadrature, in place on y, recording w[i] = probe q
+    # at every step from w[done] to w[samples] (a function of its own: a one-mode job
+    # that stays in its table never compiles it).
     K = y.size // 2
-    w = np.empty(samples + 1)
-    done = 0
-    if tab.table_max > 0.0:
-        stages = np.empty((samples, 4, 1))
-        done = _rk4_one_mode(y, 0.0, h, samples, tab.stiffness_table, tab.table_max, tab.k_force[0], tab.load[0],
-                             forcing.damping_rate, forcing.P0, forcing.Omega, stages)
-        for i in range(done):
-            w[i] = tab.probe[0] * stages[i, 0, 0]
+    work = np.empty((6, y.size))
     w[done] = 0.0
     for k in range(K):
         w[done] += tab.probe[k] * y[k]
@@ -261,15 +273,17 @@ def _orbit_amplitude(y, samples, h, tab, forcing, work):
         for k in range(K):
             s += tab.probe[k] * y[k]
         w[i + 1] = s
-    # the samples are treated as periodic (w[samples] = w[0] on a periodic orbit)
-    best = 0
-    for i in range(samples):
-        if abs(w[i]) > abs(w[best]):
-            best = i
+
+
+def _peak(w, samples: int) -> float:
+    # The largest |w| of the samples w[:samples] of a periodic orbit (w[samples] = w[0]),
+    # refined by the vertex of the parabola through it and its neighbours (the vertex
+    # formula holds for |w| when w keeps its sign over the three samples).
+    best = int(np.argmax(np.abs(w[:samples])))
     a = abs(w[best])
     wm = abs(w[best - 1 if best > 0 else samples - 1])
     wp = abs(w[best + 1])
     den = wm - 2.0 * a + wp
     if den < 0.0:
         a = a - 0.125 * (wp - wm) ** 2 / den
-    return a
+    return float(a)

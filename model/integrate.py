@@ -496,16 +496,26 @@ def _monodromy_one_mode(y0, t0, h, steps, tab, forcing, which, phi, dparam):
     return q, v, True
 
 
-@nb.njit(cache=True)
 def monodromy_parameter(y0, t0, period, steps, tab, forcing, which):
     """State after one period, the monodromy matrix and the derivative of the map in a
     forcing parameter, all from the RK4 variational equations.
 
     The variational equations are integrated with the same RK4 steps as the state, so
-    the matrix and the derivative are exact for the discrete stroboscopic map.
+    the matrix and the derivative are exact for the discrete stroboscopic map.  One-mode
+    ROMs run the table loop; where a stage leaves the table's range, the period is
+    integrated again on the quadrature (a compiled function of its own, so a one-mode job
+    that never leaves the table never compiles it: 3 s of a cold start).
 
     Parameters
     ----------
+    y0 : (2K,) float array
+        State at ``t0``.
+    t0, period : float
+        Start time and forcing period (s).
+    steps : int
+        RK4 steps per period.
+    tab : model.rom.RomTables
+    forcing : model.rom.Forcing
     which : int
         :data:`OMEGA` (``dP/dOmega`` at fixed steps per period, the period changing with
         ``Omega``), :data:`PRESSURE` (``dP/dP0``) or :data:`NO_PARAMETER` (zeros).
@@ -516,14 +526,20 @@ def monodromy_parameter(y0, t0, period, steps, tab, forcing, which):
     phi : (2K, 2K) array
     dparam : (2K,) array
     """
-    n = y0.size
-    K = n // 2
     if tab.table_max > 0.0:
         phi = np.empty((2, 2))
         dparam = np.empty(2)
         q, v, ok = _monodromy_one_mode(y0, t0, period / steps, steps, tab, forcing, which, phi, dparam)
         if ok:
             return np.array([q, v]), phi, dparam
+    return _monodromy_parameter_quadrature(y0, t0, period, steps, tab, forcing, which)
+
+
+@nb.njit(cache=True)
+def _monodromy_parameter_quadrature(y0, t0, period, steps, tab, forcing, which):
+    # monodromy_parameter on the quadrature force, for any mode set
+    n = y0.size
+    K = n // 2
     w = n + 1 if which != NO_PARAMETER else n
     m = n + n * w
     z = np.zeros(m)
@@ -579,7 +595,6 @@ def _monodromy_quadrature(z, n, t, h, steps, weight, rho2, r2, dr2, b_rho, b_the
         t += h
 
 
-@nb.njit(cache=True)
 def monodromy(y0, t0, period, steps, tab, forcing):
     """State after one period and the monodromy matrix ``d y(t0+T) / d y(t0)``
     (:func:`monodromy_parameter` without a parameter).
@@ -589,7 +604,5 @@ def monodromy(y0, t0, period, steps, tab, forcing):
     yT : (2K,) array
     phi : (2K, 2K) array
     """
-    # np.int64: a literal argument would compile a second copy of monodromy_parameter,
-    # specialised on it, beside the one that Python calls compile (~5 s).
-    yT, phi, _ = monodromy_parameter(y0, t0, period, steps, tab, forcing, np.int64(NO_PARAMETER))
+    yT, phi, _ = monodromy_parameter(y0, t0, period, steps, tab, forcing, NO_PARAMETER)
     return yT, phi

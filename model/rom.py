@@ -295,23 +295,25 @@ def _force_table(tab: RomTables, q_max: float) -> dict:
     far below every tolerance in use (tests).  Beyond ``q_max`` the kernels fall back to
     the quadrature.
     """
-    coef = piecewise_chebyshev(lambda qs: _stiffness_and_slope(qs, tab), q_max, np.abs)
+    coef = piecewise_chebyshev(lambda qs: _stiffness_and_slope(qs, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho),
+                               q_max, np.abs)
     return {"table_max": float(q_max), "stiffness_table": coef[0].copy(), "slope_table": coef[1].copy()}
 
 
 @nb.njit(cache=True)
-def _stiffness_and_slope(qs, tab):
-    # (g(q) / q, dg/dq) of a one-mode ROM by its quadrature at every q of qs (q != 0): the
-    # values _force_table interpolates, in one call (one call per value cost 0.4 s a ROM).
+def _stiffness_and_slope(qs, weight, rho2, r2, dr2, b_rho):
+    # (g(q) / q, dg/dq) of a one-mode axisymmetric ROM by its quadrature at every q of qs
+    # (q != 0): the values _force_table interpolates, in one call (one call per value cost
+    # 0.4 s a ROM), from the quadrature kernel alone (through elastic_force and
+    # force_jacobian it compiled every case of both: 1.5 s more of a cold start).
     out = np.empty((qs.size, 2))
     q = np.empty(1)
     g = np.empty(1)
     jac = np.empty((1, 1))
-    work = np.empty((2, tab.weight.size))
+    work = np.empty((7, weight.size))
     for i in range(qs.size):
         q[0] = qs[i]
-        elastic_force(q, tab, g, work)
-        force_jacobian(q, tab, jac)
+        axisymmetric_force_jacobian(q, weight, rho2, r2, dr2, b_rho, g, jac, work)
         out[i, 0] = g[0] / qs[i]
         out[i, 1] = jac[0, 0]
     return out
