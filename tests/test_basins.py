@@ -118,6 +118,28 @@ def test_fig19_cases_have_two_attractors_and_a_larger_resonant_basin(delta, omeg
     assert np.mean(labels == resonant) > 0.5
 
 
+def test_a_failed_search_is_not_repeated_from_the_same_state(rom, monkeypatch):
+    """A Newton search that finds nothing explains the recurrences near its start: copies
+    of one initial state (advanced in lock-step, recurring in the same period) search
+    once per recurrence, as the state alone does."""
+    lat = mb.Lattice(np.linspace(-0.3, 0.3, 5), np.linspace(-10.0, 10.0, 5))
+    calls = []
+
+    def failing(y0, k, *args, **kwargs):
+        calls.append(np.array(y0))
+        return None
+
+    monkeypatch.setattr(mb, "find_periodic_orbit", failing)
+    settings = mb.Settings(max_periods=300, cooldown=50)
+    state = np.array([[0.02, 0.0]])  # near the non-resonant attractor: it recurs
+    mb.classify_lattice(state, lat, _fmap(rom), settings, use_cells=False)
+    alone = len(calls)
+    assert alone >= 1
+    calls.clear()
+    mb.classify_lattice(np.repeat(state, 5, axis=0), lat, _fmap(rom), settings, use_cells=False)
+    assert len(calls) == alone
+
+
 def test_unreached_attractor_gives_label_minus_one(rom):
     lat = mb.Lattice(np.linspace(-0.2, 0.2, 3), np.linspace(-6.7, 6.7, 3))
     states = mb.lattice_states(lat, slice(None), 2)
