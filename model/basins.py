@@ -428,7 +428,8 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
             continue
         start = slots.y[slots.cursor[_AT_SLOT]].copy()
         att = find_periodic_orbit(start, int(slots.cursor[_AT_SEARCH_K]), fmap, scale, s.newton_tol)
-        if att is not None and np.max(np.abs(att.multipliers)) < 1.0 and match_attractor(att, atts, scale, s.radius) < 0:
+        stable = att is not None and np.max(np.abs(att.multipliers)) < 1.0
+        if stable and match_attractor(att, atts, scale, s.radius) < 0:
             if len(atts) == known.points.shape[0]:
                 known = known._replace(points=np.concatenate([known.points, np.zeros_like(known.points)]),
                                        period=np.concatenate([known.period, np.zeros_like(known.period)]))
@@ -725,8 +726,9 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
     # from slots.y[cursor[_AT_SLOT]] with period cursor[_AT_SEARCH_K], 2 to ask it to
     # integrate that slot's period on the quadrature (its lock-step period left the force
     # table: a one-mode job that stays in the table never compiles the quadrature loop);
-    # the kernel then resumes with that slot's tests.  Slots are refilled with the next initial state as
-    # soon as theirs is labelled, and all occupied slots advance one period together.
+    # the kernel then resumes with that slot's tests.  Slots are refilled with the next
+    # initial state as soon as theirs is labelled, and all occupied slots advance one
+    # period together.
     N, n = states.shape
     B = slots.y.shape[0]
     nx, ny = cells.labels.shape

@@ -98,7 +98,8 @@ static void lockstep(double *restrict y, int W, const Model *m, int steps, doubl
             double pt = m->p_load * ct;
             for (int k = 0; k < K; k++) {
                 double kf = m->tab.k_force[k], lk = pt * m->tab.load[k];
-                for (int b = 0; b < W; b++) acc[k * W + b] = -m->c_damp * ys[(K + k) * W + b] - kf * acc[k * W + b] + lk;
+                for (int b = 0; b < W; b++)
+                    acc[k * W + b] = -m->c_damp * ys[(K + k) * W + b] - kf * acc[k * W + b] + lk;
             }
             double wt = (s == 0 || s == 3) ? 1.0 : 2.0;
             for (int k = 0; k < K; k++)
