@@ -18,6 +18,9 @@ rounds (medians printed, compilation excluded):
 * C scalar and C lock-step: ``benchmarks/c/rk4_quadrature.c``, the same two algorithms,
   compiled here with ``cc -O3 -march=native -ffast-math`` (the numba kernels use fastmath
   too; skipped with a message without a compiler); the program times its own loop;
+* C lock-step K=3: the same program compiled with ``-DFIXED_K=3``, the force's loops over
+  the modes unrolled into one loop over the block per quadrature point (the arithmetic of
+  the lock-step kernel for three modes only: a bound on what its loops can reach);
 * numpy: the same RK4 with the force on whole arrays of quadrature points (one trajectory,
   one period per round: it is slow).
 
@@ -111,6 +114,9 @@ def main(argv=None) -> None:
     states[:, len(MODES)] = rng.uniform(-10.0, 10.0, n_traj)
     work = Path(tempfile.mkdtemp())
     exe = compile_reference("rk4_quadrature", work, ("-ffast-math",))
+    (work / "fixed").mkdir()
+    fixed = compile_reference("rk4_quadrature", work / "fixed", ("-ffast-math", f"-DFIXED_K={len(MODES)}"))
+    programs = [(exe, 0, "C scalar"), (exe, 1, "C lock-step"), (fixed, 1, f"C lock-step K={len(MODES)}")]
     for points in (None, 32):
         rom = build_rom(ps, MODES, radial_points=points)
         steps = steps_per_period(rom, 64)
@@ -122,7 +128,7 @@ def main(argv=None) -> None:
         fmap.advance_batch(states[:1], 1)
         lockstep_rk4(states[:1], fmap, 1)
         per_step = n_traj * periods * steps
-        times = {"numba scalar": [], "numba lock-step": [], "C scalar": [], "C lock-step": [], "numpy": []}
+        times = {"numba scalar": [], "numba lock-step": [], **{name: [] for _, _, name in programs}, "numpy": []}
         final = {}
         for _ in range(rounds):
             t0 = time.perf_counter()
@@ -131,10 +137,10 @@ def main(argv=None) -> None:
             t0 = time.perf_counter()
             final["numba lock-step"] = lockstep_rk4(states, fmap, periods)
             times["numba lock-step"].append((time.perf_counter() - t0) / per_step * 1e9)
-            for mode, name in ((0, "C scalar"), (1, "C lock-step")):
-                if exe is None:
+            for program, mode, name in programs:
+                if program is None:
                     continue
-                out = subprocess.run([str(exe), str(mode), str(LOCKSTEP_WIDTH), str(work / "tables.bin"), str(K),
+                out = subprocess.run([str(program), str(mode), str(LOCKSTEP_WIDTH), str(work / "tables.bin"), str(K),
                                       str(P), str(work / "states.bin"), str(steps), str(periods),
                                       repr(fmap.period / steps), repr(f.damping_rate), repr(f.P0), repr(f.Omega),
                                       str(work / "out.bin")], capture_output=True, text=True, check=True)
@@ -156,6 +162,9 @@ def main(argv=None) -> None:
             print(f"  ratio numba lock-step / C lock-step: {med['numba lock-step'] / med['C lock-step']:.2f} "
                   f"(target <= 1.5)")
             print(f"  ratio numba scalar / C scalar:       {med['numba scalar'] / med['C scalar']:.2f}")
+        if fixed is not None:
+            name = programs[2][2]
+            print(f"  ratio numba lock-step / {name}: {med['numba lock-step'] / med[name]:.2f}")
         print(f"  ratio numba scalar / numba lock-step: {med['numba scalar'] / med['numba lock-step']:.2f}")
         print(f"  ratio numpy / numba lock-step: {med['numpy'] / med['numba lock-step']:.1f}")
 

@@ -10,6 +10,9 @@
  *                       model.rom.axisymmetric_force: the force vectorises over the points);
  *   mode 1, "lockstep": blocks of WIDTH trajectories, one per column, every inner loop over
  *                       the block (model.integrate.rk4_quadrature_lockstep), restrict pointers.
+ * Compiled with -DFIXED_K=<K>, the lock-step force is one loop over the block per quadrature
+ * point with the K modes unrolled (slope, force and its K shares in registers): the same
+ * arithmetic for one mode count only, a bound on what the loops of mode 1 can reach.
  * Usage: rk4_quadrature MODE WIDTH TABLES K P STATES STEPS PERIODS H C_DAMP P0 OMEGA OUT
  * TABLES: weight, rho2, r2, dr2 (P each), B (K x P), k_force (K), load (K), float64.
  * STATES: (M, 2K) float64 initial states; OUT receives the final states.
@@ -78,6 +81,20 @@ static void lockstep(double *restrict y, int W, const Model *m, int steps, doubl
             }
             for (int k = 0; k < K; k++)
                 for (int b = 0; b < W; b++) acc[k * W + b] = 0.0;
+#ifdef FIXED_K
+            for (int p = 0; p < P; p++) {
+                double bk[FIXED_K];
+                for (int k = 0; k < FIXED_K; k++) bk[k] = B[(long)k * P + p];
+                double w2 = 2.0 * m->tab.w[p], r2 = m->tab.r2[p], dr2 = m->tab.dr2[p];
+                double rr = m->tab.rho2[p] * r2;
+                for (int b = 0; b < W; b++) {
+                    double a = 0.0;
+                    for (int k = 0; k < FIXED_K; k++) a += ys[k * W + b] * bk[k];
+                    double D = r2 * (dr2 + a * a), g = w2 * a * (1.0 - rr / (D * D));
+                    for (int k = 0; k < FIXED_K; k++) acc[k * W + b] += g * bk[k];
+                }
+            }
+#else
             for (int p = 0; p < P; p++) {
                 for (int b = 0; b < W; b++) sa[b] = ys[b] * B[p];
                 for (int k = 1; k < K; k++) {
@@ -95,6 +112,7 @@ static void lockstep(double *restrict y, int W, const Model *m, int steps, doubl
                     for (int b = 0; b < W; b++) acc[k * W + b] += sa[b] * bk;
                 }
             }
+#endif
             double pt = m->p_load * ct;
             for (int k = 0; k < K; k++) {
                 double kf = m->tab.k_force[k], lk = pt * m->tab.load[k];
@@ -135,6 +153,12 @@ int main(int argc, char **argv) {
     m.p_load = atof(argv[11]);
     m.omega = atof(argv[12]);
     int K = m.K, P = m.P, n = 2 * K;
+#ifdef FIXED_K
+    if (K != FIXED_K) {
+        fprintf(stderr, "compiled for K = %d modes, got %d\n", FIXED_K, K);
+        return 2;
+    }
+#endif
     m.tab = quadrature_tables(tables, K, P);
     double *Y = read_doubles(argv[6], &n_states);
     long M = n_states / n;
