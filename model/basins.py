@@ -48,16 +48,18 @@ Algorithm (one tile; everything is deterministic and depends only on the tile's 
   (454 of the 637 searches of a 5000-point tile of the one-mode Fig. 19a lattice).  The
   radius stays a quarter of the way to the orbit found, so a point much nearer to an
   attractor not yet known is still searched from.  A search that finds nothing (Newton
-  does not converge in its iterations, the costliest searches) explains the recurrences
-  within ``trigger`` of its start: on a 5000-point tile of the three-mode Fig. 19a
-  lattice, 612 such searches took 4.3 s of 48.7 s, and 415 of them started within
-  ``trigger`` of an earlier one.
+  does not converge in its iterations: the costliest searches) explains the recurrences
+  within ``trigger / 2`` of its start: on a 5000-point tile of the three-mode Fig. 19a
+  lattice such searches went from 612 (4.3 s of 48.7 s) to 444 (2.8 s); a radius of
+  ``trigger`` left 197, but an attractor within it could then no longer be found from
+  there (Newton may fail near a fold, where the Jacobian is nearly singular).
 * **Lock-step**: the tile's trajectories are processed in slots of
   :data:`model.integrate.LOCKSTEP_WIDTH`; all occupied slots advance one period together,
   vectorised across the slots (one-mode ROMs: :func:`model.integrate.rk4_one_mode_lockstep`
-  from the force table; other mode sets: :func:`model.integrate.rk4_quadrature_lockstep`,
-  or the scalar loop when fewer than :data:`model.integrate.QUADRATURE_LOCKSTEP_MIN` slots
-  are occupied), and a slot whose trajectory is labelled takes the next initial condition.
+  from the force table; ROMs without a table: :func:`model.integrate.rk4_quadrature_lockstep`,
+  or the scalar loop when too few slots are occupied for it to pay,
+  :func:`model.integrate.quadrature_lockstep_pays`), and a slot whose trajectory is
+  labelled takes the next initial condition.
   The result depends only on the tile's inputs.
 
 :func:`classify_lattice` with ``use_cells=False`` and ``discover=False`` is the
@@ -75,7 +77,7 @@ import numba as nb
 import numpy as np
 
 from .forced import ForcedMap
-from .integrate import (LOCKSTEP_WIDTH, QUADRATURE_LOCKSTEP_MIN, lockstep_table, rk4_one_mode_lockstep,
+from .integrate import (LOCKSTEP_WIDTH, lockstep_table, quadrature_lockstep_pays, rk4_one_mode_lockstep,
                         rk4_quadrature_lockstep, rk4_steps)
 
 #: Label of an initial condition that could not be classified.
@@ -310,8 +312,8 @@ class _Known(NamedTuple):
     # What the tile knows, in the kernel's terms (rows beyond the counts in cursor unused).
     points: np.ndarray    # (cap, max_period, 2K) Poincare points of the known attractors
     period: np.ndarray    # (cap,) int64 their periods
-    searched: np.ndarray  # (E, 2K + 1) start of each search that found a periodic orbit
-    #                       (attractor or unstable), and the squared radius (scaled norm) it explains
+    searched: np.ndarray  # (E, 2K + 1) start of each search (whether it found a periodic
+    #                       orbit or not), and the squared radius (scaled norm) it explains
 
 
 # Fields of _Slots.state.
@@ -321,7 +323,7 @@ _SLOT_SEARCH = 2     # period of the last Newton search
 _SLOT_TRAIL = 3      # cells recorded in trail
 _SLOT_RUN = 4        # consecutive clean-cell hits ...
 _SLOT_RUN_LABEL = 5  # ... of this label
-_SLOT_QUADRATURE = 6  # 1: the period left the force table; the caller integrates it on the quadrature
+_SLOT_QUADRATURE = 6  # 1: the lock-step period left the force table; the caller integrates it again
 _SLOT_FIELDS = 7
 
 # Slots of _Slots.cursor.
@@ -335,6 +337,9 @@ _CURSOR_SLOTS = 5
 #: d from y explains the recurrences within min(trigger, d * _EXPLAINED_FRACTION) of y:
 #: they start no search.
 _EXPLAINED_FRACTION = 0.25
+#: A search from y that finds nothing explains the recurrences within
+#: _FAILED_FRACTION * trigger of y.
+_FAILED_FRACTION = 0.5
 
 
 def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settings, attractors=(), *,
@@ -420,11 +425,11 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
                                 fmap.forcing, fmap.steps, slots)
         if code == 0:
             break
-        if code == 2:  # a period that left the force table, again on the quadrature
-            b = slots.cursor[_AT_SLOT]
-            rk4_steps(slots.y[b], 0.0, fmap.period / fmap.steps, fmap.steps, tab, fmap.forcing, np.empty((6, n)))
-            slots.state[b, _SLOT_QUADRATURE] = 0
-            slots.state[b, _SLOT_PERIODS] += 1
+        if code == 2:  # periods that left the force table: again by rk4_steps (table, then quadrature)
+            flagged = np.flatnonzero(slots.state[:, _SLOT_QUADRATURE] == 1)
+            slots.y[flagged] = fmap.advance_batch(slots.y[flagged])
+            slots.state[flagged, _SLOT_QUADRATURE] = 0
+            slots.state[flagged, _SLOT_PERIODS] += 1
             continue
         start = slots.y[slots.cursor[_AT_SLOT]].copy()
         att = find_periodic_orbit(start, int(slots.cursor[_AT_SEARCH_K]), fmap, scale, s.newton_tol)
@@ -440,9 +445,13 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
         e = slots.cursor[_AT_SEARCHED]
         if e == known.searched.shape[0]:
             known = known._replace(searched=np.concatenate([known.searched, np.zeros_like(known.searched)]))
-        d = np.min(np.linalg.norm((att.points - start) * scale, axis=1)) if att is not None else np.inf
+        if att is not None:
+            d = np.min(np.linalg.norm((att.points - start) * scale, axis=1))
+            radius = min(s.trigger, _EXPLAINED_FRACTION * d)
+        else:
+            radius = _FAILED_FRACTION * s.trigger
         known.searched[e, :n] = start
-        known.searched[e, n] = min(s.trigger, _EXPLAINED_FRACTION * d) ** 2
+        known.searched[e, n] = radius**2
         slots.cursor[_AT_SEARCHED] = e + 1
     if report is not None:
         report["state_cells"] = int(sc.count[0]) if whole else 0
@@ -654,8 +663,8 @@ def _clean_label(flat, c, nx, ny, guard):
 
 @nb.njit(cache=True, _nrt=False)
 def _explained(y, known, n_searched, scale):
-    # True when y lies within the radius of the start of an earlier search that found a
-    # periodic orbit (_Known.searched).
+    # True when y lies within the radius of the start of an earlier search
+    # (_Known.searched).
     n = y.size
     for e in range(n_searched):
         d = 0.0
@@ -724,9 +733,10 @@ def _check(b, slots, cells, flat, sc, known, crit, nx, ny):
 def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_t, columns, forcing, steps, slots):
     # Returns 0 when every state is labelled, 1 to ask the caller for a Newton search
     # from slots.y[cursor[_AT_SLOT]] with period cursor[_AT_SEARCH_K], 2 to ask it to
-    # integrate that slot's period on the quadrature (its lock-step period left the force
-    # table: a one-mode job that stays in the table never compiles the quadrature loop);
-    # the kernel then resumes with that slot's tests.  Slots are refilled with the next
+    # integrate again, with rk4_steps, the periods of the slots flagged _SLOT_QUADRATURE
+    # (their lock-step period left the force table: a one-mode job that stays in the
+    # table never compiles the quadrature loop); the kernel then resumes with that slot's
+    # tests.  Slots are refilled with the next
     # initial state as soon as theirs is labelled, and all occupied slots advance one
     # period together.
     N, n = states.shape
@@ -792,6 +802,7 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
                     slots.ring[b, nd % kmax, i] = slots.y[b, i]
         if active == 0:
             return 0
+        lockstep = False  # (the quadrature's lock-step, when it pays)
         if coef_t is not None:
             for b in range(B):
                 busy = slots.state[b, _SLOT_STATE] >= 0
@@ -800,17 +811,23 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
             rk4_one_mode_lockstep(q, v, 0.0, h, steps, coef_t, tab.table_max, tab.k_force[0], tab.load[0],
                                   forcing.damping_rate, forcing.P0, forcing.Omega, reach)
         elif columns is not None:
-            if active >= QUADRATURE_LOCKSTEP_MIN:
+            lockstep = quadrature_lockstep_pays(active)
+            if lockstep:
                 # the occupied slots packed into the first columns (a tile's last
-                # trajectories do not drag empty slots along)
-                m = 0
+                # trajectories do not drag empty slots along), zero columns up to a
+                # multiple of 8 (a whole number of vectors: no remainder loops)
+                m = np.int64(0)  # not a literal: no second compilation of the kernel
                 for b in range(B):
                     if slots.state[b, _SLOT_STATE] >= 0:
                         lanes[m] = b
                         for i in range(n):
                             columns[i, m] = slots.y[b, i]
                         m += 1
-                rk4_quadrature_lockstep(columns, m, 0.0, h, steps, tab.weight, tab.rho2, tab.r2, tab.dr2,
+                width = min(B, (m + 7) // 8 * 8)
+                for j in range(m, width):
+                    for i in range(n):
+                        columns[i, j] = 0.0
+                rk4_quadrature_lockstep(columns, width, 0.0, h, steps, tab.weight, tab.rho2, tab.r2, tab.dr2,
                                         tab.b_rho, tab.b_theta, tab.axisymmetric, tab.k_force, tab.load,
                                         forcing.damping_rate, forcing.P0, forcing.Omega)
                 for j in range(m):
@@ -826,6 +843,6 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
                 slots.y[b, 0] = q[b]
                 slots.y[b, 1] = v[b]
             if columns is not None:
-                if active < QUADRATURE_LOCKSTEP_MIN:
+                if not lockstep:
                     rk4_steps(slots.y[b], 0.0, h, steps, tab, forcing, work)
             slots.state[b, _SLOT_PERIODS] += 1

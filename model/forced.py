@@ -219,8 +219,11 @@ class ForcedMap:
         """``max_t |w(rho_probe, 0, t)|`` (m) over ``periods`` forcing periods from ``y`` at ``t = 0``.
 
         The samples are treated as periodic (the estimator is meant for periodic orbits of
-        ``periods`` forcing periods); the largest one is refined by a parabola.
+        ``periods`` forcing periods); the largest one is refined by a parabola.  NaN when
+        the trajectory does not stay finite.
         """
+        if periods < 1:
+            raise ValueError(f"periods = {periods!r} is invalid: must be >= 1")
         y = self._state(y)
         tab = self.rom.tables
         samples = periods * self.steps

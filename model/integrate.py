@@ -205,10 +205,24 @@ def _add_column_forces(s, basis, p, count, acc):
             acc[k, b] += s[b] * bk
 
 
-#: Fewest trajectories for which :func:`rk4_quadrature_lockstep` beats the scalar loop of
-#: :func:`rk4_steps` (three modes, 32 radial points: 343 against 265 ns per trajectory and
-#: step with 4 trajectories, 225 against 296 with 8, 107 against 273 with 64).
-QUADRATURE_LOCKSTEP_MIN = 6
+#: Mode count up to which :func:`rk4_quadrature_lockstep` writes the modes of an
+#: axisymmetric set out (padded with zero modes): one loop over the trajectories per
+#: quadrature point instead of 2 K + 1 (three modes, 32 points: 111 -> 79 ns per
+#: trajectory and step; 160 points: 514 -> 358).
+UNROLLED_MODES = 4
+
+
+@nb.njit(cache=True, inline="always")
+def quadrature_lockstep_pays(count):
+    """True when :func:`rk4_quadrature_lockstep` on ``count`` trajectories (padded to a
+    multiple of 8) is faster per trajectory than the scalar loop of :func:`rk4_steps`.
+
+    Measured with three modes, ns per trajectory and step, lock-step against scalar: 32
+    quadrature points, 334 / 299 with 8 trajectories, 186 / 344 with 10, 113 / 338 with
+    16; 160 points, 1408 / 749 with 8, 736 / 881 with 10, 458 / 854 with 16 (a block of 8
+    runs in the compiler's scalar remainder loop).
+    """
+    return count > 8
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy", pipeline_class=NoAliasCompiler)
@@ -217,9 +231,10 @@ def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, rho2, r2, dr2, b_rho
     """Advance the trajectories ``y[:, :count]`` in place by ``steps`` RK4 steps of size ``h``
     (s) from ``t0``, all in lock-step, with the quadrature force (any mode set).
 
-    The same arithmetic as :func:`rk4_steps` on the quadrature (Eq. 31 with the force of
-    :func:`model.rom.axisymmetric_force` or :func:`model.rom.general_force`), reorganised
-    so that every inner loop runs over the trajectories: at each quadrature point the
+    The RK4 steps of :func:`rk4_steps` on the quadrature (Eq. 31 with the force of
+    :func:`model.rom.axisymmetric_force` or :func:`model.rom.general_force`; equal up to
+    rounding, the sums reassociated), reorganised so that every inner loop runs over the
+    trajectories: at each quadrature point the
     slopes of all trajectories, one division each, and their contributions to the forces.
     The loops vectorise across trajectories, with no horizontal sums; one trajectory at a
     time, the loops over the 32-160 quadrature points are short and every force ends in
@@ -249,69 +264,93 @@ def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, rho2, r2, dr2, b_rho
     n, B = y.shape
     K = n // 2
     P = weight.size
-    ys = np.empty((n, B))    # the stage's state
-    acc = np.empty((K, B))   # the stage's forces, then accelerations
-    dy = np.empty((n, B))    # the weighted sum of the stages' slopes
-    sa = np.empty(B)         # w_rho at one quadrature point
-    sb = np.empty(B)         # w_theta at one quadrature point
+    fused = axisymmetric and K <= UNROLLED_MODES
+    rows = UNROLLED_MODES if fused else K
+    basis = np.zeros((rows, P))  # b_rho, with zero rows up to UNROLLED_MODES when fused
+    for k in range(K):
+        for p in range(P):
+            basis[k, p] = b_rho[k, p]
+    qs = np.zeros((rows, B))  # the stage's modal coordinates (zero rows beyond K)
+    vs = np.empty((K, B))     # the stage's velocities
+    acc = np.empty((rows, B))  # the stage's forces, then accelerations
+    dy = np.empty((n, B))     # the weighted sum of the stages' slopes
+    sa = np.empty(B)          # w_rho at one quadrature point
+    sb = np.empty(B)          # w_theta at one quadrature point
     for i in range(steps):
         t = t0 + i * h
         for s in range(4):
             f = 0.0 if s == 0 else (h if s == 3 else 0.5 * h)
             ct = np.cos(omega * (t + f))
-            if s == 0:
-                for k in range(n):
-                    for b in range(count):
-                        ys[k, b] = y[k, b]
-            else:
-                for k in range(K):
-                    for b in range(count):
-                        ys[k, b] = y[k, b] + f * ys[K + k, b]
-                        ys[K + k, b] = y[K + k, b] + f * acc[k, b]
             for k in range(K):
                 for b in range(count):
+                    qs[k, b] = y[k, b] + f * vs[k, b] if s > 0 else y[k, b]
+                    vs[k, b] = y[K + k, b] + f * acc[k, b] if s > 0 else y[K + k, b]
+            for k in range(rows):
+                for b in range(count):
                     acc[k, b] = 0.0
-            for p in range(P):
-                _column_slopes(ys, b_rho, p, count, sa)
-                w2 = 2.0 * weight[p]
-                if axisymmetric:
-                    rr = rho2[p] * r2[p]
-                    for b in range(count):
-                        a = sa[b]
-                        D = r2[p] * (dr2[p] + a * a)
-                        sa[b] = w2 * a * (1.0 - rr / (D * D))
-                else:
-                    _column_slopes(ys, b_theta, p, count, sb)
-                    for b in range(count):
-                        a = sa[b]
-                        c = sb[b]
-                        D = dr2[p] * r2[p] + dr2[p] * c * c + r2[p] * a * a
-                        d = rho2[p] / (D * D)
-                        sa[b] = w2 * a * (1.0 - d * r2[p])
-                        sb[b] = w2 * c * (1.0 / rho2[p] - d * dr2[p])
-                _add_column_forces(sa, b_rho, p, count, acc)
-                if not axisymmetric:
-                    _add_column_forces(sb, b_theta, p, count, acc)
+            if fused:
+                _add_axisymmetric_forces_unrolled(qs, basis, weight, rho2, r2, dr2, count, acc)
+            else:
+                for p in range(P):
+                    _column_slopes(qs, b_rho, p, count, sa)
+                    w2 = 2.0 * weight[p]
+                    if axisymmetric:
+                        rr = rho2[p] * r2[p]
+                        for b in range(count):
+                            a = sa[b]
+                            D = r2[p] * (dr2[p] + a * a)
+                            sa[b] = w2 * a * (1.0 - rr / (D * D))
+                    else:
+                        _column_slopes(qs, b_theta, p, count, sb)
+                        for b in range(count):
+                            a = sa[b]
+                            c = sb[b]
+                            D = dr2[p] * r2[p] + dr2[p] * c * c + r2[p] * a * a
+                            d = rho2[p] / (D * D)
+                            sa[b] = w2 * a * (1.0 - d * r2[p])
+                            sb[b] = w2 * c * (1.0 / rho2[p] - d * dr2[p])
+                    _add_column_forces(sa, b_rho, p, count, acc)
+                    if not axisymmetric:
+                        _add_column_forces(sb, b_theta, p, count, acc)
             pt = p_load * ct
             for k in range(K):
                 kf = k_force[k]
                 lk = pt * load[k]
                 for b in range(count):
-                    acc[k, b] = -c_damp * ys[K + k, b] - kf * acc[k, b] + lk
-            if s == 0:
-                for k in range(K):
-                    for b in range(count):
-                        dy[k, b] = ys[K + k, b]
-                        dy[K + k, b] = acc[k, b]
-            else:
-                w = 1.0 if s == 3 else 2.0
-                for k in range(K):
-                    for b in range(count):
-                        dy[k, b] += w * ys[K + k, b]
-                        dy[K + k, b] += w * acc[k, b]
+                    acc[k, b] = -c_damp * vs[k, b] - kf * acc[k, b] + lk
+            w = 1.0 if (s == 0 or s == 3) else 2.0
+            for k in range(K):
+                for b in range(count):
+                    dy[k, b] = w * vs[k, b] + (dy[k, b] if s > 0 else 0.0)
+                    dy[K + k, b] = w * acc[k, b] + (dy[K + k, b] if s > 0 else 0.0)
         for k in range(n):
             for b in range(count):
                 y[k, b] += h / 6.0 * dy[k, b]
+
+
+@nb.njit(cache=True, inline="always")
+def _add_axisymmetric_forces_unrolled(qs, basis, weight, rho2, r2, dr2, count, acc):
+    # acc[k, b] += the axisymmetric quadrature force of column b, for UNROLLED_MODES (4)
+    # modes written out (zero rows of basis beyond the ROM's): one loop over the columns
+    # per quadrature point, slope, force and its shares in registers (inlined: compiled
+    # with the caller's flags)
+    for p in range(weight.size):
+        c0 = basis[0, p]
+        c1 = basis[1, p]
+        c2 = basis[2, p]
+        c3 = basis[3, p]
+        w2 = 2.0 * weight[p]
+        rr = rho2[p] * r2[p]
+        r2p = r2[p]
+        d2 = dr2[p]
+        for b in range(count):
+            a = qs[0, b] * c0 + qs[1, b] * c1 + qs[2, b] * c2 + qs[3, b] * c3
+            D = r2p * (d2 + a * a)
+            g = w2 * a * (1.0 - rr / (D * D))
+            acc[0, b] += g * c0
+            acc[1, b] += g * c1
+            acc[2, b] += g * c2
+            acc[3, b] += g * c3
 
 
 @nb.njit(cache=True)

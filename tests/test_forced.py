@@ -118,6 +118,8 @@ def test_bad_arguments_are_named():
         ForcedMap.from_loading(rom, PAPER, steps=0)
     with pytest.raises(ValueError, match=r"state shape \(3,\) is invalid: expected \(2,\)"):
         ForcedMap.from_loading(rom, PAPER).advance(np.zeros(3))
+    with pytest.raises(ValueError, match="periods = 0 is invalid: must be >= 1"):
+        ForcedMap.from_loading(rom, PAPER).amplitude(np.zeros(2), 0)
     assert np.array_equal(state_scale(2, 4.0), [1.0, 1.0, 0.25, 0.25])
 
 

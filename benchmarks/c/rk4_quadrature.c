@@ -2,7 +2,8 @@
  * reference of benchmarks/bench_rk4_quadrature.py (compiled there with -O3 -march=native
  * -ffast-math, the freedom the numba kernels' fastmath has).
  *
- * Same algorithm as the numba kernels: y = (q, q'), four stages per step, at each stage the
+ * Same algorithm as the numba kernels on axisymmetric mode sets (their general branch, with
+ * w_theta, is not written here): y = (q, q'), four stages per step, at each stage the
  * slope a_p = sum_k q_k B_kp at every quadrature point, D = r2 (dr2 + a^2),
  * g_k = sum_p 2 a (1 - rho2 r2 / D^2) w B_kp, and
  *   q'' = -c q' - k_force g + P0 cos(Omega t) load.
