@@ -50,9 +50,10 @@ Algorithm (one tile; everything is deterministic and depends only on the tile's 
   attractor not yet known is still searched from.  A search that finds nothing (Newton
   does not converge in its iterations: the costliest searches) explains the recurrences
   within ``trigger / 2`` of its start: on a 5000-point tile of the three-mode Fig. 19a
-  lattice such searches went from 612 (4.3 s of 48.7 s) to 444 (2.8 s); a radius of
-  ``trigger`` left 197, but an attractor within it could then no longer be found from
-  there (Newton may fail near a fold, where the Jacobian is nearly singular).
+  lattice such searches went from 612 (4.3 s of 48.7 s) to 444 (2.8 s), with the same
+  labels.  A radius of ``trigger`` left 197, also with the same labels there, but the
+  larger the radius, the likelier that it hides an attractor not yet known (Newton may
+  fail near one at a fold, where its Jacobian is nearly singular).
 * **Lock-step**: the tile's trajectories are processed in slots of
   :data:`model.integrate.LOCKSTEP_WIDTH`; all occupied slots advance one period together,
   vectorised across the slots (one-mode ROMs: :func:`model.integrate.rk4_one_mode_lockstep`

@@ -207,8 +207,9 @@ def _add_column_forces(s, basis, p, count, acc):
 
 #: Mode count up to which :func:`rk4_quadrature_lockstep` writes the modes of an
 #: axisymmetric set out (padded with zero modes): one loop over the trajectories per
-#: quadrature point instead of 2 K + 1 (three modes, 32 points: 111 -> 79 ns per
-#: trajectory and step; 160 points: 514 -> 358).
+#: quadrature point instead of 2 K + 1.  Scratch measurements, ns per trajectory and step:
+#: three modes, 32 points, about 110 -> 80; 160 points, 514 -> 358.  From three modes on:
+#: with two the general loops are as fast (82 both), with one faster (67 against 75).
 UNROLLED_MODES = 4
 
 
@@ -264,7 +265,7 @@ def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, rho2, r2, dr2, b_rho
     n, B = y.shape
     K = n // 2
     P = weight.size
-    fused = axisymmetric and K <= UNROLLED_MODES
+    fused = axisymmetric and 3 <= K <= UNROLLED_MODES
     rows = UNROLLED_MODES if fused else K
     basis = np.zeros((rows, P))  # b_rho, with zero rows up to UNROLLED_MODES when fused
     for k in range(K):

@@ -134,8 +134,9 @@ def test_a_failed_search_is_not_repeated_from_the_same_state(rom, monkeypatch):
 def test_periods_that_leave_the_force_table_are_integrated_again_by_the_caller(rom):
     """A force table of 1e-6 m: every lock-step period leaves it, and the caller integrates
     it again with rk4_steps (the table, then the quadrature), which is then the general
-    loop of a ROM without a table.  Brute force (capture only) must give exactly the labels
-    and periods of that loop applied period by period, here in Python."""
+    loop of a ROM without a table (every state here starts and stays beyond 1e-6 m, so the
+    table takes no step).  Brute force (capture only) must give exactly the labels and
+    periods of that loop applied period by period, here in Python."""
     lat = mb.Lattice(np.linspace(-0.3, 0.3, 50), np.linspace(-10.0, 10.0, 50))
     fmap = _fmap(rom)
     states = mb.lattice_states(lat, slice(None), 2)
