@@ -442,13 +442,42 @@ def _project(q, basis, out):
             out[p] += qk * basis[k, p]
 
 
-@nb.njit(cache=True, fastmath=True, error_model="numpy")
+@nb.njit(cache=True, inline="always")
+def _axisymmetric_force_3(q, weight, rho2, r2, dr2, b_rho, out):
+    # axisymmetric_force for three modes written out: one pass over the quadrature points,
+    # the slope, the force and its three shares in registers (vectorised over the points)
+    q0 = q[0]
+    q1 = q[1]
+    q2 = q[2]
+    g0 = 0.0
+    g1 = 0.0
+    g2 = 0.0
+    for p in range(weight.size):
+        c0 = b_rho[0, p]
+        c1 = b_rho[1, p]
+        c2 = b_rho[2, p]
+        s = q0 * c0 + q1 * c1 + q2 * c2
+        D = r2[p] * (dr2[p] + s * s)
+        g = 2.0 * s * (1.0 - rho2[p] * r2[p] / (D * D)) * weight[p]
+        g0 += g * c0
+        g1 += g * c1
+        g2 += g * c2
+    out[0] = g0
+    out[1] = g1
+    out[2] = g2
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy", _nrt=False)
 def axisymmetric_force(q, weight, rho2, r2, dr2, b_rho, out, a):
     """:func:`elastic_force` by quadrature for a set of axisymmetric modes (every n = 0: no
     ``w_theta`` terms), from the arrays of :class:`RomTables`; ``a`` is a ``(P,)`` work
-    array.  For kernels that unpack the tables once and call it at every stage."""
+    array.  For kernels that unpack the tables once and call it at every stage.  Three
+    modes are written out: one pass over the quadrature points."""
     K = q.size
     P = weight.size
+    if K == 3:
+        _axisymmetric_force_3(q, weight, rho2, r2, dr2, b_rho, out)
+        return
     _project(q, b_rho, a)
     for p in range(P):
         ap = a[p]

@@ -3,7 +3,8 @@
  * The slope
  * a_p = sum_k q_k B_kp at every quadrature point, D = r2 (dr2 + a^2), then
  *   g_k = sum_p 2 a (1 - rho2 r2 / D^2) w B_kp
- * (a: P work values; restrict pointers, loops over the points innermost). */
+ * (a: P work values; restrict pointers, loops over the points innermost; three modes in
+ * one pass over the points). */
 #ifndef AXISYMMETRIC_FORCE_H
 #define AXISYMMETRIC_FORCE_H
 
@@ -20,6 +21,21 @@ static QuadratureTables quadrature_tables(const double *tables, int K, int P) {
 static void force(const double *restrict q, int K, int P, const double *restrict w, const double *restrict rho2,
                   const double *restrict r2, const double *restrict dr2, const double *restrict B,
                   double *restrict a, double *restrict g) {
+    if (K == 3) { /* the three modes written out: one pass over the points, as the numba kernel */
+        double g0 = 0.0, g1 = 0.0, g2 = 0.0;
+        for (int p = 0; p < P; p++) {
+            double c0 = B[p], c1 = B[P + p], c2 = B[2L * P + p];
+            double s = q[0] * c0 + q[1] * c1 + q[2] * c2, D = r2[p] * (dr2[p] + s * s);
+            double f = 2.0 * s * (1.0 - rho2[p] * r2[p] / (D * D)) * w[p];
+            g0 += f * c0;
+            g1 += f * c1;
+            g2 += f * c2;
+        }
+        g[0] = g0;
+        g[1] = g1;
+        g[2] = g2;
+        return;
+    }
     for (int p = 0; p < P; p++) a[p] = q[0] * B[p];
     for (int k = 1; k < K; k++)
         for (int p = 0; p < P; p++) a[p] += q[k] * B[(long)k * P + p];
