@@ -445,7 +445,9 @@ def _project(q, basis, out):
 @nb.njit(cache=True, inline="always")
 def _axisymmetric_force_3(q, weight, rho2, r2, dr2, b_rho, out):
     # axisymmetric_force for three modes written out: one pass over the quadrature points,
-    # the slope, the force and its three shares in registers (vectorised over the points)
+    # the slope, the force and its three shares in registers (vectorised over the points;
+    # inlined: compiled with the caller's flags).  Four modes written out with rows that
+    # are not constants (zero-padded) vectorised worse: 1.3-1.8x slower than this.
     q0 = q[0]
     q1 = q[1]
     q2 = q[2]
@@ -671,6 +673,8 @@ def unpack(tab, forcing):
 # option for code without managed memory, which it uses itself): no reference counts,
 # and functions inlined into them inherit that.  Measured: DOP853 per evaluation, 1 mode
 # 186 -> 35-40 ns, 3 modes 350 -> 200 ns; the one-mode basins tile 1.34 -> 1.17 s.
+# axisymmetric_force is one of them: its three-mode branch, inlined, took ~100 ns more
+# than the same loop alone until the function was compiled so.
 
 @nb.njit(cache=True, inline="always")
 def rhs_unpacked(t, y, model, g, work, out):
