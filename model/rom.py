@@ -443,30 +443,30 @@ def _project(q, basis, out):
 
 
 @nb.njit(cache=True, inline="always")
+def _point_3(q, b_rho, r2, dr2, p):
+    # The three basis values at quadrature point p, the slope w_rho there and
+    # D = r2 (dr2 + w_rho^2), for the written-out three-mode kernels below.
+    c0 = b_rho[0, p]
+    c1 = b_rho[1, p]
+    c2 = b_rho[2, p]
+    a = q[0] * c0 + q[1] * c1 + q[2] * c2
+    return c0, c1, c2, a, r2[p] * (dr2[p] + a * a)
+
+
+@nb.njit(cache=True, inline="always")
 def _axisymmetric_force_3(q, weight, rho2, r2, dr2, b_rho, out):
     # axisymmetric_force for three modes written out: one pass over the quadrature points,
     # the slope, the force and its three shares in registers (vectorised over the points;
     # inlined: compiled with the caller's flags).  Four modes written out with rows that
     # are not constants (zero-padded) vectorised worse: 1.3-1.8x slower than this.
-    q0 = q[0]
-    q1 = q[1]
-    q2 = q[2]
-    g0 = 0.0
-    g1 = 0.0
-    g2 = 0.0
+    g0 = g1 = g2 = 0.0
     for p in range(weight.size):
-        c0 = b_rho[0, p]
-        c1 = b_rho[1, p]
-        c2 = b_rho[2, p]
-        s = q0 * c0 + q1 * c1 + q2 * c2
-        D = r2[p] * (dr2[p] + s * s)
-        g = 2.0 * s * (1.0 - rho2[p] * r2[p] / (D * D)) * weight[p]
-        g0 += g * c0
-        g1 += g * c1
-        g2 += g * c2
-    out[0] = g0
-    out[1] = g1
-    out[2] = g2
+        c0, c1, c2, a, D = _point_3(q, b_rho, r2, dr2, p)
+        f = 2.0 * a * (1.0 - rho2[p] * r2[p] / (D * D)) * weight[p]
+        g0 += f * c0
+        g1 += f * c1
+        g2 += f * c2
+    out[0], out[1], out[2] = g0, g1, g2
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy", _nrt=False)
@@ -551,12 +551,44 @@ def force_and_jacobian(q, tab, g, jac, work):
         general_force_jacobian(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta, g, jac, work)
 
 
-@nb.njit(cache=True, fastmath=True, error_model="numpy")
+@nb.njit(cache=True, inline="always")
+def _axisymmetric_force_jacobian_3(q, weight, rho2, r2, dr2, b_rho, g, jac):
+    # axisymmetric_force_jacobian for three modes written out, as _axisymmetric_force_3:
+    # one pass over the quadrature points, the force and the six distinct entries of the
+    # Jacobian accumulated in registers (inlined: compiled with the caller's flags)
+    f0 = f1 = f2 = j00 = j01 = j02 = j11 = j12 = j22 = 0.0
+    for p in range(weight.size):
+        c0, c1, c2, a, D = _point_3(q, b_rho, r2, dr2, p)
+        s = rho2[p] / (D * D)
+        w = weight[p]
+        fa = 2.0 * a * (1.0 - s * r2[p]) * w
+        iaa = (2.0 - 2.0 * s * r2[p] + 8.0 * s / D * r2[p] * r2[p] * a * a) * w
+        f0 += fa * c0
+        f1 += fa * c1
+        f2 += fa * c2
+        j00 += iaa * c0 * c0
+        j01 += iaa * c0 * c1
+        j02 += iaa * c0 * c2
+        j11 += iaa * c1 * c1
+        j12 += iaa * c1 * c2
+        j22 += iaa * c2 * c2
+    g[0], g[1], g[2] = f0, f1, f2
+    jac[0, 0], jac[1, 1], jac[2, 2] = j00, j11, j22
+    jac[0, 1] = jac[1, 0] = j01
+    jac[0, 2] = jac[2, 0] = j02
+    jac[1, 2] = jac[2, 1] = j12
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy", _nrt=False)
 def axisymmetric_force_jacobian(q, weight, rho2, r2, dr2, b_rho, g, jac, work):
     """:func:`axisymmetric_force` into ``g`` and its Jacobian into ``jac`` in one pass,
-    sharing the slopes and ``D``; ``work`` is a ``(7, P)`` array."""
+    sharing the slopes and ``D``; ``work`` is a ``(7, P)`` array.  Three modes are written
+    out, as in :func:`axisymmetric_force`."""
     K = q.size
     P = weight.size
+    if K == 3:
+        _axisymmetric_force_jacobian_3(q, weight, rho2, r2, dr2, b_rho, g, jac)
+        return
     a, fa, iaa = work[0], work[2], work[4]
     _project(q, b_rho, a)
     for p in range(P):

@@ -6,7 +6,8 @@
  * a_p = sum_k q_k B_kp at every quadrature point, D = r2 (dr2 + a^2), s = rho2 / D^2, then
  *   g_k = sum_p 2 a (1 - s r2) w B_kp                                   (force)
  *   J_kl = sum_p (2 - 2 s r2 + 8 s / D r2^2 a^2) w B_kp B_lp             (Jacobian)
- * in one pass over the points for the fused variant; restrict pointers.
+ * in one pass over the points for the fused variant; three modes written out, one pass
+ * over the points for both (as the numba kernels); restrict pointers.
  * Usage: force_jacobian TABLES_FILE K P Q_FILE REPEATS OUT_FILE
  * TABLES_FILE: weight, rho2, r2, dr2 (P each) then B (K x P), float64.
  * Q_FILE: (M, K) float64.  OUT_FILE receives g (M, K) then J (M, K, K).
@@ -29,6 +30,34 @@ static void force_jacobian(const double *restrict q, int K, int P, const double 
                            const double *restrict rho2, const double *restrict r2, const double *restrict dr2,
                            const double *restrict B, double *restrict a, double *restrict fa,
                            double *restrict iaa, double *restrict g, double *restrict J) {
+    if (K == 3) { /* the three modes written out: one pass over the points, as the numba kernel */
+        double g0 = 0.0, g1 = 0.0, g2 = 0.0, j00 = 0.0, j01 = 0.0, j02 = 0.0, j11 = 0.0, j12 = 0.0, j22 = 0.0;
+        for (int p = 0; p < P; p++) {
+            double c0 = B[p], c1 = B[P + p], c2 = B[2L * P + p];
+            double ap = q[0] * c0 + q[1] * c1 + q[2] * c2, D = r2[p] * (dr2[p] + ap * ap), s = rho2[p] / (D * D);
+            double f = 2.0 * ap * (1.0 - s * r2[p]) * w[p];
+            double ia = (2.0 - 2.0 * s * r2[p] + 8.0 * s / D * r2[p] * r2[p] * ap * ap) * w[p];
+            g0 += f * c0;
+            g1 += f * c1;
+            g2 += f * c2;
+            j00 += ia * c0 * c0;
+            j01 += ia * c0 * c1;
+            j02 += ia * c0 * c2;
+            j11 += ia * c1 * c1;
+            j12 += ia * c1 * c2;
+            j22 += ia * c2 * c2;
+        }
+        g[0] = g0;
+        g[1] = g1;
+        g[2] = g2;
+        J[0] = j00;
+        J[1] = J[3] = j01;
+        J[2] = J[6] = j02;
+        J[4] = j11;
+        J[5] = J[7] = j12;
+        J[8] = j22;
+        return;
+    }
     for (int p = 0; p < P; p++) a[p] = q[0] * B[p];
     for (int k = 1; k < K; k++)
         for (int p = 0; p < P; p++) a[p] += q[k] * B[(long)k * P + p];
