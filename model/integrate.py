@@ -235,11 +235,11 @@ def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, rho2, r2, dr2, b_rho
     The RK4 steps of :func:`rk4_steps` on the quadrature (Eq. 31 with the force of
     :func:`model.rom.axisymmetric_force` or :func:`model.rom.general_force`; equal up to
     rounding, the sums reassociated), reorganised so that every inner loop runs over the
-    trajectories: at each quadrature point the
-    slopes of all trajectories, one division each, and their contributions to the forces.
-    The loops vectorise across trajectories, with no horizontal sums; one trajectory at a
-    time, the loops over the 32-160 quadrature points are short and every force ends in
-    ``K`` reductions.
+    trajectories: at each quadrature point the slopes of all trajectories, one division
+    each, and their contributions to the forces (three or four axisymmetric modes in one
+    loop, :data:`UNROLLED_MODES`).  The loops vectorise across trajectories, with no
+    horizontal sums; one trajectory at a time, the loops over the 32-160 quadrature points
+    are short and every force ends in ``K`` reductions.
 
     Parameters
     ----------
