@@ -87,9 +87,10 @@ def sorted_multipliers(phi: np.ndarray) -> np.ndarray:
 def _eigenvalues_2x2(a: float, b: float, c: float, d: float) -> np.ndarray | None:
     # Eigenvalues of [[a, b], [c, d]] (finite) in closed form, or None when the formula
     # overflows (LAPACK then decides): a one-mode branch asks at every point, and numpy's
-    # eigvals costs 10 us a call there against 1 us.  The discriminant is formed as ((a - d)/2)^2 + bc, free of the
-    # cancellation of tr^2/4 - det; of two real roots the larger in modulus comes from the
-    # sum without cancellation, the other from the determinant.
+    # eigvals costs 10 us a call there against 1 us.  The discriminant is formed as
+    # ((a - d)/2)^2 + bc, free of the cancellation of tr^2/4 - det; of two real roots the
+    # larger in modulus comes from the sum without cancellation, the other from the
+    # determinant.
     half = 0.5 * (a + d)
     e = 0.5 * (a - d)
     disc = e * e + b * c
