@@ -134,6 +134,22 @@ def _angular_slope(n, theta):
     return -n * np.sin(n * theta) if n >= 0 else -n * np.cos(-n * theta)
 
 
+def _reflected_theta_rule(nt: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ``nt``-point uniform rule on ``[0, 2 pi)`` folded onto ``[0, pi]`` for integrands
+    even in ``theta``: the points ``theta_j = 2 pi j / nt``, ``j = 0 .. nt // 2``, with the
+    weight ``2 pi / nt`` doubled for every point whose mirror ``2 pi - theta_j`` is another
+    point of the rule (all but ``0`` and, for even ``nt``, ``pi``).
+
+    Without sine companions (every ``n >= 0``) ``w`` is even in ``theta`` for every ``q``, so
+    ``w_rho`` and ``I1`` are even, ``w_theta`` and ``dI1/dw_theta`` odd, and the integrands
+    of ``M``, ``f``, ``g`` and ``dg/dq`` even: the folded rule gives the sums of the full
+    rule (to rounding) with ``nt // 2 + 1`` of its ``nt`` points.
+    """
+    j = np.arange(nt // 2 + 1)
+    weight = np.where((j == 0) | (2 * j == nt), 1.0, 2.0) * (2 * np.pi / nt)
+    return 2 * np.pi * j / nt, weight
+
+
 def default_quadrature(modes) -> tuple[int, int]:
     """Radial and angular points for ``modes``; ``theta_points`` is 0 when every n is 0.
 
@@ -225,7 +241,9 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
     radial_points, theta_points : int, optional
         Gauss-Legendre points on ``[Ro, Re]`` and uniform points on ``[0, 2 pi)``;
         defaults from :func:`default_quadrature`.  ``theta_points = 0`` means the
-        axisymmetric shortcut and is only allowed when every ``n`` is 0.
+        axisymmetric shortcut and is only allowed when every ``n`` is 0.  Without sine
+        companions (every ``n >= 0``) the angular rule is folded onto ``[0, pi]``
+        (:func:`_reflected_theta_rule`, ``theta_points // 2 + 1`` points, the same sums).
     force_table : bool
         Build the one-mode force table (:func:`_force_table`, a few hundred ms; default).
         Without it one-mode ROMs use the quadrature: slower kernels, for ROMs rebuilt often
@@ -251,6 +269,8 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
     rho, wr = gauss_radial(m, nr)
     if nt == 0:
         theta, wt = np.zeros(1), np.array([2 * np.pi])
+    elif all(n >= 0 for _, n in modes):
+        theta, wt = _reflected_theta_rule(nt)
     else:
         theta, wt = 2 * np.pi * np.arange(nt) / nt, np.full(nt, 2 * np.pi / nt)
     alpha = np.array([bessel_roots(abs(n), m.delta_o, mm)[-1] for mm, n in modes])

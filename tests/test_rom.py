@@ -261,6 +261,27 @@ def test_sine_companions_are_the_cosine_modes_rotated(prestretch):
     assert np.abs(g2[[0, 1, 2]] - np.array([g1[0], -g1[2], g1[1]])).max() <= 1e-10 * np.abs(g1).max()
 
 
+def test_folded_angular_rule_is_the_full_rule(prestretch):
+    # Without sine companions the angular rule is folded onto [0, pi] (nt // 2 + 1 points);
+    # adding the companion (1, -1) at zero amplitude keeps the full rule on [0, 2 pi), whose
+    # sums the folded one must give to rounding: mass, load, force and Jacobian.
+    folded = build_rom(prestretch, MIXED)
+    full = build_rom(prestretch, MIXED + [(1, -1)])
+    nr, nt = folded.radial_points, folded.theta_points
+    assert full.theta_points == nt and full.radial_points == nr
+    assert folded.tables.weight.size == nr * (nt // 2 + 1) and full.tables.weight.size == nr * nt
+    K = folded.dof
+    assert np.abs(folded.mass - full.mass[:K]).max() <= 1e-13 * folded.mass.max()
+    assert np.abs(folded.forcing - full.forcing[:K]).max() <= 1e-13 * np.abs(folded.forcing).max()
+    jac, jac_full = np.empty((K, K)), np.empty((K + 1, K + 1))
+    for q in np.random.default_rng(11).uniform(-0.2, 0.2, (4, K)):
+        g, g_full = _force(folded, q), _force(full, np.append(q, 0.0))
+        assert np.abs(g - g_full[:K]).max() <= 1e-13 * np.abs(g_full).max()
+        force_jacobian(q, folded.tables, jac)
+        force_jacobian(np.append(q, 0.0), full.tables, jac_full)
+        assert np.abs(jac - jac_full[:K, :K]).max() <= 1e-13 * np.abs(jac_full).max()
+
+
 @pytest.mark.parametrize("kind", ["1", "axi", "mixed"])
 @pytest.mark.parametrize("parameter", ["Omega", "P0"])
 def test_parameter_derivative_of_the_map_matches_central_differences(roms, kind, parameter):

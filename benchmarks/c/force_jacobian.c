@@ -1,15 +1,26 @@
-/* The quadrature force and force + Jacobian of model/rom.py for axisymmetric mode sets, in
- * C: the hardware reference of benchmarks/bench_force.py (compiled there with
- * -O3 -march=native -ffast-math, the freedom the numba kernels' fastmath has).
+/* The quadrature force and force + Jacobian of model/rom.py, in C: the hardware reference
+ * of benchmarks/bench_force.py (compiled there with -O3 -march=native -ffast-math, the
+ * freedom the numba kernels' fastmath has).
  *
- * Same algorithm as model.rom.axisymmetric_force and axisymmetric_force_jacobian: the slope
- * a_p = sum_k q_k B_kp at every quadrature point, D = r2 (dr2 + a^2), s = rho2 / D^2, then
+ * Axisymmetric mode sets: the algorithm of model.rom.axisymmetric_force and
+ * axisymmetric_force_jacobian: the slope a_p = sum_k q_k B_kp at every quadrature point,
+ * D = r2 (dr2 + a^2), s = rho2 / D^2, then
  *   g_k = sum_p 2 a (1 - s r2) w B_kp                                   (force)
  *   J_kl = sum_p (2 - 2 s r2 + 8 s / D r2^2 a^2) w B_kp B_lp             (Jacobian)
  * in one pass over the points for the fused variant; three modes written out, one pass
- * over the points for both (as the numba kernels); restrict pointers.
+ * over the points for both (as the numba kernels).
+ * Any mode set (w_theta terms): the algorithm of model.rom.general_force and
+ * general_force_jacobian: the slopes a_p = sum_k q_k B_kp, b_p = sum_k q_k T_kp,
+ * D = dr2 r2 + dr2 b^2 + r2 a^2, s = rho2 / D^2, per point
+ *   fa = 2 a (1 - s r2) w,  fb = 2 b (1 / rho2 - s dr2) w                          (force)
+ *   iaa = (2 - 2 s r2 + 8 s / D r2^2 a^2) w,  iab = 8 s / D r2 dr2 a b w,
+ *   ibb = (2 / rho2 - 2 s dr2 + 8 s / D dr2^2 b^2) w                             (Jacobian)
+ * then g_k = sum_p fa B_kp + fb T_kp and
+ * J_kl = sum_p iaa B_kp B_lp + iab (B_kp T_lp + T_kp B_lp) + ibb T_kp T_lp.
+ * Restrict pointers, loops over the points innermost.
  * Usage: force_jacobian TABLES_FILE K P Q_FILE REPEATS OUT_FILE
- * TABLES_FILE: weight, rho2, r2, dr2 (P each) then B (K x P), float64.
+ * TABLES_FILE: weight, rho2, r2, dr2 (P each) then B = b_rho (K x P), and for the general
+ * kernels T = b_theta (K x P), float64 (the file's size says which).
  * Q_FILE: (M, K) float64.  OUT_FILE receives g (M, K) then J (M, K, K).
  * Prints the time per call in ns of the force and of the force + Jacobian.
  */
@@ -81,25 +92,97 @@ static void force_jacobian(const double *restrict q, int K, int P, const double 
     }
 }
 
+static void project(const double *restrict q, int K, int P, const double *restrict basis, double *restrict out) {
+    for (int p = 0; p < P; p++) out[p] = q[0] * basis[p];
+    for (int k = 1; k < K; k++)
+        for (int p = 0; p < P; p++) out[p] += q[k] * basis[(long)k * P + p];
+}
+
+static void general_force(const double *restrict q, int K, int P, const double *restrict w, const double *restrict rho2,
+                  const double *restrict r2, const double *restrict dr2, const double *restrict B,
+                  const double *restrict T, double *restrict a, double *restrict b, double *restrict g) {
+    project(q, K, P, B, a);
+    project(q, K, P, T, b);
+    for (int p = 0; p < P; p++) {
+        double ap = a[p], bp = b[p];
+        double D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap, s = rho2[p] / (D * D);
+        a[p] = 2.0 * ap * (1.0 - s * r2[p]) * w[p];
+        b[p] = 2.0 * bp * (1.0 / rho2[p] - s * dr2[p]) * w[p];
+    }
+    for (int k = 0; k < K; k++) {
+        const double *bk = B + (long)k * P, *tk = T + (long)k * P;
+        double acc = 0.0;
+        for (int p = 0; p < P; p++) acc += a[p] * bk[p] + b[p] * tk[p];
+        g[k] = acc;
+    }
+}
+
+static void general_force_jacobian(const double *restrict q, int K, int P, const double *restrict w,
+                           const double *restrict rho2, const double *restrict r2, const double *restrict dr2,
+                           const double *restrict B, const double *restrict T, double *restrict a,
+                           double *restrict b, double *restrict fa, double *restrict fb, double *restrict iaa,
+                           double *restrict iab, double *restrict ibb, double *restrict g, double *restrict J) {
+    project(q, K, P, B, a);
+    project(q, K, P, T, b);
+    for (int p = 0; p < P; p++) {
+        double ap = a[p], bp = b[p];
+        double D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap, s = rho2[p] / (D * D), s3 = 8.0 * s / D;
+        fa[p] = 2.0 * ap * (1.0 - s * r2[p]) * w[p];
+        fb[p] = 2.0 * bp * (1.0 / rho2[p] - s * dr2[p]) * w[p];
+        iaa[p] = (2.0 - 2.0 * s * r2[p] + s3 * r2[p] * r2[p] * ap * ap) * w[p];
+        iab[p] = s3 * r2[p] * dr2[p] * ap * bp * w[p];
+        ibb[p] = (2.0 / rho2[p] - 2.0 * s * dr2[p] + s3 * dr2[p] * dr2[p] * bp * bp) * w[p];
+    }
+    for (int k = 0; k < K; k++) {
+        const double *bk = B + (long)k * P, *tk = T + (long)k * P;
+        double acc = 0.0;
+        for (int p = 0; p < P; p++) acc += fa[p] * bk[p] + fb[p] * tk[p];
+        g[k] = acc;
+        for (int l = k; l < K; l++) {
+            const double *bl = B + (long)l * P, *tl = T + (long)l * P;
+            double s = 0.0;
+            for (int p = 0; p < P; p++)
+                s += iaa[p] * bk[p] * bl[p] + iab[p] * (bk[p] * tl[p] + tk[p] * bl[p]) + ibb[p] * tk[p] * tl[p];
+            J[k * K + l] = s;
+            J[l * K + k] = s;
+        }
+    }
+}
+
 int main(int argc, char **argv) {
     if (argc != 7) { fprintf(stderr, "usage: %s TABLES K P Q REPEATS OUT\n", argv[0]); return 2; }
     long n;
     double *tables = read_doubles(argv[1], &n);
     int K = atoi(argv[2]), P = atoi(argv[3]), repeats = atoi(argv[5]);
-    double *w = tables, *rho2 = tables + P, *r2 = tables + 2 * P, *dr2 = tables + 3 * P, *B = tables + 4 * P;
+    double *w = tables, *rho2 = tables + P, *r2 = tables + 2L * P, *dr2 = tables + 3L * P, *B = tables + 4L * P;
+    double *T = B + (long)K * P;
+    int general = n == 4L * P + 2L * K * P; /* the tables carry b_theta */
+    if (!general && n != 4L * P + (long)K * P) { fprintf(stderr, "%s: %ld values for K = %d, P = %d\n", argv[1], n, K, P); return 2; }
     long nq;
     double *Q = read_doubles(argv[4], &nq);
     long M = nq / K;
-    double *a = malloc(P * sizeof(double)), *fa = malloc(P * sizeof(double)), *iaa = malloc(P * sizeof(double));
+    double *work = malloc(7L * P * sizeof(double));
+    double *a = work, *b = work + P, *fa = work + 2L * P, *fb = work + 3L * P, *iaa = work + 4L * P,
+           *iab = work + 5L * P, *ibb = work + 6L * P;
     double *G = malloc(M * K * sizeof(double)), *JJ = malloc(M * K * K * sizeof(double));
     double sink = 0.0;
     double t0 = now();
     for (int r = 0; r < repeats; r++)
-        for (long m = 0; m < M; m++) { force(Q + m * K, K, P, w, rho2, r2, dr2, B, a, G + m * K); sink += G[m * K]; }
+        for (long m = 0; m < M; m++) {
+            if (general)
+                general_force(Q + m * K, K, P, w, rho2, r2, dr2, B, T, a, b, G + m * K);
+            else
+                force(Q + m * K, K, P, w, rho2, r2, dr2, B, a, G + m * K);
+            sink += G[m * K];
+        }
     double t1 = now();
     for (int r = 0; r < repeats; r++)
         for (long m = 0; m < M; m++) {
-            force_jacobian(Q + m * K, K, P, w, rho2, r2, dr2, B, a, fa, iaa, G + m * K, JJ + m * K * K);
+            if (general)
+                general_force_jacobian(Q + m * K, K, P, w, rho2, r2, dr2, B, T, a, b, fa, fb, iaa, iab, ibb,
+                                       G + m * K, JJ + m * K * K);
+            else
+                force_jacobian(Q + m * K, K, P, w, rho2, r2, dr2, B, a, fa, iaa, G + m * K, JJ + m * K * K);
             sink += JJ[m * K * K];
         }
     double t2 = now();
