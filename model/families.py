@@ -37,7 +37,7 @@ import numpy as np
 from .linear import gauss_radial
 from .modes import bessel_roots, mode_shape
 from .prestretch import Prestretch
-from .integrate import _rk4_one_mode
+from .integrate import rk4_one_mode
 from .rom import Rom, piecewise_chebyshev, rhs_unpacked, unpack
 
 
@@ -265,7 +265,7 @@ def _stage_coordinates(y0, t0, h, steps, tab, forcing, out):
     n = y0.size
     K = n // 2
     if tab.table_max > 0.0:
-        done = _rk4_one_mode(y0.copy(), t0, h, steps, tab.stiffness_table, tab.table_max, tab.k_force[0],
+        done = rk4_one_mode(y0.copy(), t0, h, steps, tab.stiffness_table, tab.table_max, tab.k_force[0],
                              tab.load[0], forcing.damping_rate, forcing.P0, forcing.Omega, out)
         if done == steps:
             return

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
-from .integrate import OMEGA, PRESSURE, _rk4_one_mode, monodromy, monodromy_parameter, rk4_steps
+from .integrate import OMEGA, PRESSURE, monodromy, monodromy_parameter, rk4_one_mode, rk4_steps
 from .params import Loading
 from .rom import Forcing, Rom, linear_frequencies
 
@@ -253,7 +253,7 @@ def _table_samples(y, samples, h, tab, forcing, w):
     # w[i] = probe q before each step (one call instead of one per step); returns the
     # steps done (fewer than samples where a stage leaves the table's range).
     stages = np.empty((samples, 4, 1))
-    done = _rk4_one_mode(y, 0.0, h, samples, tab.stiffness_table, tab.table_max, tab.k_force[0], tab.load[0],
+    done = rk4_one_mode(y, 0.0, h, samples, tab.stiffness_table, tab.table_max, tab.k_force[0], tab.load[0],
                          forcing.damping_rate, forcing.P0, forcing.Omega, stages)
     for i in range(done):
         w[i] = tab.probe[0] * stages[i, 0, 0]

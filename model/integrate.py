@@ -38,14 +38,34 @@ def _accel(q, v, cos_t, coef, q_max, k_force, load, c_damp, p_load):
 
 
 @nb.njit(cache=True, fastmath=True)
-def _rk4_one_mode(y, t0, h, steps, coef, q_max, k_force, load, c_damp, p_load, omega, stages):
-    # (scalars rather than the Forcing tuple: this loop is the one-mode hot path)
-    # RK4 steps of the one-mode ROM from the force table; returns the steps done (fewer
-    # than ``steps`` when a stage would leave the table's range: y is then the last state).
-    # The range is tested before each evaluation (no NaN sentinel: fastmath assumes none);
-    # the forcing is evaluated at two times per step, the last stage's reused as the next
-    # step's first.  When ``stages`` has rows, stages[i, s, 0] receives the coordinate at
-    # stage s of step i (model.families needs them).
+def rk4_one_mode(y, t0, h, steps, coef, q_max, k_force, load, c_damp, p_load, omega, stages):
+    """RK4 steps of the one-mode ROM from its force table, in place.
+
+    Scalars rather than the :class:`model.rom.Forcing` tuple: this loop is the one-mode
+    hot path.  The range of the table is tested before each evaluation (no NaN sentinel:
+    fastmath assumes none); the forcing is evaluated at two times per step, the last
+    stage's reused as the next step's first.
+
+    Parameters
+    ----------
+    y : (2,) float array
+        State ``(q, q')`` at ``t0`` (m, m s-1); receives the state after the steps done.
+    t0, h : float
+        Start time and step (s).
+    steps : int
+    coef, q_max : the table (``RomTables.stiffness_table``, ``table_max``)
+    k_force, load, c_damp, p_load, omega : float
+        ``RomTables.k_force[0]``, ``load[0]`` and the :class:`model.rom.Forcing` fields.
+    stages : (steps, 4, 1) array or (0, 4, 1) array
+        When it has rows, ``stages[i, s, 0]`` receives the coordinate at stage ``s`` of
+        step ``i`` (:mod:`model.families` needs them).
+
+    Returns
+    -------
+    int
+        Steps done: fewer than ``steps`` when a stage would leave the table's range (``y``
+        is then the last state inside it).
+    """
     record = stages.shape[0] > 0
     q = y[0]
     v = y[1]
@@ -362,7 +382,7 @@ def rk4_steps(y, t0, h, steps, tab, forcing, work):
     number of modes).  Returns the time reached.
     """
     if tab.table_max > 0.0:
-        done = _rk4_one_mode(y, t0, h, steps, tab.stiffness_table, tab.table_max, tab.k_force[0],
+        done = rk4_one_mode(y, t0, h, steps, tab.stiffness_table, tab.table_max, tab.k_force[0],
                              tab.load[0], forcing.damping_rate, forcing.P0, forcing.Omega, np.empty((0, 4, 1)))
         t0 = t0 + done * h
         steps -= done
@@ -458,11 +478,38 @@ def _aug_rhs(t, z, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_for
 
 
 @nb.njit(cache=True, fastmath={"contract"})
-def _monodromy_one_mode(y0, t0, h, steps, tab, forcing, which, phi, dparam):
-    # State, 2x2 variational matrix and parameter derivative of the one-mode ROM from the
-    # force tables; returns (q, v, ok), ok False when a stage leaves the tables' range.
-    # Fused multiply-adds only, no reassociation: the state and matrix stay bit for bit
-    # those of monodromy() whatever the parameter (the compiler specialises the loop on it).
+def monodromy_one_mode(y0, t0, h, steps, tab, forcing, which, phi, dparam):
+    """:func:`monodromy_parameter` of a one-mode ROM from its force tables, compiled, for
+    compiled callers (a Newton iteration).
+
+    Fused multiply-adds only, no reassociation: the state and matrix stay bit for bit
+    those of :func:`monodromy` whatever the parameter (the compiler specialises the loop
+    on it).
+
+    Parameters
+    ----------
+    y0 : (2,) float array
+        State at ``t0``.
+    t0, h : float
+        Start time and RK4 step (s).
+    steps : int
+    tab : model.rom.RomTables
+        With a force table (``table_max > 0``).
+    forcing : model.rom.Forcing
+    which : int
+        :data:`OMEGA`, :data:`PRESSURE` or :data:`NO_PARAMETER`.
+    phi : (2, 2) float array
+        Receives the monodromy matrix.
+    dparam : (2,) float array
+        Receives the derivative in the parameter (zeros for :data:`NO_PARAMETER`).
+
+    Returns
+    -------
+    q, v : float
+        The state after the steps.
+    ok : bool
+        False when a stage leaves the table's range (``phi``, ``dparam`` then unset).
+    """
     coef = tab.stiffness_table
     slope = tab.slope_table
     q_max = tab.table_max
@@ -569,7 +616,7 @@ def monodromy_parameter(y0, t0, period, steps, tab, forcing, which):
     if tab.table_max > 0.0:
         phi = np.empty((2, 2))
         dparam = np.empty(2)
-        q, v, ok = _monodromy_one_mode(y0, t0, period / steps, steps, tab, forcing, which, phi, dparam)
+        q, v, ok = monodromy_one_mode(y0, t0, period / steps, steps, tab, forcing, which, phi, dparam)
         if ok:
             return np.array([q, v]), phi, dparam
     return _monodromy_parameter_quadrature(y0, t0, period, steps, tab, forcing, which)

@@ -54,6 +54,38 @@ def test_newton_finds_the_linear_forced_response(rom):
                                rtol=1e-6)
 
 
+def test_one_mode_newton_finds_what_the_quadrature_map_finds(rom):
+    """The compiled one-mode search (force table) and the general iteration on the same ROM
+    without a table (quadrature force, LAPACK solves) end on the same orbits from the same
+    starts: the resonant and non-resonant responses and the saddle of Fig. 19a (period 1),
+    no orbit of least period 2 from a period-1 orbit, and the same failures (a start far
+    out, whose damped Newton steps cannot reach an orbit in 3 iterations).  With a table of
+    1e-6 m the compiled search leaves it at once and the general iteration takes over: the
+    quadrature's result exactly."""
+    ps = solve_prestretch(Membrane(1.1, 0.2), "numeric")
+    table, quadrature = _fmap(rom), _fmap(build_rom(ps, [(1, 0)], force_table=False))
+    assert table.rom.tables.table_max > 0.0 and quadrature.rom.tables.table_max == 0.0
+    tiny = ForcedMap(rom.__class__(**{**rom.__dict__, "tables": quadrature.rom.tables._replace(
+        **_force_table(quadrature.rom.tables, 1e-6))}), table.forcing, table.steps)
+    scale = np.array([1 / 0.6, 1 / 20.0])
+    starts = [(np.array([-0.12, -0.3]), 1, 30), (np.array([0.02, 0.0]), 1, 30), (np.array([0.1, -0.2]), 1, 30),
+              (np.array([-0.12, -0.3]), 2, 30), (np.array([0.25, 8.0]), 1, 3)]
+    found = []
+    for y0, k, iterations in starts:
+        a = mb.find_periodic_orbit(y0, k, table, scale, 1e-11, max_iter=iterations)
+        b = mb.find_periodic_orbit(y0, k, quadrature, scale, 1e-11, max_iter=iterations)
+        c = mb.find_periodic_orbit(y0, k, tiny, scale, 1e-11, max_iter=iterations)
+        assert (a is None) == (b is None) == (c is None)
+        assert b is None or (np.array_equal(b.points, c.points) and np.array_equal(b.multipliers, c.multipliers))
+        if a is not None:
+            # the two maps differ by the table's 1e-13: orbits within 1e-9 of the window
+            assert np.abs((a.points - b.points) * scale).max() < 1e-9
+            np.testing.assert_allclose(np.sort(np.abs(a.multipliers)), np.sort(np.abs(b.multipliers)), rtol=1e-8)
+            found.append(a)
+    assert len(found) == 3 and len({round(float(a.points[0, 0]), 4) for a in found}) == 3
+    assert sum(np.max(np.abs(a.multipliers)) > 1.0 for a in found) == 1  # the saddle
+
+
 def _converged(atts, rom, lattice, steps=192):
     """The attractors again by Newton at ``steps`` RK4 steps per period."""
     scale = mb.lattice_scale(lattice, 2)
@@ -172,7 +204,7 @@ def test_unreached_attractor_gives_label_minus_one(rom):
 
 def _state_cells(n_state, entries, resolution=10.0):
     return mb._StateCells(np.zeros((entries, n_state), np.int16), np.full(entries, mb._EMPTY_CELL, np.int8),
-                          np.full(n_state, resolution), np.zeros(1, np.int64), 3 * entries // 4, True)
+                          np.full(n_state, resolution), np.zeros(1, np.int64), 3 * entries // 4)
 
 
 def test_state_cells_one_entry_per_cell_until_full():
