@@ -524,9 +524,10 @@ def general_force(q, weight, rho2, r2, dr2, b_rho, b_theta, out, a, b):
         ap = a[p]
         bp = b[p]
         D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap
-        s = rho2[p] / (D * D)
+        u = 1.0 / (rho2[p] * D * D)  # the one division: s = rho2 / D^2 = rho2^2 u, 1 / rho2 = D^2 u
+        s = rho2[p] * rho2[p] * u
         a[p] = 2.0 * ap * (1.0 - s * r2[p]) * weight[p]
-        b[p] = 2.0 * bp * (1.0 / rho2[p] - s * dr2[p]) * weight[p]
+        b[p] = 2.0 * bp * (D * D * u - s * dr2[p]) * weight[p]
     for k in range(K):
         acc = 0.0
         for p in range(P):
@@ -644,14 +645,17 @@ def general_force_jacobian(q, weight, rho2, r2, dr2, b_rho, b_theta, g, jac, wor
         ap = a[p]
         bp = b[p]
         D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap
-        s = rho2[p] / (D * D)
-        s3 = 8.0 * s / D
+        # the one division: s = rho2 / D^2 = rho2^2 D u, 8 s / D = 8 rho2^2 u, 1 / rho2 = D^3 u
+        u = 1.0 / (rho2[p] * D * D * D)
+        s = rho2[p] * rho2[p] * D * u
+        s3 = 8.0 * rho2[p] * rho2[p] * u
+        inv_rho2 = D * D * D * u
         w = weight[p]
         fa[p] = 2.0 * ap * (1.0 - s * r2[p]) * w
-        fb[p] = 2.0 * bp * (1.0 / rho2[p] - s * dr2[p]) * w
+        fb[p] = 2.0 * bp * (inv_rho2 - s * dr2[p]) * w
         iaa[p] = (2.0 - 2.0 * s * r2[p] + s3 * r2[p] * r2[p] * ap * ap) * w
         iab[p] = s3 * r2[p] * dr2[p] * ap * bp * w
-        ibb[p] = (2.0 / rho2[p] - 2.0 * s * dr2[p] + s3 * dr2[p] * dr2[p] * bp * bp) * w
+        ibb[p] = (2.0 * inv_rho2 - 2.0 * s * dr2[p] + s3 * dr2[p] * dr2[p] * bp * bp) * w
     for k in range(K):
         acc = 0.0
         for p in range(P):

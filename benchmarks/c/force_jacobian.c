@@ -11,7 +11,8 @@
  * over the points for both (as the numba kernels).
  * Any mode set (w_theta terms): the algorithm of model.rom.general_force and
  * general_force_jacobian: the slopes a_p = sum_k q_k B_kp, b_p = sum_k q_k T_kp,
- * D = dr2 r2 + dr2 b^2 + r2 a^2, s = rho2 / D^2, per point
+ * D = dr2 r2 + dr2 b^2 + r2 a^2, s = rho2 / D^2 (with 1 / rho2 and 8 s / D from one
+ * division: u = 1 / (rho2 D^2), resp. 1 / (rho2 D^3) with the Jacobian), per point
  *   fa = 2 a (1 - s r2) w,  fb = 2 b (1 / rho2 - s dr2) w                          (force)
  *   iaa = (2 - 2 s r2 + 8 s / D r2^2 a^2) w,  iab = 8 s / D r2 dr2 a b w,
  *   ibb = (2 / rho2 - 2 s dr2 + 8 s / D dr2^2 b^2) w                             (Jacobian)
@@ -105,9 +106,10 @@ static void general_force(const double *restrict q, int K, int P, const double *
     project(q, K, P, T, b);
     for (int p = 0; p < P; p++) {
         double ap = a[p], bp = b[p];
-        double D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap, s = rho2[p] / (D * D);
+        double D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap;
+        double u = 1.0 / (rho2[p] * D * D), s = rho2[p] * rho2[p] * u; /* one division */
         a[p] = 2.0 * ap * (1.0 - s * r2[p]) * w[p];
-        b[p] = 2.0 * bp * (1.0 / rho2[p] - s * dr2[p]) * w[p];
+        b[p] = 2.0 * bp * (D * D * u - s * dr2[p]) * w[p];
     }
     for (int k = 0; k < K; k++) {
         const double *bk = B + (long)k * P, *tk = T + (long)k * P;
@@ -126,12 +128,14 @@ static void general_force_jacobian(const double *restrict q, int K, int P, const
     project(q, K, P, T, b);
     for (int p = 0; p < P; p++) {
         double ap = a[p], bp = b[p];
-        double D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap, s = rho2[p] / (D * D), s3 = 8.0 * s / D;
+        double D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap;
+        double u = 1.0 / (rho2[p] * D * D * D); /* one division */
+        double s = rho2[p] * rho2[p] * D * u, s3 = 8.0 * rho2[p] * rho2[p] * u, inv_rho2 = D * D * D * u;
         fa[p] = 2.0 * ap * (1.0 - s * r2[p]) * w[p];
-        fb[p] = 2.0 * bp * (1.0 / rho2[p] - s * dr2[p]) * w[p];
+        fb[p] = 2.0 * bp * (inv_rho2 - s * dr2[p]) * w[p];
         iaa[p] = (2.0 - 2.0 * s * r2[p] + s3 * r2[p] * r2[p] * ap * ap) * w[p];
         iab[p] = s3 * r2[p] * dr2[p] * ap * bp * w[p];
-        ibb[p] = (2.0 / rho2[p] - 2.0 * s * dr2[p] + s3 * dr2[p] * dr2[p] * bp * bp) * w[p];
+        ibb[p] = (2.0 * inv_rho2 - 2.0 * s * dr2[p] + s3 * dr2[p] * dr2[p] * bp * bp) * w[p];
     }
     for (int k = 0; k < K; k++) {
         const double *bk = B + (long)k * P, *tk = T + (long)k * P;
