@@ -105,17 +105,19 @@ def _agree(comm: MPI.Intracomm, failure: tuple[str, str] | None) -> None:
 def _warmup(job: Job, comm: MPI.Intracomm) -> None:
     """Compile the analysis' kernels once per node before any task; collective over comm.
 
-    The first rank of each node compiles (and fills the numba cache) while the others
-    wait, then they load the compiled kernels from the cache.
+    The calls of the analysis' ``warmups`` are spread over the ranks of each node (call
+    ``i`` on node rank ``i`` modulo the node's ranks), which compile and fill the numba
+    cache while the node's other ranks wait; then every rank loads the compiled kernels
+    from the cache.
     """
     node = comm.Split_type(MPI.COMM_TYPE_SHARED)
     failure = None
-    if node.rank == 0:
-        try:
-            job.analysis.warmup(job.options)
-        except Exception as exc:
-            failure = (f"warmup of analysis {job.analysis_name!r} failed on rank {comm.rank}: "
-                       f"{type(exc).__name__}: {exc}", traceback.format_exc())
+    try:
+        for call in job.analysis.warmups(job.options)[node.rank::node.size]:
+            call()
+    except Exception as exc:
+        failure = (f"warmup of analysis {job.analysis_name!r} failed on rank {comm.rank}: "
+                   f"{type(exc).__name__}: {exc}", traceback.format_exc())
     node.Free()
     _agree(comm, failure)
 

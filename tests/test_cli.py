@@ -297,10 +297,10 @@ def test_status_from_the_final_file_once_parts_are_deleted(capsys, job, tmp_path
 
 
 def test_warmup_failure_is_reported(capsys, monkeypatch, job, tmp_path):
-    def broken(options):
+    def broken():
         raise RuntimeError("no compiler")
 
-    monkeypatch.setattr(fake_analysis.FAKE, "warmup", broken)
+    monkeypatch.setattr(fake_analysis.FAKE, "warmups", lambda options: [broken])
     code, _, err = run(capsys, "run", job, "-o", tmp_path / "r.nc")
     assert code == 1
     assert "error: warmup of analysis 'fake' failed on rank 0: RuntimeError: no compiler" in err

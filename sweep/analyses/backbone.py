@@ -98,10 +98,8 @@ class BackboneAnalysis(Analysis):
                           {"long_name": "index of the target amplitude", "units": "1"}),
                 **opt.mode_coords(options.modes)}
 
-    def warmup(self, options):
-        rom = opt.rom_for(Membrane(), "analytic", ((1, 0),))
-        continue_free_orbits(rom, [1e-3], steps=8)
-        peak_to_peak(rom, [1e-3], cycles=2)
+    def warmups(self, options):
+        return [_compile_backbone]
 
     def compute(self, point, options, subtask):
         rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
@@ -126,3 +124,10 @@ class BackboneAnalysis(Analysis):
 
 
 BACKBONE = BackboneAnalysis()
+
+
+def _compile_backbone() -> None:
+    # Backbone.warmups: the free-orbit continuation and the peak-to-peak integration
+    rom = opt.rom_for(Membrane(), "analytic", ((1, 0),))
+    continue_free_orbits(rom, [1e-3], steps=8)
+    peak_to_peak(rom, [1e-3], cycles=2)

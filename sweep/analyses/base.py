@@ -16,7 +16,7 @@ Kernels never see this module: it lives in ``sweep`` and only wraps ``model``.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -215,12 +215,17 @@ class Analysis(ABC):
         stored as status failed with its type and message, and the sweep goes on.
         """
 
-    def warmup(self, options: Any) -> None:
-        """Compile the numba kernels this analysis uses (called once, on rank 0, first).
+    def warmups(self, options: Any) -> list[Callable[[], None]]:
+        """The compilation of the numba kernels this analysis uses, as independent calls.
 
-        On several nodes the runner calls it on the first rank of each node, so that
-        node-local numba caches are filled once per node before any task runs.
+        Before any task the runner makes these calls on every node, call ``i`` on the
+        node's rank ``i`` modulo its ranks (on one rank, all of them), while the node's
+        other ranks wait; then every rank loads the compiled kernels from the node's cache.
+        Calls that compile disjoint kernels run concurrently on a node of several ranks
+        (numba's cache takes concurrent writers: each writes a temporary file and renames
+        it).  Default: none.
         """
+        return []
 
     #: ``assemble(raw, options)``: turns the raw merged Dataset, dims ``(*grid_dims,
     #: "subtask", *variable_dims)`` with ``status`` and ``message``, into the published one,

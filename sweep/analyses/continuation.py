@@ -88,6 +88,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 
@@ -632,11 +633,10 @@ class ContinuationAnalysis(Analysis):
         no_fold = curve.p.size == 0
         return out, "" if curve.complete or no_fold else f"fold curve: {curve.message}"
 
-    def warmup(self, options):
+    def warmups(self, options):
         axisymmetric, _ = symmetry_blocks(options.modes)
         modes = tuple(options.modes[i] for i in axisymmetric) if _by_symmetry(options) else options.modes
-        rom = opt.rom_for(Membrane(), "analytic", modes)
-        shoot(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 0.05), steps=16), np.zeros(2 * rom.dof))
+        return [partial(_compile_shooting, modes)]
 
     def attributes(self, options):
         return {"continued_parameter": options.parameter}
@@ -704,3 +704,9 @@ def _full_layout(br, K, axisymmetric, blocks):
 
 
 CONTINUATION = ContinuationAnalysis()
+
+
+def _compile_shooting(modes) -> None:
+    # Continuation.warmups: the shooting Newton iteration of a ROM of these modes
+    rom = opt.rom_for(Membrane(), "analytic", modes)
+    shoot(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 0.05), steps=16), np.zeros(2 * rom.dof))

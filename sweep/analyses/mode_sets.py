@@ -25,7 +25,7 @@ merged in memory on rank 0 (like the basins), not streamed.
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -139,9 +139,8 @@ class ModeSetSweep(Analysis):
             out[v.name] = padded
         return out
 
-    def warmup(self, options: ModeSetOptions) -> None:
-        for o in options.sets:
-            self.inner.warmup(o)
+    def warmups(self, options: ModeSetOptions) -> list[Callable[[], None]]:
+        return [call for o in options.sets for call in self.inner.warmups(o)]
 
     def attributes(self, options: ModeSetOptions) -> dict[str, Any]:
         return self.inner.attributes(options.sets[0])

@@ -16,6 +16,7 @@ unless ``refine_jumps``).  The task status is ``not_converged`` if any value did
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
@@ -134,10 +135,8 @@ class ResponseAnalysis(Analysis):
                               f"max_periods = {options.max_periods} (raise max_periods or tol)")
         return out
 
-    def warmup(self, options):
-        rom = opt.rom_for(Membrane(), "analytic", options.modes)
-        stepped_sweep(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 1.0), steps=16), "P0", [0.1],
-                      max_periods=2, min_periods=1)
+    def warmups(self, options):
+        return [partial(_compile_stepped_sweep, options.modes)]
 
     def attributes(self, options):
         return {"swept_parameter": options.parameter}
@@ -149,3 +148,10 @@ class ResponseAnalysis(Analysis):
 
 
 RESPONSE = ResponseAnalysis()
+
+
+def _compile_stepped_sweep(modes) -> None:
+    # Response.warmups: the stepped sweep of a ROM of these modes
+    rom = opt.rom_for(Membrane(), "analytic", modes)
+    stepped_sweep(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 1.0), steps=16), "P0", [0.1],
+                  max_periods=2, min_periods=1)
