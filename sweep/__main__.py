@@ -1,5 +1,5 @@
 """``python -m sweep``: see :mod:`sweep.cli`."""
 
-from sweep.cli import main
+from sweep.cli import exit_main
 
-raise SystemExit(main())
+exit_main()

@@ -14,6 +14,7 @@ and message are in the file).  Messages go to stderr, from rank 0.
 import sweep.threads  # noqa: F401  (before numpy and numba load: one thread per rank)
 
 import argparse
+import gc
 import os
 import sys
 from pathlib import Path
@@ -257,8 +258,22 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def exit_main() -> None:
+    """Run :func:`main` and exit with its status: ``python -m sweep`` and ``membrane-sweep``.
+
+    Before the interpreter exits, every object still alive is moved out of the garbage
+    collector's reach (:func:`gc.freeze`), so that the interpreter's final collections
+    skip numba's compiled code and everything else a command loaded: 0.25 s of every
+    command's exit on this machine (with the kernels of a basins job loaded; every file
+    is closed by then).
+    """
+    status = main()
+    gc.freeze()
+    raise SystemExit(status)
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of ``python -m sweep`` and ``membrane-sweep``.
+    """The command line: ``python -m sweep`` and ``membrane-sweep`` (through :func:`exit_main`).
 
     Parameters
     ----------
