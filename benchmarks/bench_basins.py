@@ -17,7 +17,9 @@ Printed:
   (the 400 are the first 400 of the 1000); target >= 99 %;
 * (d) peak resident memory per rank (``run --report-memory``) for the ``--size`` lattice
   and for an ``--memory-size`` lattice (800); the latter with ``max_periods`` capped at
-  ``--memory-periods`` (memory only: the labels are then mostly -1).
+  ``--memory-periods`` (memory only: the labels are then mostly -1);
+* (e) the quickstart job, ``jobs/quickstart.toml`` (120 x 120), on 2 ranks: cold once,
+  then warm (``--warm-repeats``, median), and the ratio (target <= 1.3).
 
 With ``--modes K`` (K > 1) the ROM has the axisymmetric modes (1..K, 0) (the lattice on
 mode (1, 0), steps per period from the mode set, ``steps = "auto"``), and only (a) on 2
@@ -25,7 +27,8 @@ ranks (cold) and (c) run; brute force then uses twice the set's steps (264 and 5
 agree on 200 of 200 random points of the 3-mode lattice).
 
 Run from the repository root:  ``python benchmarks/bench_basins.py``; ``--smoke`` (the test
-suite): a 10 x 10 lattice, one repeat, 20 brute-force points, a 12 x 12 memory run of 5 periods.
+suite): a 10 x 10 lattice, one repeat, 20 brute-force points, a 12 x 12 memory run of 5 periods,
+the quickstart job once cold and once warm.
 Other processes on the machine distort the timings: the load average is printed too.
 """
 
@@ -211,7 +214,18 @@ def main(argv=None) -> None:
               f"RSS per rank after compute {', '.join(f'{m:.1f}' for m in rss[:-1])} MiB, "
               f"rank 0 after collect {rss[-1]:.1f} MiB; unclassified "
               f"{np.mean(labels(work / 'big.nc') < 0):.3f}")
+        quickstart(work, args.warm_repeats)
     print(f"load average after: {os.getloadavg()[0]:.2f}")
+
+
+def quickstart(work: Path, warm_repeats: int) -> None:
+    """(e): ``jobs/quickstart.toml`` on 2 ranks, cold (empty numba cache) then warm."""
+    job = Path(__file__).resolve().parents[1] / "jobs" / "quickstart.toml"
+    cache = work / "cache-quickstart"
+    cold = sweep(job, 2, work / "quickstart.nc", cache)[0]
+    warm = statistics.median(sweep(job, 2, work / "quickstart.nc", cache)[0] for _ in range(warm_repeats))
+    print(f"(e) jobs/quickstart.toml on 2 ranks: cold {cold:.2f} s, warm {warm:.2f} s (median of {warm_repeats}); "
+          f"cold / warm {cold / warm:.2f} (target <= 1.3)")
 
 
 def several_modes(args) -> None:
