@@ -80,10 +80,17 @@ def _general_force_jacobian(Q, repeats, weight, rho2, r2, dr2, b_rho, b_theta, G
             general_force_jacobian(Q[m], weight, rho2, r2, dr2, b_rho, b_theta, G[m], J[m], work)
 
 
-def _numpy_force_jacobian(q, t):
-    """Force and Jacobian of any mode set, the formulas of ``benchmarks/c/force_jacobian.c``
-    on whole arrays (``b_theta`` is zero for axisymmetric sets)."""
-    a, b = q @ t.b_rho, q @ t.b_theta
+def _numpy_force_jacobian(q, t, axisymmetric):
+    """Force and Jacobian, the formulas of ``benchmarks/c/force_jacobian.c`` on whole
+    arrays, without the ``w_theta`` terms for an axisymmetric set (as a user would write it)."""
+    a = q @ t.b_rho
+    if axisymmetric:
+        D = t.r2 * (t.dr2 + a * a)
+        s = t.rho2 / D**2
+        g = t.b_rho @ (2 * a * (1 - s * t.r2) * t.weight)
+        jac = (t.b_rho * ((2 - 2 * s * t.r2 + 8 * s / D * t.r2**2 * a**2) * t.weight)) @ t.b_rho.T
+        return g, jac
+    b = q @ t.b_theta
     D = t.dr2 * t.r2 + t.dr2 * b * b + t.r2 * a * a
     s = t.rho2 / D**2
     s3 = 8 * s / D
@@ -140,7 +147,7 @@ def _case(title, tables, axisymmetric, states, repeats, rounds, unfolded=None):
             force(Q, repeats, *u_arrays, Gu)
             times["numba force, unfolded rule"].append((time.perf_counter() - t0) / calls * 1e9)
         t0 = time.perf_counter()
-        numpy_out = [_numpy_force_jacobian(q, t) for q in Q]
+        numpy_out = [_numpy_force_jacobian(q, t, axisymmetric) for q in Q]
         times["numpy force + Jacobian"].append((time.perf_counter() - t0) / states * 1e9)
         if exe is not None:
             out = subprocess.run([str(exe), str(work / "tables.bin"), str(K), str(P), str(work / "q.bin"),

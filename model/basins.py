@@ -553,6 +553,7 @@ def find_periodic_orbit(y0, k: int, fmap: ForcedMap, scale, tol: float, max_iter
     """
     y = np.array(y0, dtype=np.float64)
     n = y.size
+    scale = np.asarray(scale, dtype=np.float64)
     if fmap.rom.tables.table_max > 0.0:  # one mode: the whole iteration compiled, in the force table
         pts, phi = np.empty((k, 2)), np.empty((2, 2))
         code = _newton_one_mode(y, k, fmap.period / fmap.steps, fmap.steps, fmap.rom.tables, fmap.forcing, scale,
@@ -621,6 +622,7 @@ def _newton_one_mode(y, k, h, steps, tab, forcing, scale, tol, max_iter, max_ste
         pts[0, 0] = y0
         pts[0, 1] = y1
         for j in range(k):
+            # (the constant compiles a version of its own, specialised on the literal)
             zq, zv, ok = monodromy_one_mode(z, 0.0, h, steps, tab, forcing, NO_PARAMETER, m, dparam)
             if not ok:
                 return _NEWTON_LEFT_TABLE

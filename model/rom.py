@@ -105,7 +105,7 @@ class Rom:
     forcing: np.ndarray       # f_k (m2)
     probe_rho: float
     radial_points: int
-    theta_points: int
+    theta_points: int         # the uniform rule's points on [0, 2 pi) (folded: the tables hold nt // 2 + 1)
     tables: RomTables
 
     @property
@@ -245,7 +245,7 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
         companions (every ``n >= 0``) the angular rule is folded onto ``[0, pi]``
         (:func:`_reflected_theta_rule`, ``theta_points // 2 + 1`` points, the same sums).
     force_table : bool
-        Build the one-mode force table (:func:`_force_table`, a few hundred ms; default).
+        Build the one-mode force table (:func:`_force_table`, about 10 ms; default).
         Without it one-mode ROMs use the quadrature: slower kernels, for ROMs rebuilt often
         (curves in ``delta``).
     """
@@ -264,8 +264,9 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
     nr_def, nt_def = default_quadrature(modes)
     nr = radial_points or nr_def
     nt = nt_def if theta_points is None else int(theta_points)
-    if nt == 0 and any(n for _, n in modes):
-        raise ValueError("theta_points = 0 is invalid for a mode set with n > 0")
+    if nt < 0 or (nt == 0 and any(n for _, n in modes)):
+        raise ValueError(f"theta_points = {nt} is invalid: must be >= 1 (0, the axisymmetric shortcut, only when "
+                         "every n is 0)")
     rho, wr = gauss_radial(m, nr)
     if nt == 0:
         theta, wt = np.zeros(1), np.array([2 * np.pi])

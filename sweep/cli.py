@@ -263,7 +263,7 @@ def exit_main() -> None:
 
     Before the interpreter exits, every object still alive is moved out of the garbage
     collector's reach (:func:`gc.freeze`), so that the interpreter's final collections
-    skip numba's compiled code and everything else a command loaded: 0.25 s of every
+    skip numba's compiled code and everything else a command loaded: 0.2-0.25 s of every
     command's exit on this machine (with the kernels of a basins job loaded; every file
     is closed by then).
     """

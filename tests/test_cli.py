@@ -306,6 +306,14 @@ def test_warmup_failure_is_reported(capsys, monkeypatch, job, tmp_path):
     assert "error: warmup of analysis 'fake' failed on rank 0: RuntimeError: no compiler" in err
 
 
+def test_an_analysis_with_the_old_warmup_protocol_is_refused(monkeypatch):
+    """warmup(options) was replaced by warmups(options): an analysis that still defines it
+    would not be compiled before its tasks, so it is refused by name."""
+    monkeypatch.setattr(fake_analysis.FAKE, "warmup", lambda options: None, raising=False)
+    with pytest.raises(TypeError, match=r"fake_analysis:FAKE defines warmup\(options\); the runner calls warmups"):
+        analyses.get("fake")
+
+
 def test_part_write_failure_is_reported(capsys, monkeypatch, job, tmp_path):
     from sweep import partlog
 

@@ -1,6 +1,11 @@
 """Mode sets as a sweep dimension: a job over several mode sets gives, set by set, exactly
 what a job of that set alone gives, padded to the largest set along the mode dimensions."""
 
+import json
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -176,3 +181,49 @@ def test_a_set_result_not_as_declared_fails_the_run(tmp_path, monkeypatch, capsy
     assert cli.main(["run", str(job), "-o", str(tmp_path / "bad.nc"), "--progress", "none"]) == 1
     err = capsys.readouterr().err
     assert "error: task " in err and "with shape" in err
+
+
+#: Compiles one warmup call of a job in a fresh process (argv: job file, call index) and
+#: prints the signatures it compiled of each kernel of model/, as JSON.
+_WARMUP_CALL = """
+import json, sys
+from numba.core import event
+compiled = {}
+class Listener(event.Listener):
+    def on_start(self, ev):
+        pass
+    def on_end(self, ev):
+        f = ev.data["dispatcher"].py_func
+        if f.__module__.startswith("model."):
+            compiled.setdefault(f"{f.__module__}.{f.__qualname__}", []).append(str(ev.data["args"]))
+event.register("numba:compile", Listener())
+from sweep.jobspec import load_job
+job = load_job(sys.argv[1])
+job.analysis.warmups(job.options)[int(sys.argv[2])]()
+print(json.dumps(compiled))
+"""
+
+
+def test_warmup_calls_never_compile_one_kernel_with_different_types(tmp_path):
+    """The runner makes an analysis' warmup calls concurrently on the ranks of a node, and
+    numba's cache index is not safe against two processes adding different signatures of
+    one kernel at once (Analysis.warmups).  Each call of a basins job over a one- and a
+    two-mode set, in a fresh process with an empty cache: a kernel of model/ compiled by
+    two calls has the same signatures in both.  (With the calls of the sets listed one
+    after the other, the two sets' classifier kernels clash.)"""
+    job = tmp_path / "job.toml"
+    job.write_text(BASINS_JOB.format(name="warm", modes="[[[1, 0]], [[1, 0], [2, 0]]]"))
+    parsed = parse_job(job.read_text(), str(job))
+    n_calls = len(parsed.analysis.warmups(parsed.options))
+    assert n_calls >= 2
+    compiled = []
+    for i in range(n_calls):
+        env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / f"cache-{i}")}
+        proc = subprocess.run([sys.executable, "-c", _WARMUP_CALL, str(job), str(i)], env=env,
+                              capture_output=True, text=True, timeout=600)
+        assert proc.returncode == 0, proc.stderr
+        compiled.append({name: set(sigs) for name, sigs in json.loads(proc.stdout.splitlines()[-1]).items()})
+    assert all(len(c) > 3 for c in compiled)  # each call compiles kernels of its own
+    clashes = {(i, j, name): (a[name], b[name]) for i, a in enumerate(compiled) for j, b in enumerate(compiled)
+               if i < j for name in set(a) & set(b) if a[name] != b[name]}
+    assert clashes == {}

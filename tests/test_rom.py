@@ -261,12 +261,14 @@ def test_sine_companions_are_the_cosine_modes_rotated(prestretch):
     assert np.abs(g2[[0, 1, 2]] - np.array([g1[0], -g1[2], g1[1]])).max() <= 1e-10 * np.abs(g1).max()
 
 
-def test_folded_angular_rule_is_the_full_rule(prestretch):
-    # Without sine companions the angular rule is folded onto [0, pi] (nt // 2 + 1 points);
+@pytest.mark.parametrize("theta_points", [None, 35])
+def test_folded_angular_rule_is_the_full_rule(prestretch, theta_points):
+    # Without sine companions the angular rule is folded onto [0, pi] (nt // 2 + 1 points;
+    # the default nt = 96 is even: 0 and pi are points; 35 is odd: pi is not);
     # adding the companion (1, -1) at zero amplitude keeps the full rule on [0, 2 pi), whose
     # sums the folded one must give to rounding: mass, load, force and Jacobian.
-    folded = build_rom(prestretch, MIXED)
-    full = build_rom(prestretch, MIXED + [(1, -1)])
+    folded = build_rom(prestretch, MIXED, theta_points=theta_points)
+    full = build_rom(prestretch, MIXED + [(1, -1)], theta_points=theta_points)
     nr, nt = folded.radial_points, folded.theta_points
     assert full.theta_points == nt and full.radial_points == nr
     assert folded.tables.weight.size == nr * (nt // 2 + 1) and full.tables.weight.size == nr * nt
@@ -330,3 +332,14 @@ def test_lean_radial_rule_keeps_the_accelerations(amplitude):
         assert points > LEAN_RADIAL_POINTS[0]
         fewest = build_rom(analytic, AXI, radial_points=LEAN_RADIAL_POINTS[0])
         assert np.abs(accelerations(fewest) - exact).max() > rtol * np.abs(exact).max()
+
+
+@pytest.mark.parametrize("modes, kwargs, message", [
+    ([(0, 0)], {}, r"mode = \(0, 0\) is invalid: need m >= 1"),
+    ([(1, 0), (1, 0)], {}, r"modes = \[\(1, 0\), \(1, 0\)\] is invalid: a mode is repeated"),
+    ([(1, 0), (1, 1)], {"theta_points": 0}, r"theta_points = 0 is invalid: must be >= 1"),
+    ([(1, 0), (1, 1)], {"theta_points": -4}, r"theta_points = -4 is invalid: must be >= 1"),
+])
+def test_build_rom_errors_name_the_value(prestretch, modes, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        build_rom(prestretch, modes, **kwargs)

@@ -12,7 +12,7 @@
  * rho2, r2, dr2 (P each), B (K x P, row-major), k_force (K), load (K), float64. */
 typedef struct { const double *w, *rho2, *r2, *dr2, *B, *k_force, *load; } QuadratureTables;
 
-static QuadratureTables quadrature_tables(const double *tables, int K, int P) {
+static inline QuadratureTables quadrature_tables(const double *tables, int K, int P) {
     QuadratureTables t = {tables, tables + P, tables + 2 * P, tables + 3 * P, tables + 4 * P,
                           tables + 4 * P + (long)K * P, tables + 4 * P + (long)K * P + K};
     return t;

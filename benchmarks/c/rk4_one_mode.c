@@ -4,7 +4,7 @@
  * Same algorithm as the numba kernels: classical RK4 with `steps` steps per call, the
  * force g(q) = q T(|q|) from a piecewise Chebyshev table T of degree 7 (Clenshaw sums),
  * forcing p_load cos(omega t) load, damping c_damp.
- *   mode 0, "scalar":   one trajectory at a time (model.integrate._rk4_one_mode);
+ *   mode 0, "scalar":   one trajectory at a time (model.integrate.rk4_one_mode);
  *   mode 1, "lockstep": blocks of `width` trajectories, each stage one loop over the block
  *                       (model.integrate.rk4_one_mode_lockstep), restrict pointers.
  * Usage: rk4_one_mode MODE WIDTH TABLE_FILE PIECES Q_MAX K_FORCE LOAD C_DAMP P_LOAD OMEGA

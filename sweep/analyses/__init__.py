@@ -77,4 +77,7 @@ def get(name: str) -> Analysis:
     analysis = getattr(importlib.import_module(module_name), attribute)
     if not isinstance(analysis, Analysis):
         raise TypeError(f"{entries[name]} is a {type(analysis).__name__}, not an Analysis")
+    if hasattr(analysis, "warmup"):  # the protocol before warmups: it would be ignored
+        raise TypeError(f"{entries[name]} defines warmup(options); the runner calls warmups(options), a list "
+                        "of calls (sweep/analyses/base.py)")
     return analysis

@@ -221,9 +221,12 @@ class Analysis(ABC):
         Before any task the runner makes these calls on every node, call ``i`` on the
         node's rank ``i`` modulo its ranks (on one rank, all of them), while the node's
         other ranks wait; then every rank loads the compiled kernels from the node's cache.
-        Calls that compile disjoint kernels run concurrently on a node of several ranks
-        (numba's cache takes concurrent writers: each writes a temporary file and renames
-        it).  Default: none.
+        On a node of several ranks the calls run concurrently, so two calls must not
+        compile one cached kernel with different argument types: numba saves a kernel's
+        signatures in one index file, and two processes adding different signatures at
+        once can leave the index naming the other's code (numba issue 4807).  The same
+        signature from two calls is safe (the same entry, written whole by either).
+        tests/test_mode_sets.py checks this for the basins analysis.  Default: none.
         """
         return []
 

@@ -27,6 +27,8 @@ from __future__ import annotations
 import json
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
+from functools import partial
+from itertools import zip_longest
 from typing import Any
 
 import numpy as np
@@ -140,7 +142,11 @@ class ModeSetSweep(Analysis):
         return out
 
     def warmups(self, options: ModeSetOptions) -> list[Callable[[], None]]:
-        return [call for o in options.sets for call in self.inner.warmups(o)]
+        # call i of every set in one call: each kernel is compiled by one rank, whatever the
+        # argument types the sets give it (see Analysis.warmups)
+        per_set = [self.inner.warmups(o) for o in options.sets]
+        return [partial(_call_all, [c for c in calls if c is not None])
+                for calls in zip_longest(*per_set)]
 
     def attributes(self, options: ModeSetOptions) -> dict[str, Any]:
         return self.inner.attributes(options.sets[0])
@@ -294,3 +300,9 @@ def select(ds, label: str):
         if _NAME_BY_SET in one[c].attrs:
             one[c].attrs["long_name"] = json.loads(one[c].attrs.pop(_NAME_BY_SET))[label]
     return one
+
+
+def _call_all(calls) -> None:
+    # ModeSetSweep.warmups: the calls of one index, one after the other
+    for call in calls:
+        call()
