@@ -555,11 +555,11 @@ def find_periodic_orbit(y0, k: int, fmap: ForcedMap, scale, tol: float, max_iter
     n = y.size
     scale = np.asarray(scale, dtype=np.float64)
     if fmap.rom.tables.table_max > 0.0:  # one mode: the whole iteration compiled, in the force table
-        pts, phi = np.empty((k, 2)), np.empty((2, 2))
+        pts, phi = np.empty((k + 1, 2)), np.empty((2, 2))
         code = _newton_one_mode(y, k, fmap.period / fmap.steps, fmap.steps, fmap.rom.tables, fmap.forcing, scale,
                                 tol, max_iter, max_step, pts, phi)
         if code == _NEWTON_CONVERGED:
-            return _orbit(pts, phi)
+            return _orbit(pts[:k], phi)
         if code == _NEWTON_FAILED:
             return None
         # a stage left the table: the iteration below, whose map falls back to the quadrature
@@ -606,53 +606,31 @@ _NEWTON_CONVERGED, _NEWTON_FAILED, _NEWTON_LEFT_TABLE = 0, 1, 2
 @nb.njit(cache=True)
 def _newton_one_mode(y, k, h, steps, tab, forcing, scale, tol, max_iter, max_step, pts, phi):
     # find_periodic_orbit for a one-mode ROM from its force table (the same iteration, the
-    # 2 x 2 systems solved in closed form).  Returns _NEWTON_CONVERGED (pts: the k points
-    # of the orbit from the converged y, phi: the monodromy matrix of P^k),
+    # 2 x 2 systems solved in closed form; pts is (k + 1, 2)).  Returns _NEWTON_CONVERGED
+    # (pts[:k]: the points of the orbit from the converged y, phi: the derivative of P^k),
     # _NEWTON_FAILED (no convergence in max_iter, a singular system, a state not finite or
     # a least period below k) or _NEWTON_LEFT_TABLE (a stage left the table's range).
-    m = np.empty((2, 2))
-    dparam = np.empty(2)
     y0 = y[0]
     y1 = y[1]
-    z = np.empty(2)
     for _ in range(max_iter):
-        z[0] = y0
-        z[1] = y1
-        p00, p01, p10, p11 = 1.0, 0.0, 0.0, 1.0
-        pts[0, 0] = y0
-        pts[0, 1] = y1
-        for j in range(k):
-            # (the constant compiles a version of its own, specialised on the literal)
-            zq, zv, ok = monodromy_one_mode(z, 0.0, h, steps, tab, forcing, NO_PARAMETER, m, dparam)
-            if not ok:
-                return _NEWTON_LEFT_TABLE
-            p00, p01, p10, p11 = (m[0, 0] * p00 + m[0, 1] * p10, m[0, 0] * p01 + m[0, 1] * p11,
-                                  m[1, 0] * p00 + m[1, 1] * p10, m[1, 0] * p01 + m[1, 1] * p11)
-            z[0] = zq
-            z[1] = zv
-            if j < k - 1:
-                pts[j + 1, 0] = zq
-                pts[j + 1, 1] = zv
-        r0 = z[0] - y0
-        r1 = z[1] - y1
+        if not _map_power_one_mode(y0, y1, k, h, steps, tab, forcing, pts, phi):
+            return _NEWTON_LEFT_TABLE
+        r0 = pts[k, 0] - y0
+        r1 = pts[k, 1] - y1
         if not (np.isfinite(r0) and np.isfinite(r1)):
             return _NEWTON_FAILED
         if np.sqrt((r0 * scale[0]) ** 2 + (r1 * scale[1]) ** 2) < tol:
             for j in range(1, k):
                 if np.sqrt(((pts[j, 0] - y0) * scale[0]) ** 2 + ((pts[j, 1] - y1) * scale[1]) ** 2) < 1e3 * tol:
                     return _NEWTON_FAILED
-            phi[0, 0] = p00
-            phi[0, 1] = p01
-            phi[1, 0] = p10
-            phi[1, 1] = p11
             return _NEWTON_CONVERGED
-        a00 = p00 - 1.0
-        a11 = p11 - 1.0
-        det = a00 * a11 - p01 * p10
+        a00 = phi[0, 0] - 1.0
+        a11 = phi[1, 1] - 1.0
+        det = a00 * a11 - phi[0, 1] * phi[1, 0]
         if det == 0.0 or not np.isfinite(det):
             return _NEWTON_FAILED
-        d0 = (-r0 * a11 + r1 * p01) / det
-        d1 = (-r1 * a00 + r0 * p10) / det
+        d0 = (-r0 * a11 + r1 * phi[0, 1]) / det
+        d1 = (-r1 * a00 + r0 * phi[1, 0]) / det
         size = np.sqrt((d0 * scale[0]) ** 2 + (d1 * scale[1]) ** 2)
         if size > max_step:
             d0 *= max_step / size
@@ -660,6 +638,37 @@ def _newton_one_mode(y, k, h, steps, tab, forcing, scale, tol, max_iter, max_ste
         y0 += d0
         y1 += d1
     return _NEWTON_FAILED
+
+
+@nb.njit(cache=True)
+def _map_power_one_mode(y0, y1, k, h, steps, tab, forcing, pts, phi):
+    # P^j(y), j = 0..k, of a one-mode ROM from its force table into pts[:k + 1] and the
+    # derivative of P^k into phi: the product of the monodromy matrices along the orbit,
+    # the latest on the left (chain rule).  False when a stage leaves the table's range.
+    m = np.empty((2, 2))
+    dparam = np.empty(2)
+    z = np.empty(2)
+    z[0] = y0
+    z[1] = y1
+    p00, p01, p10, p11 = 1.0, 0.0, 0.0, 1.0
+    pts[0, 0] = y0
+    pts[0, 1] = y1
+    for j in range(k):
+        # (the constant compiles a version of its own, specialised on the literal)
+        zq, zv, ok = monodromy_one_mode(z, 0.0, h, steps, tab, forcing, NO_PARAMETER, m, dparam)
+        if not ok:
+            return False
+        p00, p01, p10, p11 = (m[0, 0] * p00 + m[0, 1] * p10, m[0, 0] * p01 + m[0, 1] * p11,
+                              m[1, 0] * p00 + m[1, 1] * p10, m[1, 0] * p01 + m[1, 1] * p11)
+        z[0] = zq
+        z[1] = zv
+        pts[j + 1, 0] = zq
+        pts[j + 1, 1] = zv
+    phi[0, 0] = p00
+    phi[0, 1] = p01
+    phi[1, 0] = p10
+    phi[1, 1] = p11
+    return True
 
 
 # The tests run on every trajectory at every period, below, allocate nothing and are

@@ -86,6 +86,30 @@ def test_one_mode_newton_finds_what_the_quadrature_map_finds(rom):
     assert sum(np.max(np.abs(a.multipliers)) > 1.0 for a in found) == 1  # the saddle
 
 
+def test_one_mode_map_power_derivative_is_the_chain_rule(rom):
+    """P^k and its derivative as the compiled one-mode Newton search computes them (the
+    monodromy matrices multiplied along the orbit, the latest on the left) against the map
+    integrated again (rk4_steps) and central differences of it, k = 1, 2, 3, from a state
+    on no orbit (where the order of the product matters).  Central differences of steps
+    1e-6 m and 1e-5 m/s: truncation and rounding below 1e-8 of the derivative; the two
+    orders of the product differ by far more (checked)."""
+    fmap = _fmap(rom)
+    h = fmap.period / fmap.steps
+    y = np.array([0.05, 1.0])
+    steps = [np.array([1e-6, 0.0]), np.array([0.0, 1e-5])]
+    for k in (1, 2, 3):
+        pts, phi = np.empty((k + 1, 2)), np.empty((2, 2))
+        assert mb._map_power_one_mode(y[0], y[1], k, h, fmap.steps, rom.tables, fmap.forcing, pts, phi)
+        for j in range(k + 1):
+            np.testing.assert_allclose(pts[j], fmap.advance(y, j), rtol=1e-12)
+        fd = np.column_stack([(fmap.advance(y + e, k) - fmap.advance(y - e, k)) / (2 * e.sum()) for e in steps])
+        assert np.abs(phi - fd).max() <= 1e-6 * np.abs(fd).max()
+        if k > 1:  # the other order of the product is far off
+            ms = [fmap.monodromy(p)[1] for p in pts[:k]]
+            swapped = np.linalg.multi_dot(ms) if k > 2 else ms[0] @ ms[1]
+            assert np.abs(swapped - fd).max() > 1e-3 * np.abs(fd).max()
+
+
 def _converged(atts, rom, lattice, steps=192):
     """The attractors again by Newton at ``steps`` RK4 steps per period."""
     scale = mb.lattice_scale(lattice, 2)
