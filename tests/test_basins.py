@@ -110,6 +110,11 @@ def test_one_mode_map_power_derivative_is_the_chain_rule(rom):
             assert np.abs(swapped - fd).max() > 1e-3 * np.abs(fd).max()
 
 
+def test_newton_search_from_a_state_of_the_wrong_shape_names_it(rom):
+    with pytest.raises(ValueError, match=r"y0 shape \(\) is invalid: need \(2,\)"):
+        mb.find_periodic_orbit(np.float64(0.1), 1, _fmap(rom), np.ones(2), 1e-11)
+
+
 def _converged(atts, rom, lattice, steps=192):
     """The attractors again by Newton at ``steps`` RK4 steps per period."""
     scale = mb.lattice_scale(lattice, 2)
