@@ -79,15 +79,18 @@ def test_force():
 
 
 def test_rk4_quadrature():
-    """Three-mode RK4 with the quadrature force, both radial rules: numba scalar and
-    lock-step, numpy and (with a compiler) the C programs of the same algorithms, the
-    lock-step one also compiled for three modes, end on the same states (one period:
-    rounding only, 1e-12 relative is far above it)."""
+    """RK4 with the quadrature force, three modes on both radial rules and a mixed set
+    (the general kernels): numba scalar and lock-step, numpy and (with a compiler) the C
+    programs of the same algorithms, the lock-step one also compiled for three modes (not
+    for the mixed set), end on the same states (one period: rounding only, 1e-12 relative
+    is far above it)."""
     out = smoke("bench_rk4_quadrature")
+    assert re.findall(r"^(three-mode|mixed-set .*?) RK4", out, re.M) == ["three-mode"] * 2 + [
+        "mixed-set (1,0), (1,1), (1,2)"]
     rows = _rows(out, "ns per trajectory and step")
-    assert [name for name, _, _ in rows if not name.startswith("C ")] == ["numba lock-step", "numpy"] * 2
-    assert out.count("(the reference)") == 2
-    assert (len(rows) == 10) != ("C reference skipped" in out)
+    assert [name for name, _, _ in rows if not name.startswith("C ")] == ["numba lock-step", "numpy"] * 3
+    assert out.count("(the reference)") == 3
+    assert (len(rows) == 14) != ("C reference skipped" in out)
     assert all(float(err) < 1e-12 for _, _, err in rows)
 
 

@@ -30,6 +30,7 @@
 #include <time.h>
 
 #include "axisymmetric_force.h"
+#include "general_force.h"
 #include "read_doubles.h"
 
 static double now(void) {
@@ -90,32 +91,6 @@ static void force_jacobian(const double *restrict q, int K, int P, const double 
             J[k * K + l] = s;
             J[l * K + k] = s;
         }
-    }
-}
-
-static void project(const double *restrict q, int K, int P, const double *restrict basis, double *restrict out) {
-    for (int p = 0; p < P; p++) out[p] = q[0] * basis[p];
-    for (int k = 1; k < K; k++)
-        for (int p = 0; p < P; p++) out[p] += q[k] * basis[(long)k * P + p];
-}
-
-static void general_force(const double *restrict q, int K, int P, const double *restrict w, const double *restrict rho2,
-                  const double *restrict r2, const double *restrict dr2, const double *restrict B,
-                  const double *restrict T, double *restrict a, double *restrict b, double *restrict g) {
-    project(q, K, P, B, a);
-    project(q, K, P, T, b);
-    for (int p = 0; p < P; p++) {
-        double ap = a[p], bp = b[p];
-        double D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap;
-        double u = 1.0 / (rho2[p] * D * D), s = rho2[p] * rho2[p] * u; /* one division */
-        a[p] = 2.0 * ap * (1.0 - s * r2[p]) * w[p];
-        b[p] = 2.0 * bp * (D * D * u - s * dr2[p]) * w[p];
-    }
-    for (int k = 0; k < K; k++) {
-        const double *bk = B + (long)k * P, *tk = T + (long)k * P;
-        double acc = 0.0;
-        for (int p = 0; p < P; p++) acc += a[p] * bk[p] + b[p] * tk[p];
-        g[k] = acc;
     }
 }
 

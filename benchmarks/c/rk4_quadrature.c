@@ -1,11 +1,14 @@
-/* RK4 of the ROM with the quadrature force for axisymmetric mode sets, in C: the hardware
- * reference of benchmarks/bench_rk4_quadrature.py (compiled there with -O3 -march=native
- * -ffast-math, the freedom the numba kernels' fastmath has).
+/* RK4 of the ROM with the quadrature force, in C: the hardware reference of
+ * benchmarks/bench_rk4_quadrature.py (compiled there with -O3 -march=native -ffast-math,
+ * the freedom the numba kernels' fastmath has).
  *
- * Same algorithm as the numba kernels on axisymmetric mode sets (their general branch, with
- * w_theta, is not written here): y = (q, q'), four stages per step, at each stage the
+ * Same algorithm as the numba kernels: y = (q, q'), four stages per step, at each stage the
  * slope a_p = sum_k q_k B_kp at every quadrature point, D = r2 (dr2 + a^2),
- * g_k = sum_p 2 a (1 - rho2 r2 / D^2) w B_kp, and
+ * g_k = sum_p 2 a (1 - rho2 r2 / D^2) w B_kp for axisymmetric mode sets; with w_theta
+ * terms (tables with T = b_theta) the slopes b_p = sum_k q_k T_kp too,
+ * D = dr2 r2 + dr2 b^2 + r2 a^2 and g_k = sum_p 2 a (1 - s r2) w B_kp + 2 b (1 / rho2 -
+ * s dr2) w T_kp, s = rho2 / D^2 (model.rom.general_force and the general branch of the
+ * lock-step kernel); and
  *   q'' = -c q' - k_force g + P0 cos(Omega t) load.
  *   mode 0, "scalar":   one trajectory at a time (model.integrate._rk4_quadrature with
  *                       model.rom.axisymmetric_force: the force vectorises over the points);
@@ -15,7 +18,8 @@
  * point with the K modes unrolled (slope, force and its K shares in registers): the same
  * arithmetic for one mode count only, a bound on what the loops of mode 1 can reach.
  * Usage: rk4_quadrature MODE WIDTH TABLES K P STATES STEPS PERIODS H C_DAMP P0 OMEGA OUT
- * TABLES: weight, rho2, r2, dr2 (P each), B (K x P), k_force (K), load (K), float64.
+ * TABLES: weight, rho2, r2, dr2 (P each), B (K x P), k_force (K), load (K), and for the
+ * general kernels T (K x P), float64 (the file's size says which; not with FIXED_K).
  * STATES: (M, 2K) float64 initial states; OUT receives the final states.
  * Prints the time per step and trajectory in ns.
  */
@@ -25,6 +29,7 @@
 #include <time.h>
 
 #include "axisymmetric_force.h"
+#include "general_force.h"
 #include "read_doubles.h"
 
 static double now(void) {
@@ -36,17 +41,22 @@ static double now(void) {
 typedef struct {
     int K, P;
     QuadratureTables tab;
+    const double *T; /* b_theta (K x P), NULL for an axisymmetric set */
     double h, c_damp, p_load, omega;
 } Model;
 
-static void scalar(double *y, const Model *m, int steps, double *a, double *g, double *tmp, double *stages) {
+static void scalar(double *y, const Model *m, int steps, double *a, double *b, double *g, double *tmp,
+                   double *stages) {
     int K = m->K, n = 2 * K;
     double t = 0.0;
     for (int step = 0; step < steps; step++) {
         for (int s = 0; s < 4; s++) {
             double f = s == 0 ? 0.0 : (s == 3 ? m->h : 0.5 * m->h);
             for (int i = 0; i < n; i++) tmp[i] = s == 0 ? y[i] : y[i] + f * stages[(s - 1) * n + i];
-            force(tmp, K, m->P, m->tab.w, m->tab.rho2, m->tab.r2, m->tab.dr2, m->tab.B, a, g);
+            if (m->T)
+                general_force(tmp, K, m->P, m->tab.w, m->tab.rho2, m->tab.r2, m->tab.dr2, m->tab.B, m->T, a, b, g);
+            else
+                force(tmp, K, m->P, m->tab.w, m->tab.rho2, m->tab.r2, m->tab.dr2, m->tab.B, a, g);
             double pt = m->p_load * cos(m->omega * (t + f));
             for (int i = 0; i < K; i++) {
                 stages[s * n + i] = tmp[K + i];
@@ -59,9 +69,9 @@ static void scalar(double *y, const Model *m, int steps, double *a, double *g, d
     }
 }
 
-/* y: (2K, W) one trajectory per column; ys, dy: (2K, W), acc: (K, W), sa: (W) work. */
+/* y: (2K, W) one trajectory per column; ys, dy: (2K, W), acc: (K, W), sa, sb: (W) work. */
 static void lockstep(double *restrict y, int W, const Model *m, int steps, double *restrict ys,
-                     double *restrict acc, double *restrict dy, double *restrict sa) {
+                     double *restrict acc, double *restrict dy, double *restrict sa, double *restrict sb) {
     int K = m->K, n = 2 * K, P = m->P;
     const double *restrict B = m->tab.B;
     double h = m->h;
@@ -96,7 +106,32 @@ static void lockstep(double *restrict y, int W, const Model *m, int steps, doubl
                 }
             }
 #else
-            for (int p = 0; p < P; p++) {
+            const double *restrict T = m->T;
+            for (int p = 0; T && p < P; p++) { /* the general branch */
+                for (int b = 0; b < W; b++) {
+                    sa[b] = ys[b] * B[p];
+                    sb[b] = ys[b] * T[p];
+                }
+                for (int k = 1; k < K; k++) {
+                    double bk = B[(long)k * P + p], tk = T[(long)k * P + p];
+                    for (int b = 0; b < W; b++) {
+                        sa[b] += ys[k * W + b] * bk;
+                        sb[b] += ys[k * W + b] * tk;
+                    }
+                }
+                double w2 = 2.0 * m->tab.w[p], r2 = m->tab.r2[p], dr2 = m->tab.dr2[p], rho2 = m->tab.rho2[p];
+                double inv_rho2 = 1.0 / rho2;
+                for (int b = 0; b < W; b++) {
+                    double a = sa[b], c = sb[b], D = dr2 * r2 + dr2 * c * c + r2 * a * a, d = rho2 / (D * D);
+                    sa[b] = w2 * a * (1.0 - d * r2);
+                    sb[b] = w2 * c * (inv_rho2 - d * dr2);
+                }
+                for (int k = 0; k < K; k++) {
+                    double bk = B[(long)k * P + p], tk = T[(long)k * P + p];
+                    for (int b = 0; b < W; b++) acc[k * W + b] += sa[b] * bk + sb[b] * tk;
+                }
+            }
+            for (int p = 0; !T && p < P; p++) {
                 for (int b = 0; b < W; b++) sa[b] = ys[b] * B[p];
                 for (int k = 1; k < K; k++) {
                     double bk = B[(long)k * P + p];
@@ -154,30 +189,36 @@ int main(int argc, char **argv) {
     m.p_load = atof(argv[11]);
     m.omega = atof(argv[12]);
     int K = m.K, P = m.P, n = 2 * K;
+    long axisymmetric_size = 4L * P + (long)K * P + 2L * K;
+    if (n_tab != axisymmetric_size && n_tab != axisymmetric_size + (long)K * P) {
+        fprintf(stderr, "%s: %ld values for K = %d, P = %d\n", argv[3], n_tab, K, P);
+        return 2;
+    }
+    m.tab = quadrature_tables(tables, K, P);
+    m.T = n_tab == axisymmetric_size ? NULL : tables + axisymmetric_size;
 #ifdef FIXED_K
-    if (K != FIXED_K) {
-        fprintf(stderr, "compiled for K = %d modes, got %d\n", FIXED_K, K);
+    if (K != FIXED_K || m.T) {
+        fprintf(stderr, "compiled for K = %d axisymmetric modes, got %d%s\n", FIXED_K, K, m.T ? " with w_theta" : "");
         return 2;
     }
 #endif
-    m.tab = quadrature_tables(tables, K, P);
     double *Y = read_doubles(argv[6], &n_states);
     long M = n_states / n;
-    double *a = malloc(P * sizeof(double)), *g = malloc(K * sizeof(double));
+    double *a = malloc(P * sizeof(double)), *bw = malloc(P * sizeof(double)), *g = malloc(K * sizeof(double));
     double *tmp = malloc(n * sizeof(double)), *stages = malloc(4 * n * sizeof(double));
     double *cols = malloc((long)n * width * sizeof(double)), *ys = malloc((long)n * width * sizeof(double));
     double *dy = malloc((long)n * width * sizeof(double)), *acc = malloc((long)K * width * sizeof(double));
-    double *sa = malloc(width * sizeof(double));
+    double *sa = malloc(width * sizeof(double)), *sb = malloc(width * sizeof(double));
     double t0 = now();
     if (mode == 0) {
         for (long j = 0; j < M; j++)
-            for (int period = 0; period < periods; period++) scalar(Y + j * n, &m, steps, a, g, tmp, stages);
+            for (int period = 0; period < periods; period++) scalar(Y + j * n, &m, steps, a, bw, g, tmp, stages);
     } else {
         for (long s0 = 0; s0 < M; s0 += width) {
             int W = M - s0 < width ? (int)(M - s0) : width;
             for (int b = 0; b < W; b++)
                 for (int k = 0; k < n; k++) cols[k * W + b] = Y[(s0 + b) * n + k];
-            for (int period = 0; period < periods; period++) lockstep(cols, W, &m, steps, ys, acc, dy, sa);
+            for (int period = 0; period < periods; period++) lockstep(cols, W, &m, steps, ys, acc, dy, sa, sb);
             for (int b = 0; b < W; b++)
                 for (int k = 0; k < n; k++) Y[(s0 + b) * n + k] = cols[k * W + b];
         }
