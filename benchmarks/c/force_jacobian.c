@@ -140,7 +140,7 @@ int main(int argc, char **argv) {
     long nq;
     double *Q = read_doubles(argv[4], &nq);
     long M = nq / K;
-    double *work = malloc(7L * P * sizeof(double));
+    double *work = aligned_doubles(7L * P);
     double *a = work, *b = work + P, *fa = work + 2L * P, *fb = work + 3L * P, *iaa = work + 4L * P,
            *iab = work + 5L * P, *ibb = work + 6L * P;
     double *G = malloc(M * K * sizeof(double)), *JJ = malloc(M * K * K * sizeof(double));

@@ -69,6 +69,41 @@ static void scalar(double *y, const Model *m, int steps, double *a, double *b, d
     }
 }
 
+#ifndef FIXED_K
+/* acc[k, b] += the general quadrature force (w_theta terms) of column b of ys (the
+ * general branch of lockstep); sa, sb: (W) work. */
+static void general_forces(const double *restrict ys, int W, const Model *m, double *restrict acc,
+                           double *restrict sa, double *restrict sb) {
+    int K = m->K, P = m->P;
+    const double *restrict B = m->tab.B, *restrict T = m->T;
+    for (int p = 0; p < P; p++) {
+        for (int b = 0; b < W; b++) {
+            sa[b] = ys[b] * B[p];
+            sb[b] = ys[b] * T[p];
+        }
+        for (int k = 1; k < K; k++) {
+            double bk = B[(long)k * P + p], tk = T[(long)k * P + p];
+            for (int b = 0; b < W; b++) {
+                sa[b] += ys[k * W + b] * bk;
+                sb[b] += ys[k * W + b] * tk;
+            }
+        }
+        double w2 = 2.0 * m->tab.w[p], r2 = m->tab.r2[p], dr2 = m->tab.dr2[p], rho2 = m->tab.rho2[p];
+        double inv_rho2 = 1.0 / rho2;
+        for (int b = 0; b < W; b++) {
+            double a = sa[b], c = sb[b], D = dr2 * r2 + dr2 * c * c + r2 * a * a, d = rho2 / (D * D);
+            sa[b] = w2 * a * (1.0 - d * r2);
+            sb[b] = w2 * c * (inv_rho2 - d * dr2);
+        }
+        for (int k = 0; k < K; k++) {
+            double bk = B[(long)k * P + p], tk = T[(long)k * P + p];
+            for (int b = 0; b < W; b++) acc[k * W + b] += sa[b] * bk + sb[b] * tk;
+        }
+    }
+}
+
+#endif
+
 /* y: (2K, W) one trajectory per column; ys, dy: (2K, W), acc: (K, W), sa, sb: (W) work. */
 static void lockstep(double *restrict y, int W, const Model *m, int steps, double *restrict ys,
                      double *restrict acc, double *restrict dy, double *restrict sa, double *restrict sb) {
@@ -106,32 +141,8 @@ static void lockstep(double *restrict y, int W, const Model *m, int steps, doubl
                 }
             }
 #else
-            const double *restrict T = m->T;
-            for (int p = 0; T && p < P; p++) { /* the general branch */
-                for (int b = 0; b < W; b++) {
-                    sa[b] = ys[b] * B[p];
-                    sb[b] = ys[b] * T[p];
-                }
-                for (int k = 1; k < K; k++) {
-                    double bk = B[(long)k * P + p], tk = T[(long)k * P + p];
-                    for (int b = 0; b < W; b++) {
-                        sa[b] += ys[k * W + b] * bk;
-                        sb[b] += ys[k * W + b] * tk;
-                    }
-                }
-                double w2 = 2.0 * m->tab.w[p], r2 = m->tab.r2[p], dr2 = m->tab.dr2[p], rho2 = m->tab.rho2[p];
-                double inv_rho2 = 1.0 / rho2;
-                for (int b = 0; b < W; b++) {
-                    double a = sa[b], c = sb[b], D = dr2 * r2 + dr2 * c * c + r2 * a * a, d = rho2 / (D * D);
-                    sa[b] = w2 * a * (1.0 - d * r2);
-                    sb[b] = w2 * c * (inv_rho2 - d * dr2);
-                }
-                for (int k = 0; k < K; k++) {
-                    double bk = B[(long)k * P + p], tk = T[(long)k * P + p];
-                    for (int b = 0; b < W; b++) acc[k * W + b] += sa[b] * bk + sb[b] * tk;
-                }
-            }
-            for (int p = 0; !T && p < P; p++) {
+            if (m->T) general_forces(ys, W, m, acc, sa, sb);
+            else for (int p = 0; p < P; p++) {
                 for (int b = 0; b < W; b++) sa[b] = ys[b] * B[p];
                 for (int k = 1; k < K; k++) {
                     double bk = B[(long)k * P + p];
@@ -204,11 +215,10 @@ int main(int argc, char **argv) {
 #endif
     double *Y = read_doubles(argv[6], &n_states);
     long M = n_states / n;
-    double *a = malloc(P * sizeof(double)), *bw = malloc(P * sizeof(double)), *g = malloc(K * sizeof(double));
-    double *tmp = malloc(n * sizeof(double)), *stages = malloc(4 * n * sizeof(double));
-    double *cols = malloc((long)n * width * sizeof(double)), *ys = malloc((long)n * width * sizeof(double));
-    double *dy = malloc((long)n * width * sizeof(double)), *acc = malloc((long)K * width * sizeof(double));
-    double *sa = malloc(width * sizeof(double)), *sb = malloc(width * sizeof(double));
+    double *a = aligned_doubles(P), *bw = aligned_doubles(P), *g = aligned_doubles(K), *tmp = aligned_doubles(n);
+    double *stages = aligned_doubles(4L * n), *cols = aligned_doubles((long)n * width);
+    double *ys = aligned_doubles((long)n * width), *dy = aligned_doubles((long)n * width);
+    double *acc = aligned_doubles((long)K * width), *sa = aligned_doubles(width), *sb = aligned_doubles(width);
     double t0 = now();
     if (mode == 0) {
         for (long j = 0; j < M; j++)
