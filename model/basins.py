@@ -556,6 +556,8 @@ def find_periodic_orbit(y0, k: int, fmap: ForcedMap, scale, tol: float, max_iter
     if y.shape != (2 * fmap.dof,):
         raise ValueError(f"y0 shape {y.shape} is invalid: need ({2 * fmap.dof},), a state of the map")
     scale = np.asarray(scale, dtype=np.float64)
+    if scale.shape != y.shape:
+        raise ValueError(f"scale shape {scale.shape} is invalid: need {y.shape}, one weight per state component")
     if fmap.rom.tables.table_max > 0.0:  # one mode: the whole iteration compiled, in the force table
         pts, phi = np.empty((k + 1, 2)), np.empty((2, 2))
         code = _newton_one_mode(y, k, fmap.period / fmap.steps, fmap.steps, fmap.rom.tables, fmap.forcing, scale,

@@ -245,7 +245,7 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
         companions (every ``n >= 0``) the angular rule is folded onto ``[0, pi]``
         (:func:`_reflected_theta_rule`, ``theta_points // 2 + 1`` points, the same sums).
     force_table : bool
-        Build the one-mode force table (:func:`_force_table`, about 10 ms; default).
+        Build the one-mode force table (:func:`_force_table`, 10-20 ms; default).
         Without it one-mode ROMs use the quadrature: slower kernels, for ROMs rebuilt often
         (curves in ``delta``).
     """

@@ -110,9 +110,14 @@ def test_one_mode_map_power_derivative_is_the_chain_rule(rom):
             assert np.abs(swapped - fd).max() > 1e-3 * np.abs(fd).max()
 
 
-def test_newton_search_from_a_state_of_the_wrong_shape_names_it(rom):
-    with pytest.raises(ValueError, match=r"y0 shape \(\) is invalid: need \(2,\)"):
-        mb.find_periodic_orbit(np.float64(0.1), 1, _fmap(rom), np.ones(2), 1e-11)
+@pytest.mark.parametrize("y0, scale, message", [
+    (np.float64(0.1), np.ones(2), r"y0 shape \(\) is invalid: need \(2,\)"),
+    (np.zeros(2), np.ones(1), r"scale shape \(1,\) is invalid: need \(2,\)"),
+])
+def test_newton_search_with_arrays_of_the_wrong_shape_names_them(rom, y0, scale, message):
+    # (the compiled one-mode search does not check its indices: a short scale would be read past)
+    with pytest.raises(ValueError, match=message):
+        mb.find_periodic_orbit(y0, 1, _fmap(rom), scale, 1e-11)
 
 
 def _converged(atts, rom, lattice, steps=192):

@@ -209,8 +209,9 @@ def test_warmup_calls_never_compile_one_kernel_with_different_types(tmp_path):
     numba's cache index is not safe against two processes adding different signatures of
     one kernel at once (Analysis.warmups).  Each call of a basins job over a one- and a
     two-mode set, in a fresh process with an empty cache: a kernel of model/ compiled by
-    two calls has the same signatures in both.  (With the calls of the sets listed one
-    after the other, the two sets' classifier kernels clash.)"""
+    two calls has the same signatures, in the same order (numba numbers a kernel's cache
+    files in the order its signatures arrive), in both.  (With the calls of the sets listed
+    one after the other, the two sets' classifier kernels clash.)"""
     job = tmp_path / "job.toml"
     job.write_text(BASINS_JOB.format(name="warm", modes="[[[1, 0]], [[1, 0], [2, 0]]]"))
     parsed = parse_job(job.read_text(), str(job))
@@ -222,7 +223,7 @@ def test_warmup_calls_never_compile_one_kernel_with_different_types(tmp_path):
         proc = subprocess.run([sys.executable, "-c", _WARMUP_CALL, str(job), str(i)], env=env,
                               capture_output=True, text=True, timeout=600)
         assert proc.returncode == 0, proc.stderr
-        compiled.append({name: set(sigs) for name, sigs in json.loads(proc.stdout.splitlines()[-1]).items()})
+        compiled.append(json.loads(proc.stdout.splitlines()[-1]))  # kernel -> signatures in compilation order
     assert all(len(c) > 3 for c in compiled)  # each call compiles kernels of its own
     clashes = {(i, j, name): (a[name], b[name]) for i, a in enumerate(compiled) for j, b in enumerate(compiled)
                if i < j for name in set(a) & set(b) if a[name] != b[name]}

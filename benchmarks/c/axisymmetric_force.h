@@ -1,5 +1,6 @@
-/* Shared by the C reference programs of benchmarks/: the tables of an axisymmetric ROM as
- * the benchmarks write them, and the quadrature force of model.rom.axisymmetric_force.
+/* Shared by the C reference programs of benchmarks/: the tables of a ROM as the benchmarks
+ * write them (those of an axisymmetric set; a general set's b_theta follows them), and the
+ * quadrature force of model.rom.axisymmetric_force.
  * The slope
  * a_p = sum_k q_k B_kp at every quadrature point, D = r2 (dr2 + a^2), then
  *   g_k = sum_p 2 a (1 - rho2 r2 / D^2) w B_kp

@@ -135,10 +135,10 @@ int main(int argc, char **argv) {
     Tableau c = {coef, coef + NS * NS, coef + NS * NS + NS, coef + NS * NS + 2 * NS, coef + NS * NS + 3 * NS + 1};
     m.tab = quadrature_tables(tables, K, P);
     m.table = m.tab.load + K;
-    m.a = malloc(P * sizeof(double));
-    m.g = malloc(K * sizeof(double));
-    double *kst = malloc((NS + 1) * n * sizeof(double)), *tmp = malloc(n * sizeof(double));
-    double *f = malloc(n * sizeof(double)), *y_new = malloc(n * sizeof(double)), *f_new = malloc(n * sizeof(double));
+    m.a = aligned_doubles(P);
+    m.g = aligned_doubles(K);
+    double *kst = aligned_doubles((long)(NS + 1) * n), *tmp = aligned_doubles(n);
+    double *f = aligned_doubles(n), *y_new = aligned_doubles(n), *f_new = aligned_doubles(n);
     long M = n_states / n, evals = 0;
     double t0 = now();
     for (long traj = 0; traj < M; traj++) {

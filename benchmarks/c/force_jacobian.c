@@ -143,7 +143,7 @@ int main(int argc, char **argv) {
     double *work = aligned_doubles(7L * P);
     double *a = work, *b = work + P, *fa = work + 2L * P, *fb = work + 3L * P, *iaa = work + 4L * P,
            *iab = work + 5L * P, *ibb = work + 6L * P;
-    double *G = malloc(M * K * sizeof(double)), *JJ = malloc(M * K * K * sizeof(double));
+    double *G = aligned_doubles(M * K), *JJ = aligned_doubles(M * K * K);
     double sink = 0.0;
     double t0 = now();
     for (int r = 0; r < repeats; r++)

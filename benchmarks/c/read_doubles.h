@@ -19,7 +19,7 @@ static inline double *read_doubles(const char *path, long *count) {
     fseek(f, 0, SEEK_END);
     long bytes = ftell(f);
     fseek(f, 0, SEEK_SET);
-    double *data = aligned_doubles(bytes / (long)sizeof(double) + 1);
+    double *data = aligned_doubles(bytes / (long)sizeof(double) + 1); /* + 1: never a zero-size allocation */
     if (fread(data, 1, bytes, f) != (size_t)bytes) { perror(path); exit(2); }
     fclose(f);
     *count = bytes / (long)sizeof(double);

@@ -93,8 +93,8 @@ int main(int argc, char **argv) {
     int steps = atoi(argv[12]), periods = atoi(argv[13]);
     double *y = read_doubles(argv[14], &nstate);
     long N = nstate / 2;
-    double *q = malloc(N * sizeof(double)), *v = malloc(N * sizeof(double));
-    double *work = malloc(5 * (size_t)width * sizeof(double));
+    double *q = aligned_doubles(N), *v = aligned_doubles(N);
+    double *work = aligned_doubles(5L * width);
     for (long i = 0; i < N; i++) { q[i] = y[2 * i]; v[i] = y[2 * i + 1]; }
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);

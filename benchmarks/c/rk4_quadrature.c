@@ -11,7 +11,8 @@
  * lock-step kernel); and
  *   q'' = -c q' - k_force g + P0 cos(Omega t) load.
  *   mode 0, "scalar":   one trajectory at a time (model.integrate._rk4_quadrature with
- *                       model.rom.axisymmetric_force: the force vectorises over the points);
+ *                       model.rom.axisymmetric_force or general_force: the force
+ *                       vectorises over the points);
  *   mode 1, "lockstep": blocks of WIDTH trajectories, one per column, every inner loop over
  *                       the block (model.integrate.rk4_quadrature_lockstep), restrict pointers.
  * Compiled with -DFIXED_K=<K>, the lock-step force is one loop over the block per quadrature
@@ -128,6 +129,8 @@ static void lockstep(double *restrict y, int W, const Model *m, int steps, doubl
             for (int k = 0; k < K; k++)
                 for (int b = 0; b < W; b++) acc[k * W + b] = 0.0;
 #ifdef FIXED_K
+            (void)sa; /* the modes in registers: no work columns */
+            (void)sb;
             for (int p = 0; p < P; p++) {
                 double bk[FIXED_K];
                 for (int k = 0; k < FIXED_K; k++) bk[k] = B[(long)k * P + p];
@@ -215,14 +218,14 @@ int main(int argc, char **argv) {
 #endif
     double *Y = read_doubles(argv[6], &n_states);
     long M = n_states / n;
-    double *a = aligned_doubles(P), *bw = aligned_doubles(P), *g = aligned_doubles(K), *tmp = aligned_doubles(n);
+    double *a = aligned_doubles(P), *b = aligned_doubles(P), *g = aligned_doubles(K), *tmp = aligned_doubles(n);
     double *stages = aligned_doubles(4L * n), *cols = aligned_doubles((long)n * width);
     double *ys = aligned_doubles((long)n * width), *dy = aligned_doubles((long)n * width);
     double *acc = aligned_doubles((long)K * width), *sa = aligned_doubles(width), *sb = aligned_doubles(width);
     double t0 = now();
     if (mode == 0) {
         for (long j = 0; j < M; j++)
-            for (int period = 0; period < periods; period++) scalar(Y + j * n, &m, steps, a, bw, g, tmp, stages);
+            for (int period = 0; period < periods; period++) scalar(Y + j * n, &m, steps, a, b, g, tmp, stages);
     } else {
         for (long s0 = 0; s0 < M; s0 += width) {
             int W = M - s0 < width ? (int)(M - s0) : width;

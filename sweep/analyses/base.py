@@ -225,7 +225,8 @@ class Analysis(ABC):
         compile one cached kernel with different argument types: numba saves a kernel's
         signatures in one index file, and two processes adding different signatures at
         once can leave the index naming the other's code (numba issue 4807).  The same
-        signature from two calls is safe (the same entry, written whole by either).
+        signatures added in the same order by two calls are safe (the same entries, written
+        whole by either).
         tests/test_mode_sets.py checks this for the basins analysis.  Default: none.
         """
         return []

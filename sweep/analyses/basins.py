@@ -391,7 +391,7 @@ def _compile_classifier(options: BasinsOptions) -> None:
     # Basins.warmups: the lattice classifier's kernel
     lattice = mb.Lattice(np.array([0.0, 0.01]), np.array([0.0, 0.1]), 0, len(options.modes))
     mb.classify_lattice(mb.lattice_states(lattice, slice(None), options.n_state)[:1], lattice,
-                        _warmup_map(options), mb.Settings(max_periods=2), use_cells=True)
+                        _warmup_map(options), mb.Settings(max_periods=2), use_cells=options.method == "fast")
 
 
 def _compile_attractor_tools(options: BasinsOptions) -> None:
