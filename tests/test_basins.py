@@ -61,13 +61,18 @@ def test_one_mode_newton_finds_what_the_quadrature_map_finds(rom):
     no orbit of least period 2 from a period-1 orbit, and the same failures (a start far
     out, whose damped Newton steps cannot reach an orbit in 3 iterations).  With a table of
     1e-6 m the compiled search leaves it at once and the general iteration takes over: the
-    quadrature's result exactly."""
+    quadrature's result exactly.  With a table of 0.10003 m the resonant start leaves it
+    at once, the non-resonant one never, and the saddle's start (0.1 m, reaching 0.10007 m
+    within the period) in its first period (checked): the table's orbits again."""
     ps = solve_prestretch(Membrane(1.1, 0.2), "numeric")
     table, quadrature = _fmap(rom), _fmap(build_rom(ps, [(1, 0)], force_table=False))
     assert table.rom.tables.table_max > 0.0 and quadrature.rom.tables.table_max == 0.0
-    tiny = ForcedMap(rom.__class__(**{**rom.__dict__, "tables": quadrature.rom.tables._replace(
-        **_force_table(quadrature.rom.tables, 1e-6))}), table.forcing, table.steps)
+    tiny, partial = (ForcedMap(rom.__class__(**{**rom.__dict__, "tables": quadrature.rom.tables._replace(
+        **_force_table(quadrature.rom.tables, q_max))}), table.forcing, table.steps) for q_max in (1e-6, 0.10003))
     scale = np.array([1 / 0.6, 1 / 20.0])
+    pts, phi = np.empty((2, 2)), np.empty((2, 2))  # the saddle's start leaves the partial table mid-period
+    assert not mb._map_power_one_mode(0.1, -0.2, 1, partial.period / partial.steps, partial.steps,
+                                      partial.rom.tables, partial.forcing, pts, phi)
     starts = [(np.array([-0.12, -0.3]), 1, 30), (np.array([0.02, 0.0]), 1, 30), (np.array([0.1, -0.2]), 1, 30),
               (np.array([-0.12, -0.3]), 2, 30), (np.array([0.25, 8.0]), 1, 3)]
     found = []
@@ -75,11 +80,13 @@ def test_one_mode_newton_finds_what_the_quadrature_map_finds(rom):
         a = mb.find_periodic_orbit(y0, k, table, scale, 1e-11, max_iter=iterations)
         b = mb.find_periodic_orbit(y0, k, quadrature, scale, 1e-11, max_iter=iterations)
         c = mb.find_periodic_orbit(y0, k, tiny, scale, 1e-11, max_iter=iterations)
-        assert (a is None) == (b is None) == (c is None)
+        d = mb.find_periodic_orbit(y0, k, partial, scale, 1e-11, max_iter=iterations)
+        assert (a is None) == (b is None) == (c is None) == (d is None)
         assert b is None or (np.array_equal(b.points, c.points) and np.array_equal(b.multipliers, c.multipliers))
         if a is not None:
             # the two maps differ by the table's 1e-13: orbits within 1e-9 of the window
             assert np.abs((a.points - b.points) * scale).max() < 1e-9
+            assert np.abs((d.points - b.points) * scale).max() < 1e-9
             np.testing.assert_allclose(np.sort(np.abs(a.multipliers)), np.sort(np.abs(b.multipliers)), rtol=1e-8)
             found.append(a)
     assert len(found) == 3 and len({round(float(a.points[0, 0]), 4) for a in found}) == 3
