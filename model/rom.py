@@ -316,12 +316,11 @@ def _force_table(tab: RomTables, q_max: float) -> dict:
     far below every tolerance in use (tests).  Beyond ``q_max`` the kernels fall back to
     the quadrature.
     """
-    coef = piecewise_chebyshev(lambda qs: _stiffness_and_slope(qs, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho),
-                               q_max, np.abs)
+    coef = piecewise_chebyshev(lambda qs: _stiffness_and_slope(qs, tab), q_max, np.abs)
     return {"table_max": float(q_max), "stiffness_table": coef[0].copy(), "slope_table": coef[1].copy()}
 
 
-def _stiffness_and_slope(qs, weight, rho2, r2, dr2, b_rho) -> np.ndarray:
+def _stiffness_and_slope(qs, tab: RomTables) -> np.ndarray:
     """``(g(q) / q, dg/dq)`` of a one-mode axisymmetric ROM by its quadrature at every ``q``
     of ``qs``, shape ``(N, 2)``: the values :func:`_force_table` interpolates.
 
@@ -331,8 +330,9 @@ def _stiffness_and_slope(qs, weight, rho2, r2, dr2, b_rho) -> np.ndarray:
     table takes a few hundred values, about a millisecond here, where a compiled kernel
     cost 0.8 s of compilation in a cold start and 0.15 s of loading from the cache.
     """
-    b = b_rho[0]
-    wb2 = weight * b * b
+    b = tab.b_rho[0]
+    wb2 = tab.weight * b * b
+    r2, dr2, rho2 = tab.r2, tab.dr2, tab.rho2
     out = np.empty((qs.size, 2))
     block = 4096
     for i in range(0, qs.size, block):
