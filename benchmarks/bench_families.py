@@ -23,7 +23,7 @@ import time
 import numpy as np
 
 from model.continuation import continue_orbits
-from model.families import build_family, family_monodromy
+from model.families import build_family
 from model.forced import ForcedMap
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
@@ -73,7 +73,7 @@ def main(argv=None) -> None:
     t_axi = _per_call(lambda: at.monodromy(y))
     for M in radial:
         fam = build_family(ps, rom, 1, M)
-        t_fam = _per_call(lambda: family_monodromy(y, 0.0, at.period, at.steps, rom.tables, at.forcing, fam.tables))
+        t_fam = _per_call(lambda: at.family_monodromy(y, fam))
         print(f"one family block (n = 1, M = {M}, {at.steps} RK4 steps): {t_fam * 1e6:.1f} us per call, "
               f"ratio to the axisymmetric monodromy ({t_axi * 1e6:.1f} us) {t_fam / t_axi:.2f}")
 

@@ -105,7 +105,7 @@ def lockstep_rk4(states, fmap, periods):
         for _ in range(periods):
             rk4_quadrature_lockstep(columns, block.shape[0], 0.0, h, fmap.steps, t.weight, t.rho2, t.r2, t.dr2,
                                     t.b_rho, t.b_theta, t.axisymmetric, t.k_force, t.load, f.damping_rate, f.P0,
-                                    f.Omega)
+                                    f.Omega, f.damping_matrix)
         out[s:s + block.shape[0]] = columns[:, :block.shape[0]].T
     return out
 

@@ -38,7 +38,7 @@ import numpy as np
 
 from .continuation import (BRANCH_POINT, FOLD, KIND_NAMES, LENGTH, NEIMARK_SACKER, PERIOD_DOUBLING, _ns_test,
                            bordered_newton, continue_orbits, locate, step, unit_tangent)
-from .families import Family, family_monodromy
+from .families import Family
 from .forced import ForcedMap, sorted_multipliers, state_scale
 
 
@@ -127,8 +127,7 @@ class _CurveSystem:
         if family is None:
             block = phi
         else:
-            block = family_monodromy(y, 0.0, fmap.period, fmap.steps, fmap.rom.tables, fmap.forcing,
-                                     family.tables)
+            block = fmap.family_monodromy(y, family)
         eye = np.eye(block.shape[0])
         if self.kind in (FOLD, BRANCH_POINT):
             return float(np.linalg.det(block - eye))
@@ -193,8 +192,9 @@ def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, s
         The map with the fixed parameters and the RK4 steps per period.
     parameter : {"P0", "Omega"}
         The fold's own parameter.
-    second : {"c", "P0", "Omega"}
-        The second parameter (different from ``parameter``).
+    second : str
+        The second parameter (different from ``parameter``): ``"P0"``, ``"Omega"`` or a
+        constant of the map's damping law (:attr:`model.forced.ForcedMap.parameters`).
     start, stop : float
         Range of ``second``.
     p_range : (float, float)
@@ -235,7 +235,10 @@ def continue_curve(fmap: ForcedMap, parameter: str, second: str, start: float, s
         The map with the fixed parameters and the RK4 steps per period.
     parameter : {"P0", "Omega"}
         The point's own parameter (the one of the branch it was located on).
-    second : {"c", "P0", "Omega"} or a membrane parameter (e.g. ``"delta"``, with ``rebuild``)
+    second : str
+        ``"P0"``, ``"Omega"``, a constant of the map's damping law (``"c"``, ``"zeta"``, ...:
+        :attr:`model.forced.ForcedMap.parameters`) or a membrane parameter (e.g. ``"delta"``,
+        with ``rebuild``)
         The second parameter (different from ``parameter``).
     start, stop : float
         Range of ``second``.
@@ -272,9 +275,9 @@ def continue_curve(fmap: ForcedMap, parameter: str, second: str, start: float, s
         raise ValueError(f"(ds_min, ds, ds_max) = ({ds_min}, {ds}, {ds_max}) is invalid: need 0 < ds_min <= ds <= ds_max")
     if not (np.isfinite(start) and np.isfinite(stop)) or start == stop:
         raise ValueError(f"(start, stop) = ({start!r}, {stop!r}) is invalid: need two different finite values")
-    if (second in ("c", "P0", "Omega")) == (rebuild is not None):
-        raise ValueError(f"second = {second!r} is invalid here: a forcing parameter (c, P0, Omega) takes no "
-                         "rebuild, a membrane parameter needs one")
+    if (second in fmap.parameters) == (rebuild is not None):
+        raise ValueError(f"second = {second!r} is invalid here: a forcing or damping parameter "
+                         f"({', '.join(fmap.parameters)}) takes no rebuild, a membrane parameter needs one")
     sys_ = _CurveSystem(fmap, parameter, second, p_span, (start, stop), kind, family, rebuild)
     x = sys_.pack(np.asarray(state, dtype=float), value, start)
     direction = np.sign(stop - start)

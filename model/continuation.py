@@ -49,7 +49,7 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
-from .families import Family, family_monodromy
+from .families import Family
 from .forced import PARAMETERS, ForcedMap, sorted_multipliers, state_scale
 from .shooting import shoot
 
@@ -194,8 +194,7 @@ class _Problem:
         y, lam = self.unpack(x)
         f = self.at(lam)
         chosen = self.families if which is None else (self.families[which],)
-        return [family_monodromy(y, 0.0, f.period, f.steps, f.rom.tables, f.forcing, fam.tables)
-                for fam in chosen]
+        return [f.family_monodromy(y, fam) for fam in chosen]
 
     def tangent(self, jac, previous):
         """Unit null vector of ``jac`` with a positive projection on ``previous``."""

@@ -133,7 +133,7 @@ def _workspace(n, points):
 def _start(i, y, y0, t0, tab, c_damp, p_load, omega, g, f, rtol, atol):
     # Load trajectory i's initial state and forcing, evaluate F there; returns the
     # trajectory's model (model.rom.unpack: the tables and its forcing) and its first step size.
-    model = unpack(tab, Forcing(c_damp[i], p_load[i], omega[i]))
+    model = unpack(tab, Forcing(c_damp[i], p_load[i], omega[i], np.zeros((0, 0))))
     y[:] = y0[i]
     rhs_unpacked(t0, y, model, g[0, :y.size // 2], g[1:], f)
     return model, _initial_step(y, f, rtol, atol)

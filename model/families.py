@@ -17,8 +17,10 @@ closed form (``int cos^2 = int sin^2 = pi``)::
     I_aa = 2 - 2 rho^2 r^2 / D^2 + 8 rho^2 r^4 a^2 / D^3
     I_bb = 2 / rho^2 - 2 rho^2 r'^2 / D^2,       D = r^2 (r'^2 + a^2),  a = w0_rho
 
-and the perturbation obeys ``u'' + (c / Gamma h) u' + diag(C1 / (Gamma M_j)) J(q(t)) u = 0``
-with ``M_j = pi int rho phi_j^2 drho``.  Only a radial quadrature is needed, whatever ``n``.
+and the perturbation obeys ``u'' + D u' + diag(C1 / (Gamma M_j)) J(q(t)) u = 0`` with
+``M_j = pi int rho phi_j^2 drho`` and ``D`` the damping law's on the family's own linear
+problem (:func:`family_damping`; ``c / (Gamma h)`` for the paper's viscous pressure).  Only a
+radial quadrature is needed, whatever ``n``.
 
 :func:`family_monodromy` integrates this block along the axisymmetric orbit with the RK4
 steps of :class:`model.forced.ForcedMap`, so that it is the exact derivative of the discrete
@@ -293,7 +295,7 @@ def _stage_loop(y, t0, h, steps, model, ys, k, g, fw, out):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def family_monodromy(y0, t0, period, steps, tab, forcing, fam):
+def family_monodromy(y0, t0, period, steps, tab, forcing, fam, fam_rate, fam_matrix):
     """Monodromy block ``(2M, 2M)`` of family ``fam`` along the axisymmetric orbit from ``y0``.
 
     The axisymmetric state is advanced by the same RK4 steps as
@@ -312,6 +314,10 @@ def family_monodromy(y0, t0, period, steps, tab, forcing, fam):
         Tables of the axisymmetric ROM.
     forcing : model.rom.Forcing
     fam : FamilyTables
+    fam_rate : float
+        The scalar part of the perturbations' damping (s-1).
+    fam_matrix : (M, M) or (0, 0) array
+        Its matrix part (:func:`family_damping`).
 
     Returns
     -------
@@ -325,7 +331,6 @@ def family_monodromy(y0, t0, period, steps, tab, forcing, fam):
     h = period / steps
     stages = np.empty((steps, 4, K))
     _stage_coordinates(y0, t0, h, steps, tab, forcing, stages)
-    c_damp = forcing.damping_rate
     phi = np.eye(m)
     kp = np.empty((4, m, m))
     ps = np.empty((m, m))
@@ -347,7 +352,11 @@ def family_monodromy(y0, t0, period, steps, tab, forcing, fam):
             for r in range(M):
                 for c in range(m):
                     kp[s, r, c] = ps[M + r, c]
-                    kp[s, M + r, c] = -c_damp * ps[M + r, c]
+                    kp[s, M + r, c] = -fam_rate * ps[M + r, c]
+                for l in range(fam_matrix.shape[0]):
+                    d = fam_matrix[r, l]
+                    for c in range(m):
+                        kp[s, M + r, c] -= d * ps[M + l, c]
                 for l in range(M):
                     kj = fam.k_force[r] * jac[r, l]
                     for c in range(m):
@@ -356,6 +365,20 @@ def family_monodromy(y0, t0, period, steps, tab, forcing, fam):
             for b in range(m):
                 phi[a, b] += h / 6.0 * (kp[0, a, b] + 2.0 * kp[1, a, b] + 2.0 * kp[2, a, b] + kp[3, a, b])
     return phi
+
+
+def family_linear_system(fam: Family, membrane) -> tuple[np.ndarray, np.ndarray]:
+    """Mass matrix and tangent stiffness of family ``fam`` at the pre-stretched rest state,
+    the family's counterpart of :func:`model.rom.linear_system`: ``Gamma h M_j`` (kg) on the
+    diagonal and ``C1 h J(0)`` (N m-1).  ``membrane`` is the :class:`model.params.Membrane`
+    the family was built for."""
+    M = len(fam.radial)
+    P = fam.tables.weight.size
+    jac = np.empty((M, M))
+    zero = np.zeros(fam.tables.axis_slope.shape[0])
+    _quadrature_jacobian(zero, fam.tables, np.empty(P), np.empty(P), jac)
+    mass = membrane.C1 / (membrane.Gamma * fam.tables.k_force)  # M_j (m2)
+    return np.diag(membrane.Gamma * membrane.h * mass), membrane.C1 * membrane.h * jac
 
 
 def perturbation_growth(fmap, state, asymmetric, periods: int = 100, settle: int = 20,

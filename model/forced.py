@@ -23,9 +23,11 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
+from .damping import NO_MATRIX, DampingLaw, Viscous
+from .families import Family, family_linear_system, family_monodromy
 from .integrate import OMEGA, PRESSURE, monodromy, monodromy_parameter, rk4_one_mode, rk4_steps
 from .params import Loading
-from .rom import Forcing, Rom, linear_frequencies
+from .rom import Forcing, Rom, linear_frequencies, linear_system
 
 #: RK4 steps per forcing period of shooting, continuation and stepped sweeps.  At
 #: delta = 1.1, Omega = 33.5, c = 0.05 the fold values in P0 change by 2e-6 (relative) from
@@ -33,6 +35,23 @@ from .rom import Forcing, Rom, linear_frequencies
 DEFAULT_STEPS = 128
 #: The forcing parameters a map can be varied in (continuation, stepped sweeps).
 PARAMETERS = ("Omega", "P0")
+
+
+def damping_terms(rom: Rom, damping: DampingLaw) -> tuple[float, np.ndarray]:
+    """``(rate, matrix)`` of the law ``damping`` on ``rom`` (:meth:`model.damping.DampingLaw.terms`
+    on :func:`model.rom.linear_system`; per-mode constants in the order of the mode set)."""
+    m = rom.membrane
+    if isinstance(damping, Viscous):  # a scalar rate: no linear system (nor its kernel's compilation)
+        return damping.terms(np.eye(1), np.eye(1), m.Gamma * m.h)
+    return damping.terms(*linear_system(rom), m.Gamma * m.h, order=np.arange(rom.dof))
+
+
+def family_damping(fam: Family, membrane, damping: DampingLaw) -> tuple[float, np.ndarray]:
+    """``(rate, matrix)`` of the law ``damping`` on the perturbations of family ``fam``
+    (:func:`model.families.family_linear_system`; per-mode constants by increasing frequency)."""
+    if isinstance(damping, Viscous):
+        return damping.terms(np.eye(1), np.eye(1), membrane.Gamma * membrane.h)
+    return damping.terms(*family_linear_system(fam, membrane), membrane.Gamma * membrane.h)
 
 
 def steps_per_period(rom: Rom, base: int) -> int:
@@ -106,35 +125,66 @@ def _eigenvalues_2x2(a: float, b: float, c: float, d: float) -> np.ndarray | Non
 
 @dataclass(frozen=True)
 class ForcedMap:
-    """The stroboscopic map of a forced ROM at one point ``(Omega, P0, c)``.
+    """The stroboscopic map of a forced ROM at one point ``(Omega, P0)`` and damping law.
 
-    Build with :meth:`from_loading`.  The forcing values are not validated here (a
-    continuation corrector may step slightly outside the physical range); :class:`Loading`
-    validates user input.
+    Build with :meth:`from_loading` or :meth:`build`.  The forcing values are not validated
+    here (a continuation corrector may step slightly outside the physical range);
+    :class:`Loading` and the laws of :mod:`model.damping` validate user input.
 
     Parameters
     ----------
     rom : Rom
         The reduced-order model.
     forcing : Forcing
-        ``(damping_rate (s-1), P0 (Pa), Omega (rad s-1))``.
+        ``(damping_rate (s-1), P0 (Pa), Omega (rad s-1), damping_matrix (s-1))``.
     steps : int
         RK4 steps per forcing period.
+    damping : DampingLaw, optional
+        The law ``forcing``'s damping terms come from (:meth:`build`); None: the rate of
+        ``forcing`` as given, a viscous law (its matrix must be empty).
     """
 
     rom: Rom
     forcing: Forcing
     steps: int = DEFAULT_STEPS
+    damping: DampingLaw | None = None
 
     def __post_init__(self):
         if isinstance(self.steps, bool) or not isinstance(self.steps, (int, np.integer)) or self.steps < 1:
             raise ValueError(f"steps = {self.steps!r} is invalid: must be an integer >= 1")
+        if self.forcing.damping_matrix.shape not in ((0, 0), (self.rom.dof, self.rom.dof)):
+            raise ValueError(f"damping_matrix shape {self.forcing.damping_matrix.shape} is invalid: expected "
+                             f"({self.rom.dof}, {self.rom.dof}) or (0, 0)")
 
     @classmethod
-    def from_loading(cls, rom: Rom, loading: Loading, steps: int = DEFAULT_STEPS) -> ForcedMap:
-        """The map of ``rom`` under ``loading`` (``c`` becomes the rate ``c/(Gamma h)``)."""
-        return cls(rom, Forcing(rom.membrane.damping_rate(loading.c), loading.P0, loading.Omega),
-                   int(steps))
+    def build(cls, rom: Rom, P0: float, Omega: float, damping: DampingLaw, steps: int = DEFAULT_STEPS) -> ForcedMap:
+        """The map of ``rom`` under the pressure ``P0 cos(Omega t)`` (Pa, rad s-1) with the
+        damping law ``damping`` (:mod:`model.damping`)."""
+        rate, matrix = damping_terms(rom, damping)
+        return cls(rom, Forcing(rate, float(P0), float(Omega), matrix), int(steps), damping)
+
+    @classmethod
+    def from_loading(cls, rom: Rom, loading: Loading, steps: int = DEFAULT_STEPS,
+                     damping: DampingLaw | None = None) -> ForcedMap:
+        """The map of ``rom`` under ``loading``: its viscous ``c`` (the rate ``c/(Gamma h)``),
+        or the law ``damping`` (then ``loading.c`` must be 0 or ``damping`` that viscous law)."""
+        if damping is None:
+            damping = Viscous(loading.c)
+        elif loading.c != 0.0 and damping != Viscous(loading.c):
+            raise ValueError(f"c = {loading.c!r} is invalid with the {damping.name} damping law: the law "
+                             "carries the damping (c must be 0)")
+        return cls.build(rom, loading.P0, loading.Omega, damping, steps)
+
+    def with_rom(self, rom: Rom) -> ForcedMap:
+        """The same forcing, steps and damping law on another ROM (its damping terms rebuilt)."""
+        if self.damping is None:
+            return ForcedMap(rom, self.forcing, self.steps)
+        return ForcedMap.build(rom, self.forcing.P0, self.forcing.Omega, self.damping, self.steps)
+
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        """What :meth:`varied` takes: ``Omega``, ``P0`` and the damping law's constants."""
+        return PARAMETERS + (self.damping or Viscous()).parameters()
 
     @property
     def period(self) -> float:
@@ -148,16 +198,29 @@ class ForcedMap:
 
     def varied(self, parameter: str, value: float) -> ForcedMap:
         """The same map with ``parameter`` set to ``value``: ``"Omega"`` (rad s-1), ``"P0"``
-        (Pa) or the damping ``"c"`` (N s m-3)."""
+        (Pa) or a constant of the damping law (:attr:`parameters`; ``"c"`` (N s m-3) for
+        the viscous law)."""
         if parameter == "Omega":
             forcing = self.forcing._replace(Omega=float(value))
         elif parameter == "P0":
             forcing = self.forcing._replace(P0=float(value))
-        elif parameter == "c":
-            forcing = self.forcing._replace(damping_rate=self.rom.membrane.damping_rate(float(value)))
+        elif parameter in self.parameters:
+            return ForcedMap.build(self.rom, self.forcing.P0, self.forcing.Omega,
+                                   (self.damping or Viscous()).replaced(parameter, float(value)), self.steps)
         else:
-            raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(PARAMETERS)}, c")
-        return ForcedMap(self.rom, forcing, self.steps)  # dataclasses.replace costs 2.7x this per call
+            raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(self.parameters)}")
+        return ForcedMap(self.rom, forcing, self.steps, self.damping)  # dataclasses.replace costs 2.7x this per call
+
+    def family_monodromy(self, y, fam: Family) -> np.ndarray:
+        """The monodromy block ``(2M, 2M)`` of family ``fam`` along the axisymmetric orbit
+        from ``y`` (:func:`model.families.family_monodromy`), the perturbations damped by
+        this map's law on the family's own linear problem."""
+        if self.damping is None:
+            rate, matrix = self.forcing.damping_rate, NO_MATRIX
+        else:
+            rate, matrix = family_damping(fam, self.rom.membrane, self.damping)
+        return family_monodromy(np.asarray(y, dtype=float), 0.0, self.period, self.steps, self.rom.tables,
+                                self.forcing, fam.tables, rate, matrix)
 
     def state_scale(self) -> np.ndarray:
         """:func:`state_scale` at this map's ``Omega``."""

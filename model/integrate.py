@@ -26,6 +26,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from .damping import add_matrix_damping, add_matrix_damping_columns
 from .noalias import NoAliasCompiler
 from .rom import (TABLE_DEGREE, axisymmetric_force, axisymmetric_force_jacobian, general_force,
                   general_force_jacobian, table_eval, table_eval_pair)
@@ -248,7 +249,7 @@ def quadrature_lockstep_pays(count):
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy", pipeline_class=NoAliasCompiler)
 def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force,
-                            load, c_damp, p_load, omega):
+                            load, c_damp, p_load, omega, damping_matrix):
     """Advance the trajectories ``y[:, :count]`` in place by ``steps`` RK4 steps of size ``h``
     (s) from ``t0``, all in lock-step, with the quadrature force (any mode set).
 
@@ -277,6 +278,8 @@ def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, rho2, r2, dr2, b_rho
         ``axisymmetric``).
     c_damp, p_load, omega : float
         Damping rate (s-1), ``P0`` (Pa), ``Omega`` (rad s-1).
+    damping_matrix : (K, K) or (0, 0) array
+        The matrix part of the damping (:class:`model.rom.Forcing`).
 
     Notes
     -----
@@ -339,6 +342,7 @@ def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, rho2, r2, dr2, b_rho
                 lk = pt * load[k]
                 for b in range(count):
                     acc[k, b] = -c_damp * vs[k, b] - kf * acc[k, b] + lk
+            add_matrix_damping_columns(damping_matrix, vs, count, acc)
             w = 1.0 if (s == 0 or s == 3) else 2.0
             for k in range(K):
                 for b in range(count):
@@ -390,12 +394,12 @@ def rk4_steps(y, t0, h, steps, tab, forcing, work):
         return t0
     return _rk4_quadrature(y, t0, h, steps, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta,
                            tab.axisymmetric, tab.k_force, tab.load, forcing.damping_rate, forcing.P0,
-                           forcing.Omega, work)
+                           forcing.Omega, forcing.damping_matrix, work)
 
 
 @nb.njit(cache=True)
 def _rk4_quadrature(y, t0, h, steps, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load,
-                    c_damp, p_load, omega, work):
+                    c_damp, p_load, omega, damping_matrix, work):
     # rk4_steps on the quadrature force (the right-hand side of model.rom.rhs, stage by
     # stage), the tables' arrays unpacked once: handing the RomTables record down to the
     # force at every stage costs about as much as the force itself (3 modes: 2.05 -> 0.8 us
@@ -425,6 +429,8 @@ def _rk4_quadrature(y, t0, h, steps, weight, rho2, r2, dr2, b_rho, b_theta, axis
             for i in range(K):
                 stages[s, i] = tmp[K + i]
                 stages[s, K + i] = -c_damp * tmp[K + i] - k_force[i] * g[i] + pt * load[i]
+            if damping_matrix.shape[0] > 0:
+                add_matrix_damping(damping_matrix, tmp[K:], stages[s, K:])
         for i in range(n):
             y[i] += h / 6.0 * (stages[0, i] + 2.0 * stages[1, i] + 2.0 * stages[2, i] + stages[3, i])
         t += h
@@ -437,13 +443,14 @@ NO_PARAMETER, OMEGA, PRESSURE = 0, 1, 2
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy", _nrt=False)
 def _aug_rhs(t, z, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load, c_damp, p_load, omega,
-             which, g, jac, work, out):
+             damping_matrix, which, g, jac, work, out):
     # z = (y, V) with V = [Phi | dy/dlambda] stored row-major (n rows, n + 1 columns; n
     # without a parameter);
     # V' = A V plus, in the last column, dF/dlambda: for P0 the load (0, f cos(Omega t));
     # for Omega at fixed steps per period -F/Omega (the map in the phase tau = Omega t is
     # RK4 on F/Omega with fixed steps, so this is the derivative of the discrete map).
-    # A = [[0, I], [-diag(k) J(q), -c I]]; rows are contiguous, so the updates vectorise.
+    # A = [[0, I], [-diag(k) J(q), -(c I + D)]] (D the damping matrix, skipped when empty);
+    # rows are contiguous, so the updates vectorise.
     # The tables come unpacked (see _rk4_quadrature), the force and Jacobian by quadrature.
     # No reference counts (_nrt=False, see the note in model.rom): 650 -> 500 ns per stage
     # with 3 modes.
@@ -457,12 +464,19 @@ def _aug_rhs(t, z, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_for
     for k in range(K):
         out[k] = z[K + k]
         out[K + k] = -c_damp * z[K + k] - k_force[k] * g[k] + pt * load[k]
+    if damping_matrix.shape[0] > 0:
+        add_matrix_damping(damping_matrix, z[K:n], out[K:n])
     for i in range(K):
         top = n + i * w
         vel = n + (K + i) * w
         for col in range(w):
             out[top + col] = z[vel + col]
             out[vel + col] = -c_damp * z[vel + col]
+        for l in range(damping_matrix.shape[0]):
+            d = damping_matrix[i, l]
+            src = n + (K + l) * w
+            for col in range(w):
+                out[vel + col] -= d * z[src + col]
         for l in range(K):
             kj = k_force[i] * jac[i, l]
             src = n + l * w
@@ -644,7 +658,7 @@ def _monodromy_parameter_quadrature(y0, t0, period, steps, tab, forcing, which):
     h = period / steps
     t = t0
     arrays = (tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta, tab.axisymmetric, tab.k_force, tab.load,
-              forcing.damping_rate, forcing.P0, forcing.Omega)
+              forcing.damping_rate, forcing.P0, forcing.Omega, forcing.damping_matrix)
     _monodromy_quadrature(z, n, t, h, steps, *arrays, which, g, jac, work, k1, k2, k3, k4, tmp)
     # V row by row (no reshape: its error path alone costs seconds of compilation)
     phi = np.empty((n, n))
@@ -659,24 +673,24 @@ def _monodromy_parameter_quadrature(y0, t0, period, steps, tab, forcing, which):
 
 @nb.njit(cache=True)
 def _monodromy_quadrature(z, n, t, h, steps, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load,
-                          c_damp, p_load, omega, which, g, jac, work, k1, k2, k3, k4, tmp):
+                          c_damp, p_load, omega, damping_matrix, which, g, jac, work, k1, k2, k3, k4, tmp):
     # The RK4 loop of monodromy_parameter on z = (y, V), the tables unpacked once.
     m = z.size
     for _ in range(steps):
         _aug_rhs(t, z, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load, c_damp, p_load, omega,
-                 which, g, jac, work, k1)
+                 damping_matrix, which, g, jac, work, k1)
         for i in range(m):
             tmp[i] = z[i] + 0.5 * h * k1[i]
         _aug_rhs(t + 0.5 * h, tmp, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load, c_damp,
-                 p_load, omega, which, g, jac, work, k2)
+                 p_load, omega, damping_matrix, which, g, jac, work, k2)
         for i in range(m):
             tmp[i] = z[i] + 0.5 * h * k2[i]
         _aug_rhs(t + 0.5 * h, tmp, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load, c_damp,
-                 p_load, omega, which, g, jac, work, k3)
+                 p_load, omega, damping_matrix, which, g, jac, work, k3)
         for i in range(m):
             tmp[i] = z[i] + h * k3[i]
         _aug_rhs(t + h, tmp, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load, c_damp, p_load,
-                 omega, which, g, jac, work, k4)
+                 omega, damping_matrix, which, g, jac, work, k4)
         for i in range(m):
             z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         t += h

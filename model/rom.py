@@ -32,6 +32,7 @@ from numpy.polynomial import chebyshev as C
 
 from .linear import gauss_radial
 from .modes import bessel_roots, mode_shape
+from .damping import NO_MATRIX, add_matrix_damping
 from .params import Membrane
 from .prestretch import Prestretch
 
@@ -78,16 +79,22 @@ class Forcing(NamedTuple):
     Attributes
     ----------
     damping_rate : float
-        ``c / (Gamma h)`` (s-1), :meth:`model.params.Membrane.damping_rate`.
+        The scalar part of the damping (s-1): ``c / (Gamma h)`` for the paper's viscous
+        pressure (:mod:`model.damping`).
     P0 : float
         Pressure amplitude (Pa).
     Omega : float
         Forcing frequency (rad s-1); the pressure is ``P0 cos(Omega t)``.
+    damping_matrix : (K, K) array
+        The matrix part of the damping (s-1), ``q'' = ... - (damping_rate I +
+        damping_matrix) q'``; :data:`model.damping.NO_MATRIX` (empty, the default) for a
+        scalar law.
     """
 
     damping_rate: float
     P0: float
     Omega: float
+    damping_matrix: np.ndarray = NO_MATRIX
 
 
 @dataclass(frozen=True)
@@ -719,9 +726,10 @@ def rhs(t, y, tab, forcing, g, work, out):
 def unpack(tab, forcing):
     """The arrays of ``tab`` and the numbers of ``forcing`` as the plain tuple
     :func:`rhs_unpacked` takes: ``(table_max, stiffness_table, weight, rho2, r2, dr2, b_rho,
-    b_theta, axisymmetric, k_force, load, damping_rate, P0, Omega)``."""
+    b_theta, axisymmetric, k_force, load, damping_rate, P0, Omega, damping_matrix)``."""
     return (tab.table_max, tab.stiffness_table, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta,
-            tab.axisymmetric, tab.k_force, tab.load, forcing.damping_rate, forcing.P0, forcing.Omega)
+            tab.axisymmetric, tab.k_force, tab.load, forcing.damping_rate, forcing.P0, forcing.Omega,
+            forcing.damping_matrix)
 
 
 # Reference counts in hot helpers.  numba increments and decrements the reference count
@@ -744,13 +752,15 @@ def rhs_unpacked(t, y, model, g, work, out):
     Inline it into a helper compiled with ``_nrt=False`` (see the note above): inlined into
     a function that counts references, it pays one count per array per call."""
     (table_max, stiffness_table, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load,
-     c_damp, p_load, omega) = model
+     c_damp, p_load, omega, damping_matrix) = model
     K = g.size
     _force(y[:K], table_max, stiffness_table, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, g, work)
     pt = p_load * np.cos(omega * t)
     for k in range(K):
         out[k] = y[K + k]
         out[K + k] = -c_damp * y[K + k] - k_force[k] * g[k] + pt * load[k]
+    if damping_matrix.shape[0] > 0:
+        add_matrix_damping(damping_matrix, y[K:], out[K:])
 
 
 def linear_frequencies(rom: Rom) -> tuple[np.ndarray, np.ndarray]:
@@ -773,6 +783,25 @@ def linear_frequencies(rom: Rom) -> tuple[np.ndarray, np.ndarray]:
     d = np.sqrt(rom.tables.k_force)
     lam, u = np.linalg.eigh(d[:, None] * jac * d[None, :])
     return np.sqrt(lam), d[:, None] * u
+
+
+def linear_system(rom: Rom) -> tuple[np.ndarray, np.ndarray]:
+    """Mass matrix and tangent stiffness of the pre-stretched rest state in the ROM's
+    coordinates, ``M q'' + K0 q = 0`` at small amplitude: what a damping law needs
+    (:meth:`model.damping.DampingLaw.terms`).
+
+    Returns
+    -------
+    mass : (K, K) ndarray
+        ``Gamma h M_k`` on the diagonal (kg).
+    stiffness : (K, K) ndarray
+        ``C1 h J(0)`` (N m-1), ``J`` the Jacobian of the elastic force.
+    """
+    m = rom.membrane
+    K = rom.dof
+    jac = np.empty((K, K))
+    force_jacobian(np.zeros(K), rom.tables, jac)
+    return np.diag(m.Gamma * m.h * rom.mass), m.C1 * m.h * 0.5 * (jac + jac.T)
 
 
 def total_energy(rom: Rom, y) -> float:

@@ -21,7 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from .continuation import Branch, continue_orbits
-from .families import Family, family_monodromy
+from .families import Family
 from .forced import ForcedMap
 from .prestretch import Prestretch
 from .rom import Rom, build_rom
@@ -30,8 +30,7 @@ from .rom import Rom, build_rom
 def null_direction(fmap: ForcedMap, state, family: Family) -> np.ndarray:
     """The unit null vector ``(u, u')`` (2M) of ``Phi_n - I`` at the orbit ``state``: the
     eigenvector of the family's multiplier closest to 1."""
-    block = family_monodromy(np.asarray(state, dtype=float), 0.0, fmap.period, fmap.steps, fmap.rom.tables,
-                             fmap.forcing, family.tables)
+    block = fmap.family_monodromy(state, family)
     mu, vec = np.linalg.eig(block)
     v = np.real(vec[:, np.argmin(np.abs(mu - 1.0))])
     return v / np.linalg.norm(v)
@@ -89,9 +88,9 @@ def follow_bifurcated_branch(prestretch: Prestretch, fmap: ForcedMap, family: Fa
     y0[:Ka], y0[K:K + Ka] = state[:Ka], state[Ka:]
     direction = np.zeros(2 * K)
     direction[Ka:K], direction[K + Ka:] = v[:M], v[M:]
-    fmap_mixed = ForcedMap(mixed, at.forcing, at.steps)
+    fmap_mixed = at.with_rom(mixed)
     branch = continue_orbits(fmap_mixed, parameter, start, stop, switch=(y0, value, direction), **options)
     branch.family[0] = family.n  # the first point is the branch point of this family
-    asym = ForcedMap(asymmetric_part(mixed, Ka), at.forcing, at.steps)
+    asym = at.with_rom(asymmetric_part(mixed, Ka))
     amp = np.array([asym.varied(parameter, lam).amplitude(y) for lam, y in zip(branch.value, branch.state)])
     return branch, fmap_mixed, amp

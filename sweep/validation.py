@@ -514,7 +514,7 @@ def _family_convergence() -> list[str]:
 
 def _family_growth() -> list[str]:
     from model.continuation import continue_orbits
-    from model.families import build_family, family_monodromy, perturbation_growth
+    from model.families import build_family, perturbation_growth
     from model.forced import ForcedMap, sorted_multipliers
     from model.params import Loading, Membrane
     from model.prestretch import solve_prestretch
@@ -539,9 +539,9 @@ def _family_growth() -> list[str]:
         i = int(np.argmin(np.abs(br.value[:end] - target)))
         at = fmap.varied("Omega", br.value[i])
         for n, fam in fams.items():
-            block = family_monodromy(br.state[i], 0.0, at.period, at.steps, rom.tables, at.forcing, fam.tables)
+            block = at.family_monodromy(br.state[i], fam)
             mu = float(np.abs(sorted_multipliers(block)[0]))
-            grown = perturbation_growth(ForcedMap(mixed[n], at.forcing, at.steps), br.state[i], (1, 2))[0]
+            grown = perturbation_growth(at.with_rom(mixed[n]), br.state[i], (1, 2))[0]
             out.append(f"| {br.value[i]:.3f} | {br.amplitude[i]:.4f} | {n} | {mu:.5f} | {grown:.5f} | {_rel(grown, mu)} |")
     return out + ["", "Growth inside the predicted intervals and decay outside. A real dominant multiplier (n = 1",
                   "inside its interval) and the unstable n = 3 pair are reproduced to 1e-4; where several",

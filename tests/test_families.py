@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from model.continuation import BRANCH_POINT, FOLD, NEIMARK_SACKER, continue_orbits
-from model.families import build_family, family_jacobian, family_monodromy, perturbation_growth
+from model.families import build_family, family_jacobian, perturbation_growth
 from model.forced import ForcedMap, sorted_multipliers
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
@@ -71,7 +71,7 @@ def test_family_jacobian_is_the_block_of_the_2d_rom(prestretch, axi, n):
 def test_family_monodromy_is_the_block_of_the_2d_monodromy(prestretch, one_mode, resonant_orbit):
     fmap, y = resonant_orbit
     fam = build_family(prestretch, one_mode, 1, 2)
-    block = family_monodromy(y, 0.0, fmap.period, fmap.steps, one_mode.tables, fmap.forcing, fam.tables)
+    block = fmap.family_monodromy(y, fam)
     full = build_rom(prestretch, [(1, 0)] + list(fam.modes))
     yT, phi = ForcedMap(full, fmap.forcing, fmap.steps).monodromy(_embed(y, 1, 3))
     sub = np.ix_([1, 2, 4, 5], [1, 2, 4, 5])
@@ -88,8 +88,7 @@ def test_perturbation_growth_matches_the_largest_multiplier(prestretch, one_mode
     # largest multiplier of the n = 1 block.
     fmap, y = resonant_orbit
     fam = build_family(prestretch, one_mode, 1, 2)
-    mu = sorted_multipliers(family_monodromy(y, 0.0, fmap.period, fmap.steps, one_mode.tables,
-                                             fmap.forcing, fam.tables))
+    mu = sorted_multipliers(fmap.family_monodromy(y, fam))
     full = ForcedMap(build_rom(prestretch, [(1, 0)] + list(fam.modes)), fmap.forcing, fmap.steps)
     z = _embed(y, 1, 3)
     z[[1, 2]] = 1e-9
@@ -110,8 +109,7 @@ def test_stable_orbit_decays_like_its_multipliers(prestretch, one_mode):
     fmap = ForcedMap.from_loading(one_mode, Loading(Omega=30.0, P0=1.0, c=0.05))
     y = shoot(fmap, np.zeros(2)).state
     fam = build_family(prestretch, one_mode, 1, 2)
-    mu = sorted_multipliers(family_monodromy(y, 0.0, fmap.period, fmap.steps, one_mode.tables,
-                                             fmap.forcing, fam.tables))
+    mu = sorted_multipliers(fmap.family_monodromy(y, fam))
     assert abs(mu[0]) < 1.0
     full = ForcedMap(build_rom(prestretch, [(1, 0)] + list(fam.modes)), fmap.forcing, fmap.steps)
     growth, _ = perturbation_growth(full, y, (1, 2), periods=100)

@@ -28,7 +28,8 @@ def test_damping_rate_is_c_over_gamma_h():
     assert m.damping_rate(0.5) == 0.5 / 2.0
     rom = build_rom(solve_prestretch(Membrane(), "analytic"), [(1, 0)])
     f = ForcedMap.from_loading(rom, PAPER)
-    assert f.forcing == (0.05 / 2.2, 1.0, 33.5) and f.period == 2 * np.pi / 33.5
+    assert f.forcing[:3] == (0.05 / 2.2, 1.0, 33.5) and f.forcing.damping_matrix.size == 0
+    assert f.period == 2 * np.pi / 33.5
 
 
 def test_k_periods_are_the_map_composed_k_times(fmap):
@@ -55,7 +56,7 @@ def test_monodromy_is_the_derivative_of_the_map(fmap):
 
 def test_varied_changes_one_forcing_parameter(fmap):
     g = fmap.varied("Omega", 30.0)
-    assert g.forcing == (fmap.forcing.damping_rate, fmap.forcing.P0, 30.0) and g.steps == fmap.steps
+    assert g.forcing[:3] == (fmap.forcing.damping_rate, fmap.forcing.P0, 30.0) and g.steps == fmap.steps
     assert fmap.varied("P0", 0.5).forcing.P0 == 0.5
     assert fmap.varied("c", 0.5).forcing.damping_rate == 0.5 / 2.2
     with pytest.raises(ValueError, match="parameter = 'h' is invalid: must be one of Omega, P0, c"):

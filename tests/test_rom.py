@@ -194,7 +194,8 @@ def test_lockstep_quadrature_is_the_scalar_loop(prestretch, roms, kind):
     columns = np.ascontiguousarray(y0.T)
     t0 = 0.37
     rk4_quadrature_lockstep(columns, 17, t0, h, 64, t.weight, t.rho2, t.r2, t.dr2, t.b_rho, t.b_theta,
-                            t.axisymmetric, t.k_force, t.load, forcing.damping_rate, forcing.P0, forcing.Omega)
+                            t.axisymmetric, t.k_force, t.load, forcing.damping_rate, forcing.P0, forcing.Omega,
+                            forcing.damping_matrix)
     work = np.empty((6, 2 * K))
     for b in range(17):
         y = y0[b].copy()

@@ -212,7 +212,7 @@ class Basins(Analysis):
             points = lean_radial_points(ps, rom, mb.window_states(lattice, fmap), LEAN_RTOL)
             if points < rom.radial_points:
                 rom = build_rom(ps, options.modes, radial_points=points)
-                fmap = ForcedMap(rom, fmap.forcing, steps)
+                fmap = fmap.with_rom(rom)
         out["tile_rk4_steps"] = steps
         out["tile_radial_points"] = rom.radial_points
         rows = options.tile_rows(subtask)

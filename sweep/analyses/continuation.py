@@ -528,7 +528,7 @@ class ContinuationAnalysis(Analysis):
         Ka = fmap.rom.dof
         problems = []
         for j, fam in enumerate(families):
-            mixed = ForcedMap(mixed_rom(ps, fmap.rom, fam), fmap.forcing, fmap.steps)
+            mixed = fmap.with_rom(mixed_rom(ps, fmap.rom, fam))
             asymmetric = tuple(range(Ka, Ka + len(fam.radial)))
             for c, v in enumerate(values):
                 i = int(np.argmin(np.abs(br.value[:end] - v)))
@@ -675,7 +675,7 @@ def _rebuild(point, options, fmap, family):
         ps = solve_prestretch(replace(point.membrane, delta=delta), options.prestretch)
         rom = build_rom(ps, fmap.rom.modes, force_table=False)
         fam = None if family is None else build_family(ps, rom, family.n, family.radial, jacobian_table=False)
-        return ForcedMap(rom, fmap.forcing, fmap.steps), fam
+        return fmap.with_rom(rom), fam
     return at
 
 
