@@ -9,8 +9,8 @@ equations of motion in acceleration form, ``q'' = ... - D q'``, split as
 
 so that the paper's mass-proportional damping stays a scalar in every kernel (``matrix``
 empty: the kernels skip it, bit for bit the arithmetic of a scalar rate) and any other law
-adds one matrix-vector product per stage (:func:`add_matrix_damping`,
-:func:`add_matrix_damping_columns`, the one home of that term in the kernels).
+adds one matrix-vector product per stage (:mod:`model.damping_kernels`, the one home of
+that term in the kernels).
 
 Laws (constants per unit undeformed area where they are pressures):
 
@@ -32,9 +32,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, fields
 
-import numba as nb
 import numpy as np
-import scipy.linalg
 
 from .params import ParameterError
 
@@ -187,6 +185,8 @@ class Modal(DampingLaw):
         return np.full(count, self.zeta)
 
     def _terms(self, mass, stiffness, mass_per_area, order):
+        import scipy.linalg  # here: the job files' validation imports this module, not scipy
+
         lam, vec = scipy.linalg.eigh(stiffness, mass)  # V^T M V = I, ascending
         K = lam.size
         zeta = np.empty(K)
@@ -235,27 +235,3 @@ def parameter_info(name: str) -> tuple[type[DampingLaw], str, str]:
             if f.name == name:
                 return law, f.metadata["units"], f.metadata["long_name"]
     raise KeyError(name)
-
-
-@nb.njit(cache=True, inline="always")
-def add_matrix_damping(matrix, v, out):
-    """``out[k] -= sum_j matrix[k, j] v[j]``: the matrix part of a law's damping force in
-    acceleration form (nothing for :data:`NO_MATRIX`)."""
-    K = matrix.shape[0]
-    for k in range(K):
-        s = 0.0
-        for j in range(K):
-            s += matrix[k, j] * v[j]
-        out[k] -= s
-
-
-@nb.njit(cache=True, inline="always")
-def add_matrix_damping_columns(matrix, vs, count, out):
-    """:func:`add_matrix_damping` for the first ``count`` columns of ``vs`` ``(K, B)`` at
-    once (lock-step batches), into ``out[k, b]``: loops over the columns innermost."""
-    K = matrix.shape[0]
-    for k in range(K):
-        for j in range(K):
-            d = matrix[k, j]
-            for b in range(count):
-                out[k, b] -= d * vs[j, b]

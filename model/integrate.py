@@ -26,7 +26,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from .damping import add_matrix_damping, add_matrix_damping_columns
+from .damping_kernels import add_matrix_damping, add_matrix_damping_columns
 from .noalias import NoAliasCompiler
 from .rom import (TABLE_DEGREE, axisymmetric_force, axisymmetric_force_jacobian, general_force,
                   general_force_jacobian, table_eval, table_eval_pair)

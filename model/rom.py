@@ -32,7 +32,8 @@ from numpy.polynomial import chebyshev as C
 
 from .linear import gauss_radial
 from .modes import bessel_roots, mode_shape
-from .damping import NO_MATRIX, add_matrix_damping
+from .damping import NO_MATRIX
+from .damping_kernels import add_matrix_damping
 from .params import Membrane
 from .prestretch import Prestretch
 

@@ -1,7 +1,7 @@
 """Job files: read, validate whole, and describe a sweep before anything is computed.
 
-A job file is TOML with the tables ``[job]``, ``[membrane]`` (optional), ``[grid]`` and
-``[<analysis>]`` (the analysis' options).  Every problem raises
+A job file is TOML with the tables ``[job]``, ``[membrane]`` and ``[damping]`` (optional),
+``[grid]`` and ``[<analysis>]`` (the analysis' options).  Every problem raises
 :class:`~sweep.analyses.base.JobError` naming the dotted key, the value and what is
 allowed; every problem found is reported (a malformed file, a missing ``[job]`` table or
 an unknown analysis stop the validation at once).
@@ -21,9 +21,11 @@ from typing import Any
 
 import numpy as np
 
-from model.params import Loading, Membrane, ParameterError, parameter_info
+from model.damping import LAWS, DampingLaw, Viscous
+from model.params import Loading, Membrane, ParameterError
 from sweep import analyses
-from sweep.analyses.base import GRID_KEYS, MISSING, Analysis, JobError, JobErrors, Point, check_keys
+from sweep.analyses.base import (DAMPING_KEYS, GRID_KEYS, MISSING, Analysis, DampingSpec, JobError, JobErrors, Point,
+                                 check_keys, parameter_record)
 from sweep.analyses.mode_sets import ModeSetSweep, is_mode_set_list
 from sweep.grid import TaskLayout, default_chunk
 
@@ -53,6 +55,8 @@ class Job:
     membrane : Membrane
         The ``[membrane]`` table on the record's defaults (``delta``, ``delta_o`` are set
         per task from the grid).
+    damping : DampingSpec
+        The ``[damping]`` table (the viscous law without one).
     layout : TaskLayout
         Grid, tasks and chunks.
     text : str
@@ -64,6 +68,7 @@ class Job:
     analysis: Analysis
     options: Any
     membrane: Membrane
+    damping: DampingSpec
     layout: TaskLayout
     text: str
 
@@ -75,15 +80,19 @@ class Job:
     def point(self, t: int) -> tuple[Point, int]:
         """The :class:`~sweep.analyses.base.Point` of task ``t`` and its subtask index."""
         values, subtask = self.layout.task(t)
-        return grid_point(self.membrane, values), subtask
+        return grid_point(self.membrane, values, self.damping.law), subtask
 
 
-def grid_point(membrane: Membrane, values: Mapping[str, float]) -> Point:
+def grid_point(membrane: Membrane, values: Mapping[str, float], damping: DampingLaw = Viscous()) -> Point:
     """The typed records of one grid point: ``values`` (grid key -> value) replace the
-    fields of ``membrane`` and of the :class:`~model.params.Loading` defaults."""
-    loading = {k: v for k, v in values.items() if parameter_info(k)[0] is Loading}
-    return Point(dataclasses.replace(membrane, **{k: v for k, v in values.items() if k not in loading}),
-                 Loading(**loading), dict(values))
+    fields of ``membrane``, of the :class:`~model.params.Loading` defaults and the constants
+    of the damping law ``damping`` (the viscous law's ``c`` is also the loading's)."""
+    law = dataclasses.replace(damping, **{k: v for k, v in values.items() if k in damping.parameters()})
+    loading = {k: v for k, v in values.items() if k in ("Omega", "P0")}
+    if isinstance(law, Viscous):
+        loading["c"] = law.c
+    fields = {k: v for k, v in values.items() if k not in loading and k not in DAMPING_KEYS}
+    return Point(dataclasses.replace(membrane, **fields), Loading(**loading), dict(values), law)
 
 
 def job_hash(text: str) -> str:
@@ -158,27 +167,28 @@ def parse_job(text: str, source: str = "<job>") -> Job:
             and is_mode_set_list(options_table.get("modes")):
         analysis = ModeSetSweep(analysis)
 
-    tables = ("job", "membrane", "grid", analysis_name)
+    tables = ("job", "membrane", "damping", "grid", analysis_name)
     for key, value in doc.items():
         if key not in tables:
             allowed = ", ".join(f"[{t}]" for t in tables)
             errors.append(JobError(key, value, f"unknown table; the tables are {allowed}"))
 
     membrane = checked(lambda: _membrane(_table(doc, "membrane", required=False)))
+    damping = checked(lambda: _damping(_table(doc, "damping", required=False)))
     grid_table = checked(lambda: _table(doc, "grid", required=True))
     grid = None if grid_table is None else checked(lambda: _grid({k: v for k, v in grid_table.items()
                                                                    if k != "cases"}))
     cases = ()
+    required_ok = False
     if grid is not None:
         cases = checked(lambda: _cases(grid_table["cases"], grid) if "cases" in grid_table else (), default=())
-        for key in analysis.required_grid:
-            if key not in grid:
-                errors.append(JobError(f"grid.{key}", MISSING, f"analysis {analysis_name!r} needs grid keys "
-                                       + ", ".join(analysis.required_grid)))
+        if damping is not None:
+            checked(_damping_grid, damping, grid)
+            required_ok = checked(_required_grid, analysis, analysis_name, grid, damping, default=False)
     options = None
-    if grid is not None and membrane is not None and all(key in grid for key in analysis.required_grid):
+    if required_ok and membrane is not None:
         options = checked(lambda: analysis.parse_options(_table(doc, analysis_name, required=False), grid,
-                                                         membrane))
+                                                         membrane, damping))
     chunk = checked(lambda: _integer("job.chunk", job["chunk"], 1, "an integer > 0 (tasks per chunk)")
                     if "chunk" in job else None)
     if errors:
@@ -187,7 +197,7 @@ def parse_job(text: str, source: str = "<job>") -> Job:
     n_subtasks = analysis.n_subtasks(options)
     n_tasks = math.prod(len(v) for v in grid.values()) * n_subtasks
     layout = TaskLayout(tuple(grid), tuple(grid.values()), n_subtasks, chunk or default_chunk(n_tasks), cases)
-    return Job(name, analysis_name, analysis, options, membrane, layout, text)
+    return Job(name, analysis_name, analysis, options, membrane, damping, layout, text)
 
 
 def _table(doc: Mapping, key: str, *, required: bool) -> dict:
@@ -226,8 +236,8 @@ def _integer(key: str, value: Any, minimum: int, allowed: str) -> int:
 
 
 def _record_value(key: str, name: str, value: Any, record: type) -> float:
-    """``value`` validated as field ``name`` of ``record`` (Membrane or Loading); the
-    record's own rule, reported as a :class:`JobError` on the job-file ``key``."""
+    """``value`` validated as field ``name`` of ``record`` (Membrane, Loading or a damping
+    law); the record's own rule, reported as a :class:`JobError` on the job-file ``key``."""
     try:
         return getattr(record(**{name: value}), name)
     except ParameterError as exc:
@@ -238,6 +248,57 @@ def _membrane(table: Mapping) -> Membrane:
     check_keys(table, "membrane", MEMBRANE_KEYS)
     return Membrane(**{key: _record_value(f"membrane.{key}", key, value, Membrane)
                        for key, value in table.items()})
+
+
+def _damping(table: Mapping) -> DampingSpec:
+    """``[damping]``: ``law`` (viscous by default) and the law's constants."""
+    name = table.get("law", "viscous")
+    if name not in LAWS:
+        raise JobError("damping.law", name, "one of " + ", ".join(f'"{n}"' for n in LAWS))
+    law = LAWS[name]
+    check_keys(table, "damping", ("law", *law.parameters()))
+    constants = {k: v for k, v in table.items() if k != "law"}
+    for key, value in constants.items():
+        if isinstance(value, list) and key == "zeta":
+            _record_value(f"damping.{key}", key, value, law)
+        else:
+            if not isinstance(value, (int, float)) or isinstance(value, bool):
+                raise JobError(f"damping.{key}", value, "a number" + (" or a list of numbers (one per mode)"
+                                                                      if key == "zeta" else ""))
+            _record_value(f"damping.{key}", key, value, law)
+    return DampingSpec(law(**constants), frozenset(constants))
+
+
+def _damping_grid(damping: DampingSpec, grid: Mapping[str, np.ndarray]) -> None:
+    """Grid keys that are damping constants must be constants of the job's law, and not
+    also set in ``[damping]``."""
+    law = damping.law
+    for key in grid:
+        if key not in DAMPING_KEYS:
+            continue
+        if key not in law.parameters():
+            raise JobError(f"grid.{key}", grid[key].tolist(),
+                           f"a constant of another damping law; this job's law is {law.name} ([damping] law), "
+                           f"whose constants are {', '.join(law.parameters())}")
+        if key in damping.given:
+            raise JobError(f"grid.{key}", grid[key].tolist(), f"set in [damping] already (one place for {key})")
+
+
+def _required_grid(analysis: Analysis, analysis_name: str, grid: Mapping[str, np.ndarray],
+                   damping: DampingSpec) -> bool:
+    """Whether the analysis' ``required_grid`` keys are present; a required damping key
+    (``c``) stands for every constant of the job's law, in the grid or in ``[damping]``."""
+    errors = []
+    for key in analysis.required_grid:
+        if key in DAMPING_KEYS:
+            errors += [JobError(f"grid.{k}", MISSING, f"analysis {analysis_name!r} needs the damping law's {k} "
+                                                      "in [grid] or [damping]") for k in damping.missing(grid)]
+        elif key not in grid:
+            errors.append(JobError(f"grid.{key}", MISSING, f"analysis {analysis_name!r} needs grid keys "
+                                   + ", ".join(analysis.required_grid)))
+    if errors:
+        raise errors[0] if len(errors) == 1 else JobErrors(errors)
+    return True
 
 
 def _cases(value: Any, grid: Mapping[str, np.ndarray]) -> tuple:
@@ -271,7 +332,7 @@ def _grid(table: Mapping) -> dict[str, np.ndarray]:
 def _axis(key: str, spec: Any) -> np.ndarray:
     """Values of one grid key from a number, a list or ``{start, stop, num[, scale]}``
     (``scale = "linear"``, the default, or ``"log"``: geometric spacing, start and stop > 0)."""
-    record = parameter_info(key)[0]
+    record = parameter_record(key)[0]
 
     def value(subkey: str, v: Any) -> float:
         return _record_value(subkey, key, v, record)

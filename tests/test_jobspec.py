@@ -75,8 +75,10 @@ def test_registry_lists_the_analyses_without_importing_them():
     listed, imported = json.loads(out)
     assert set(listed) == {"fake", "fake_nofig", "static", "linear", "backbone", "response",
                            "continuation", "basins"}
-    # the contract and the mode-set wrapper (numpy only), no analysis module and no kernel
-    assert imported == ["model", "model.params", "sweep.analyses.base", "sweep.analyses.mode_sets"]
+    # the contract, the parameter records and the mode-set wrapper (numpy only), no analysis
+    # module and no kernel
+    assert imported == ["model", "model.damping", "model.params", "sweep.analyses.base",
+                        "sweep.analyses.mode_sets"]
 
 
 def test_malformed_extra_registry_entry(monkeypatch):

@@ -22,6 +22,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from model import damping as damping_laws
+from model.damping import DampingLaw, Viscous
 from model.params import Loading, Membrane, parameter_info
 
 #: Values of the per-task ``status`` variable (CF ``flag_values``/``flag_meanings``).
@@ -32,10 +34,22 @@ STATUS_FAILED = 2
 STATUS_SKIPPED = 3
 STATUS_MEANINGS = "ok not_converged failed outside_cases"
 
+def parameter_record(name: str) -> tuple[type, str, str]:
+    """The record holding parameter ``name`` (:class:`~model.params.Membrane`,
+    :class:`~model.params.Loading` or a damping law of :mod:`model.damping`) and the
+    parameter's units and long name; ``c`` is the :class:`~model.params.Loading`'s."""
+    try:
+        return parameter_info(name)
+    except KeyError:
+        return damping_laws.parameter_info(name)
+
+
+#: The constants of the damping laws (:mod:`model.damping`), by name.
+DAMPING_KEYS = tuple(dict.fromkeys(p for law in damping_laws.LAWS.values() for p in law.parameters()))
 #: Grid keys a job may sweep, in canonical order, with the units and long names of the
-#: parameter records (:mod:`model.params`).
+#: parameter records (:mod:`model.params`, :mod:`model.damping`).
 GRID_KEYS: dict[str, tuple[str, str]] = {
-    key: parameter_info(key)[1:] for key in ("delta", "delta_o", "Omega", "P0", "c")}
+    key: parameter_record(key)[1:] for key in ("delta", "delta_o", "Omega", "P0", *DAMPING_KEYS)}
 
 
 class _Missing:
@@ -81,6 +95,31 @@ def check_keys(table: Mapping[str, Any], section: str, allowed) -> None:
 
 
 @dataclass(frozen=True)
+class DampingSpec:
+    """The job's ``[damping]`` table.
+
+    Parameters
+    ----------
+    law : DampingLaw
+        The law (``[damping] law``, viscous by default) with the constants the table gives
+        (the others at the law's defaults until the grid sets them per task).
+    given : frozenset of str
+        The constants the table gives.
+    """
+
+    law: DampingLaw = Viscous()
+    given: frozenset[str] = frozenset()
+
+    def missing(self, grid: Mapping[str, Any]) -> list[str]:
+        """The law's constants neither in the table nor among the keys of ``grid``."""
+        return [p for p in self.law.parameters() if p not in self.given and p not in grid]
+
+
+#: A job without a ``[damping]`` table: the paper's viscous law, ``c`` from the grid.
+DEFAULT_DAMPING = DampingSpec()
+
+
+@dataclass(frozen=True)
 class Point:
     """One grid point of a job, as :meth:`Analysis.compute` receives it.
 
@@ -93,11 +132,23 @@ class Point:
         grid keys: an analysis that varies ``Omega`` or ``P0`` itself replaces them).
     grid : Mapping of str to float
         The grid values of this point, by grid key.
+    damping : DampingLaw
+        The job's damping law with this point's constants (for the viscous law, ``c`` is
+        also ``loading.c``).
     """
 
     membrane: Membrane
     loading: Loading
     grid: Mapping[str, float]
+    damping: DampingLaw = Viscous()
+
+    def value(self, name: str) -> float:
+        """The value of parameter ``name`` at this point (a field of the membrane, the
+        loading or the damping law)."""
+        for record in (self.damping, self.loading, self.membrane):
+            if hasattr(record, name):
+                return float(getattr(record, name))
+        raise KeyError(name)
 
 
 @dataclass(frozen=True)
@@ -183,13 +234,14 @@ class Analysis(ABC):
 
     @abstractmethod
     def parse_options(self, table: Mapping[str, Any], grid: Mapping[str, np.ndarray],
-                      membrane: Membrane) -> Any:
+                      membrane: Membrane, damping: DampingSpec = DEFAULT_DAMPING) -> Any:
         """Validate the analysis' option table; raise :class:`JobError` on bad input.
 
         ``grid`` maps each grid key to its 1-D array of values; ``membrane`` is the
         membrane of the ``[membrane]`` table (its ``delta``, ``delta_o`` are the record's
-        defaults, the grid sets them per task).  Returns an immutable, picklable options
-        object (a frozen dataclass), whose ``repr`` is stable.
+        defaults, the grid sets them per task); ``damping`` the ``[damping]`` table.
+        Returns an immutable, picklable options object (a frozen dataclass), whose ``repr``
+        is stable.
         """
 
     @abstractmethod

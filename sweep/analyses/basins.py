@@ -46,7 +46,7 @@ from model.params import Loading, Membrane
 from model.rom import acceleration_mismatch, build_rom, lean_radial_points
 
 from . import options as opt
-from .base import GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable, check_keys
+from .base import DEFAULT_DAMPING, GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable, check_keys
 
 _SECTION = "basins"
 NOT_COMPUTED = -2
@@ -129,7 +129,7 @@ class Basins(Analysis):
     }
     required_grid = ("delta", "delta_o", "Omega", "P0", "c")
 
-    def parse_options(self, table, grid, membrane) -> BasinsOptions:
+    def parse_options(self, table, grid, membrane, damping=DEFAULT_DAMPING) -> BasinsOptions:
         check_keys(table, _SECTION, tuple(self.OPTIONS))
         modes = opt.modes(table, _SECTION)
         lm = opt.number(table, _SECTION, "lattice_mode", 1, low=1, high=len(modes),
@@ -204,7 +204,7 @@ class Basins(Analysis):
                "status": STATUS_OK}
         rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
         steps = opt.steps_for(point.membrane, options.prestretch, options.modes, options.steps, mb.DEFAULT_STEPS)
-        fmap = ForcedMap.from_loading(rom, point.loading, steps)
+        fmap = ForcedMap.from_loading(rom, point.loading, steps, point.damping)
         lattice = options.lattice()
         full = rom
         if rom.tables.table_max == 0.0 and options.method == "fast":  # brute: the reference keeps the full rule

@@ -103,7 +103,7 @@ from model.shooting import shoot
 from model.switching import follow_bifurcated_branch, mixed_rom
 
 from . import options as opt
-from .base import (GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
+from .base import (DEFAULT_DAMPING, GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
                    check_keys)
 
 #: Length of the ``fold`` dimension.
@@ -161,10 +161,10 @@ def _family_check(table, section):
             opt.number(value, key, "saturate", 0, integer=True, low=0, high=1_000_000))
 
 
-def _curves_option(table, section, parameter, grid):
+def _curves_option(table, section, parameter, grid, damping):
     """The ``bifurcation_curves`` option; the grid values of its parameter must lie in its
     range (the curves run from each task's value to both ends)."""
-    value = _second_parameter(table, section, parameter, "bifurcation_curves")
+    value = _second_parameter(table, section, parameter, damping, "bifurcation_curves")
     if value is not None and value[0] in grid:
         lo, hi = min(value[1:]), max(value[1:])
         outside = [float(v) for v in np.atleast_1d(grid[value[0]]) if not lo <= v <= hi]
@@ -191,7 +191,7 @@ def _switching(table, section, families) -> tuple[int, int]:
     return opt.number(value, key, "max_points", integer=True, low=2, high=10_000), n
 
 
-def _second_parameter(table, section, parameter, name="fold_curve"):
+def _second_parameter(table, section, parameter, damping, name="fold_curve"):
     """A ``{parameter, start, stop}`` option naming a second parameter: ``(name, start,
     stop)`` or None."""
     key = f"{section}.{name}"
@@ -200,7 +200,7 @@ def _second_parameter(table, section, parameter, name="fold_curve"):
         return None
     if not isinstance(value, dict) or set(value) != {"parameter", "start", "stop"}:
         raise JobError(key, value, "must be a table {parameter = , start = , stop = }")
-    allowed = tuple(p for p in ("c", "P0", "Omega") if p != parameter) + (("delta",) if name == "bifurcation_curves" else ())
+    allowed = opt.second_parameters(parameter, damping) + (("delta",) if name == "bifurcation_curves" else ())
     second = opt.choice(value, key, "parameter", allowed)
     low, low_open = (1.0, True) if second == "delta" else (0.0, second == "Omega")
     start = opt.number(value, key, "start", low=low, low_open=low_open)
@@ -227,11 +227,12 @@ class ContinuationAnalysis(Analysis):
                   "of displacement is 1 (default 0.1)",
         "steps": opt.steps_help(DEFAULT_STEPS, "the modes of `modes`, not those of `families`"),
         "fold_curve": "{parameter, start, stop}: follow the first saddle-node in a second parameter "
-                      "(c, or the forcing parameter not continued) through its cusps (default none)",
+                      "(a constant of the damping law: c, alpha, beta or zeta; or the forcing parameter not "
+                      "continued) through its cusps (default none)",
         "bifurcation_curves": "{parameter, start, stop}: follow every located point of the branch (folds, branch "
-                              "points, period doublings, Neimark-Sacker points) in a second parameter (c, delta, or "
-                              "the forcing parameter not continued) from its grid value to start and to stop "
-                              "(default none)",
+                              "points, period doublings, Neimark-Sacker points) in a second parameter (a damping "
+                              "constant, delta, or the forcing parameter not continued) from its grid value to "
+                              "start and to stop (default none)",
         "branch_switching": "{max_points = N, n = wave number}: at the first branch point of family n (of any "
                             "family without n) on the branch, switch onto the bifurcating asymmetric branch and "
                             "follow it for at most N points in the ROM of the axisymmetric modes plus the "
@@ -247,10 +248,10 @@ class ContinuationAnalysis(Analysis):
                     "axisymmetric modes)",
     }
 
-    def parse_options(self, table, grid, membrane):
+    def parse_options(self, table, grid, membrane, damping=DEFAULT_DAMPING):
         s = self.name
         check_keys(table, s, tuple(self.OPTIONS))
-        parameter = opt.forcing_parameter(table, s, grid, "is continued")
+        parameter = opt.forcing_parameter(table, s, grid, "is continued", damping)
         low = 0.0
         start = opt.number(table, s, "start", low=low, low_open=parameter == "Omega")
         stop = opt.number(table, s, "stop", low=low, low_open=parameter == "Omega")
@@ -263,8 +264,8 @@ class ContinuationAnalysis(Analysis):
             opt.number(table, s, "max_points", 400, low=2, high=100_000, integer=True),
             opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0),
             opt.steps(table, s, DEFAULT_STEPS, low=16),
-            _second_parameter(table, s, parameter), families,
-            _curves_option(table, s, parameter, grid), *_switching(table, s, families), _family_check(table, s))
+            _second_parameter(table, s, parameter, damping), families,
+            _curves_option(table, s, parameter, grid, damping), *_switching(table, s, families), _family_check(table, s))
 
     def variables(self, options):
         n, k, p = options.max_points, 2 * len(options.modes), options.parameter
@@ -432,7 +433,8 @@ class ContinuationAnalysis(Analysis):
         modes = tuple(options.modes[i] for i in axisymmetric) if by_symmetry else options.modes
         rom = opt.rom_for(point.membrane, options.prestretch, modes)
         steps = opt.steps_for(point.membrane, options.prestretch, options.modes, options.steps, DEFAULT_STEPS)
-        fmap = ForcedMap.from_loading(rom, point.loading, steps).varied(options.parameter, options.start)
+        fmap = ForcedMap.from_loading(rom, point.loading, steps, point.damping).varied(options.parameter,
+                                                                                        options.start)
         if by_symmetry:
             # a sine block with the radial indices of a cosine block has its multipliers:
             # one family each, so that every point is located once
@@ -500,7 +502,7 @@ class ContinuationAnalysis(Analysis):
             q = options.bifurcation_curves[0]
             curves, problem = self._compute_bifurcation_curves(
                 fmap, branch, families, options,
-                float(getattr(point.membrane if q == "delta" else point.loading, q)), point)
+                point.value(q), point)
             out.update(curves)
             problems.append(problem)
         if options.check is not None:

@@ -19,7 +19,7 @@ from model.params import Membrane
 from model.prestretch import KINDS, solve_prestretch
 from model.rom import Rom, build_rom
 
-from .base import GRID_KEYS, MISSING, JobError
+from .base import DEFAULT_DAMPING, GRID_KEYS, MISSING, DampingSpec, JobError
 
 
 def number(table, section: str, key: str, default=None, *, low=None, high=None,
@@ -149,9 +149,10 @@ def linspace(table, section: str, key: str, default=None, *, low=None, low_open=
     return start, stop, num
 
 
-def forcing_parameter(table, section: str, grid, role: str) -> str:
+def forcing_parameter(table, section: str, grid, role: str, damping: DampingSpec = DEFAULT_DAMPING) -> str:
     """The ``parameter`` option of a forced analysis: ``Omega`` or ``P0``, varied by the
-    analysis itself, so not a grid key; the other forcing keys must be grid keys.
+    analysis itself, so not a grid key; the other forcing key must be a grid key and the
+    damping law's constants grid keys or set in ``[damping]``.
 
     ``role`` completes the messages, e.g. ``"is continued"``.
     """
@@ -161,11 +162,22 @@ def forcing_parameter(table, section: str, grid, role: str) -> str:
     if parameter in grid:
         raise JobError(f"{section}.parameter", parameter,
                        f"{parameter} {role}, so it must not also be a [grid] key")
-    for key in ("P0", "c") if parameter == "Omega" else ("Omega", "c"):
-        if key not in grid:
-            raise JobError(f"grid.{key}", MISSING,
-                           f"{section} in {parameter} needs {key} ({GRID_KEYS[key][0]}) in [grid]")
+    other = "P0" if parameter == "Omega" else "Omega"
+    if other not in grid:
+        raise JobError(f"grid.{other}", MISSING,
+                       f"{section} in {parameter} needs {other} ({GRID_KEYS[other][0]}) in [grid]")
+    for key in damping.missing(grid):
+        raise JobError(f"grid.{key}", MISSING, f"{section} in {parameter} needs {key} ({GRID_KEYS[key][0]}) "
+                                               "in [grid] or [damping]")
     return parameter
+
+
+def second_parameters(parameter: str, damping: DampingSpec) -> tuple[str, ...]:
+    """The parameters a curve of bifurcation points may follow besides ``parameter``: the
+    damping law's scalar constants (``c``, ``alpha``, ``beta``, ``zeta`` given as one
+    ratio) and the other forcing parameter."""
+    scalars = tuple(p for p in damping.law.parameters() if not isinstance(getattr(damping.law, p), tuple))
+    return scalars + tuple(p for p in ("P0", "Omega") if p != parameter)
 
 
 def mode_coords(mode_list) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict]]:
