@@ -10,6 +10,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from model import dopri
+from model.damping import Rayleigh, Viscous
 from model.forced import ForcedMap
 from model.integrate import monodromy, rk4_quadrature_lockstep, rk4_steps
 from model.linear import galerkin_frequencies
@@ -170,20 +171,22 @@ def test_batches_equal_one_by_one(roms):
         assert np.array_equal(fmap.advance(y0[i], periods=2), out[i])
 
 
+@pytest.mark.parametrize("law", [Viscous(0.05), Rayleigh(0.3, 4e-4)], ids=["viscous", "rayleigh"])
 @pytest.mark.parametrize("kind", ["1", "axi2", "axi", "axi4", "axi5", "mixed"])
-def test_lockstep_quadrature_is_the_scalar_loop(prestretch, roms, kind):
+def test_lockstep_quadrature_is_the_scalar_loop(prestretch, roms, kind, law):
     """RK4 with the quadrature force in lock-step (one trajectory per column) = the scalar
     loop, trajectory by trajectory, from t0 != 0, up to rounding (fastmath reassociates
     the quadrature sums; one mode: the scalar loop reads the force table, 1e-13 from the
     quadrature: 1e-12 relative over 64 steps); columns beyond ``count``, NaN here, are
     left untouched and touch nothing.  Three and four axisymmetric modes take the
-    unrolled loop, the others the general one."""
+    unrolled loop, the others the general one; a Rayleigh law brings a damping matrix."""
     if kind.startswith("axi") and kind != "axi":
         rom = build_rom(prestretch, [(m, 0) for m in range(1, int(kind[3:]) + 1)])
     else:
         rom = roms[kind]
     t, K = rom.tables, rom.dof
-    forcing = Forcing(0.05 / 2.2, 1.0, 33.5)
+    forcing = ForcedMap.build(rom, 1.0, 33.5, law).forcing
+    assert forcing.damping_matrix.shape == ((0, 0) if K == 1 or law.name == "viscous" else (K, K))
     h = 2 * np.pi / 33.5 / 64
     rng = np.random.default_rng(3)
     y0 = np.zeros((19, 2 * K))
