@@ -6,7 +6,7 @@ Fig. 19 of the paper shows, for the one-mode ROM, which initial conditions
 
 Algorithm (one tile; everything is deterministic and depends only on the tile's inputs):
 
-* The stroboscopic map ``P`` of a :class:`model.forced.ForcedMap` advances a state by one
+* The stroboscopic map ``P`` (:class:`model.protocol.StroboscopicMap`) advances a state by one
   forcing period ``T = 2 pi / Omega`` with its RK4 steps (always from ``t = 0``).
 * **Proximity** (Attractors.jl's ``AttractorsViaProximity``): a trajectory whose
   stroboscopic point comes within ``radius`` of a point of a known attractor, in the
@@ -30,7 +30,7 @@ Algorithm (one tile; everything is deterministic and depends only on the tile's 
 * **Discovery**: when a trajectory recurs (``|P^k(y) - y|_s < trigger`` for some
   ``k <= max_period``) and no known attractor is near, a Newton iteration on
   ``P^k(y) - y = 0`` (with the exact derivative of the discrete map,
-  :meth:`model.forced.ForcedMap.monodromy`) locates the periodic orbit; if all its Floquet
+  ``monodromy`` of the map) locates the periodic orbit; if all its Floquet
   multipliers lie inside the unit circle it becomes a new attractor, given by its ``k``
   Poincare points.  Light damping makes waiting for convergence cost thousands of
   periods; Newton needs a few monodromy evaluations.
@@ -77,7 +77,7 @@ from typing import NamedTuple
 import numba as nb
 import numpy as np
 
-from .forced import ForcedMap
+from .protocol import StroboscopicMap, kernel_arguments
 from .integrate import (LOCKSTEP_WIDTH, NO_PARAMETER, lockstep_table, monodromy_one_mode, quadrature_lockstep_pays,
                         rk4_one_mode_lockstep, rk4_quadrature_lockstep, rk4_steps)
 
@@ -223,7 +223,7 @@ def lattice_states(lattice: Lattice, rows, n_state: int) -> np.ndarray:
     return out
 
 
-def window_states(lattice: Lattice, fmap: ForcedMap, periods: int = 4, per_period: int = 8) -> np.ndarray:
+def window_states(lattice: Lattice, fmap: StroboscopicMap, periods: int = 4, per_period: int = 8) -> np.ndarray:
     """States along the trajectories from the corners and edge midpoints of the lattice
     window (its most energetic initial conditions), ``per_period`` per forcing period over
     the first ``periods`` periods: a sample of the largest states a lattice's trajectories
@@ -231,19 +231,22 @@ def window_states(lattice: Lattice, fmap: ForcedMap, periods: int = 4, per_perio
     again on the attractors found).  Returns shape ``(S (periods per_period + 1), 2K)``,
     ``S = 8`` starts (fewer on a lattice of fewer than 3 points per axis).
     """
+    kernel = kernel_arguments(fmap)
+    if kernel is None:
+        raise ValueError("window_states needs a map with kernel_arguments (a ROM): it samples within periods")
     n = 2 * fmap.dof
     xs, ys = lattice.x[[0, lattice.x.size // 2, -1]], lattice.y[[0, lattice.y.size // 2, -1]]
     starts = np.unique([(xs[i], ys[j]) for i in range(3) for j in range(3) if (i, j) != (1, 1)], axis=0)
     out = []
     work = np.empty((6, n))
-    steps = max(1, fmap.steps // per_period)
+    steps = max(1, kernel.steps // per_period)
     h = fmap.period / (steps * per_period)
     for x, y in starts:
         z = np.zeros(n)
         z[lattice.ix], z[lattice.iy] = x, y
         out.append(z.copy())
         for j in range(periods * per_period):
-            rk4_steps(z, j * steps * h, h, steps, fmap.rom.tables, fmap.forcing, work)
+            rk4_steps(z, j * steps * h, h, steps, kernel.tables, kernel.forcing, work)
             out.append(z.copy())
     return np.array(out)
 
@@ -342,7 +345,7 @@ _EXPLAINED_FRACTION = 0.25
 _FAILED_FRACTION = 0.5
 
 
-def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settings, attractors=(), *,
+def classify_lattice(states, lattice: Lattice, fmap: StroboscopicMap, settings: Settings, attractors=(), *,
                      use_cells: bool = True, discover: bool = True, report: dict | None = None):
     """Label initial states by the attractor their trajectory ends on.
 
@@ -352,7 +355,7 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
         Initial states at ``t = 0``, processed in this order.
     lattice : Lattice
         The lattice (distance scaling; cell map when ``use_cells`` is set).
-    fmap : ForcedMap
+    fmap : StroboscopicMap
         The stroboscopic map (ROM, forcing, RK4 steps per period).
     settings : Settings
     attractors : sequence of Attractor
@@ -414,19 +417,26 @@ def classify_lattice(states, lattice: Lattice, fmap: ForcedMap, settings: Settin
                    np.zeros((width, s.max_periods + 1), np.int64), np.full((width, _SLOT_FIELDS), -1, np.int64),
                    np.zeros(_CURSOR_SLOTS, np.int64))
     slots.cursor[_AT_KNOWN] = len(atts)
-    tab = fmap.rom.tables
     # The table's lock-step loop (coef_t) or the quadrature's (columns: the occupied slots'
     # states, one per column); the other is None, which numba prunes with its branch, so a
-    # job compiles only the loop it runs (the quadrature's costs 2.5 s)
-    table = tab.table_max > 0.0
-    coef_t = lockstep_table(tab) if table else None
-    columns = None if table else np.empty((n, width))
+    # job compiles only the loop it runs (the quadrature's costs 2.5 s).  A map without
+    # kernel_arguments (model.protocol) has neither: the kernel hands every period of the
+    # occupied slots back here, to the map's advance_batch (code 2).
+    kernel = kernel_arguments(fmap)
+    tab = forcing = coef_t = columns = None
+    steps = 0
+    if kernel is not None:
+        tab, forcing, steps = kernel
+        table = tab.table_max > 0.0
+        coef_t = lockstep_table(tab) if table else None
+        columns = None if table else np.empty((n, width))
+    h = fmap.period / max(steps, 1)
     while True:
         code = _classify_kernel(states, labels, periods, cells, sc, known, criteria, tab, coef_t, columns,
-                                fmap.forcing, fmap.steps, slots)
+                                forcing, h, steps, slots)
         if code == 0:
             break
-        if code == 2:  # periods that left the force table: again by rk4_steps (table, then quadrature)
+        if code == 2:  # periods that left the force table (again by rk4_steps), or of a map without kernels
             flagged = np.flatnonzero(slots.state[:, _SLOT_QUADRATURE] == 1)
             slots.y[flagged] = fmap.advance_batch(slots.y[flagged])
             slots.state[flagged, _SLOT_QUADRATURE] = 0
@@ -521,11 +531,12 @@ def merge_attractors(tiles, scale, tol: float):
     return [found[j] for j in order], [rank[idx] for idx in where]
 
 
-def find_periodic_orbit(y0, k: int, fmap: ForcedMap, scale, tol: float, max_iter: int = 30,
+def find_periodic_orbit(y0, k: int, fmap: StroboscopicMap, scale, tol: float, max_iter: int = 30,
                         max_step: float = 0.05):
     """Newton iteration on ``P^k(y) - y = 0`` from ``y0``.
 
-    A one-mode ROM with a force table runs the whole iteration compiled (the 2 x 2
+    A one-mode ROM with a force table (a map with ``kernel_arguments``,
+    :mod:`model.protocol`) runs the whole iteration compiled (the 2 x 2
     systems in closed form; 85 us a search at Fig. 19a against 250 us in Python, measured
     on the 1968 searches of the 200 x 200 lattice); if a stage leaves the table, the
     iteration starts again here on the general map.
@@ -536,7 +547,7 @@ def find_periodic_orbit(y0, k: int, fmap: ForcedMap, scale, tol: float, max_iter
         Starting state at ``t = 0``.
     k : int
         Period in forcing periods.
-    fmap : ForcedMap
+    fmap : StroboscopicMap
         The stroboscopic map ``P``.
     scale : (2K,) array
         Inverse lattice extents of the state components (norm of the steps).
@@ -558,10 +569,11 @@ def find_periodic_orbit(y0, k: int, fmap: ForcedMap, scale, tol: float, max_iter
     scale = np.asarray(scale, dtype=np.float64)
     if scale.shape != y.shape:
         raise ValueError(f"scale shape {scale.shape} is invalid: need {y.shape}, one weight per state component")
-    if fmap.rom.tables.table_max > 0.0:  # one mode: the whole iteration compiled, in the force table
+    kernel = kernel_arguments(fmap)
+    if kernel is not None and kernel.tables.table_max > 0.0:  # one mode: the iteration compiled, in the table
         pts, phi = np.empty((k + 1, 2)), np.empty((2, 2))
-        code = _newton_one_mode(y, k, fmap.period / fmap.steps, fmap.steps, fmap.rom.tables, fmap.forcing, scale,
-                                tol, max_iter, max_step, pts, phi)
+        code = _newton_one_mode(y, k, fmap.period / kernel.steps, kernel.steps, kernel.tables, kernel.forcing,
+                                scale, tol, max_iter, max_step, pts, phi)
         if code == _NEWTON_CONVERGED:
             return _orbit(pts[:k], phi)
         if code == _NEWTON_FAILED:
@@ -833,12 +845,14 @@ def _check(b, slots, cells, flat, sc, known, crit, nx, ny):
 
 
 @nb.njit(cache=True)
-def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_t, columns, forcing, steps, slots):
+def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_t, columns, forcing, h, steps,
+                     slots):
     # Returns 0 when every state is labelled, 1 to ask the caller for a Newton search
     # from slots.y[cursor[_AT_SLOT]] with period cursor[_AT_SEARCH_K], 2 to ask it to
-    # integrate again, with rk4_steps, the periods of the slots flagged _SLOT_QUADRATURE
+    # integrate again, with the map, the periods of the slots flagged _SLOT_QUADRATURE
     # (their lock-step period left the force table: a one-mode job that stays in the
-    # table never compiles the quadrature loop); the kernel then resumes with that slot's
+    # table never compiles the quadrature loop; or, with neither coef_t nor columns, a
+    # map without compiled loops: every period); the kernel then resumes with that slot's
     # tests.  Slots are refilled with the next
     # initial state as soon as theirs is labelled, and all occupied slots advance one
     # period together.
@@ -846,7 +860,6 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
     B = slots.y.shape[0]
     nx, ny = cells.labels.shape
     flat = cells.labels.ravel()
-    h = 2.0 * np.pi / forcing.Omega / steps
     cur = slots.cursor
     kmax = crit.max_period
     q = np.empty(B)
@@ -938,6 +951,9 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
                         slots.y[lanes[j], i] = columns[i, j]
         for b in range(B):
             if slots.state[b, _SLOT_STATE] < 0:
+                continue
+            if coef_t is None and columns is None:  # no compiled loop: the caller advances it
+                slots.state[b, _SLOT_QUADRATURE] = 1
                 continue
             if coef_t is not None:
                 if reach[b] >= tab.table_max:

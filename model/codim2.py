@@ -2,7 +2,8 @@
 
 A bifurcation point of the branch of periodic responses in a parameter ``p`` (``P0`` or
 ``Omega``) is a fixed point of the stroboscopic map ``P(y; p, q)``
-(:class:`model.forced.ForcedMap`) where one scalar condition on the monodromy matrix holds.
+(:class:`model.protocol.StroboscopicMap`) where one scalar condition on the monodromy matrix
+holds.
 As a second parameter ``q`` (``c``, ``P0`` or ``Omega``) varies, such points form a curve in
 the ``(q, p)`` plane: the solutions of the extended system (AUTO-07p's continuation of
 folds, period doublings and tori, ISW = 2, here in the standard rather than the minimally
@@ -39,7 +40,7 @@ import numpy as np
 from .continuation import (BRANCH_POINT, FOLD, KIND_NAMES, LENGTH, NEIMARK_SACKER, PERIOD_DOUBLING, _ns_test,
                            bordered_newton, continue_orbits, locate, step, unit_tangent)
 from .families import Family
-from .forced import ForcedMap, sorted_multipliers, state_scale
+from .protocol import StroboscopicMap, sorted_multipliers
 
 
 @dataclass
@@ -89,7 +90,7 @@ class BifurcationCurve:
 class _CurveSystem:
     """The scaled extended system of a curve of bifurcation points."""
 
-    def __init__(self, fmap: ForcedMap, p: str, q: str, p_span: float, q_range: tuple[float, float],
+    def __init__(self, fmap: StroboscopicMap, p: str, q: str, p_span: float, q_range: tuple[float, float],
                  kind: int = FOLD, family: Family | None = None, rebuild=None):
         if kind not in (FOLD, BRANCH_POINT, PERIOD_DOUBLING, NEIMARK_SACKER):
             raise ValueError(f"kind = {kind!r} is invalid: must be FOLD, BRANCH_POINT, PERIOD_DOUBLING or NEIMARK_SACKER")
@@ -101,8 +102,7 @@ class _CurveSystem:
         self.p_span = p_span
         self.q_lo, self.q_hi = min(q_range), max(q_range)
         self.q_span = self.q_hi - self.q_lo
-        omega = fmap.forcing.Omega
-        self.s = state_scale(fmap.dof, omega) / LENGTH
+        self.s = fmap.state_scale() / LENGTH
         self.n = 2 * fmap.dof
 
     def pack(self, y, p, q):
@@ -111,10 +111,10 @@ class _CurveSystem:
     def unpack(self, x):
         return x[:self.n] / self.s, x[self.n] * self.p_span, x[self.n + 1] * self.q_span
 
-    def at(self, p, q) -> ForcedMap:
+    def at(self, p, q) -> StroboscopicMap:
         return self.at_family(p, q)[0]
 
-    def at_family(self, p, q) -> tuple[ForcedMap, Family | None]:
+    def at_family(self, p, q) -> tuple[StroboscopicMap, Family | None]:
         """The map at ``(p, q)`` and the family block there (rebuilt when ``q`` is a membrane
         parameter)."""
         if self.rebuild is None:
@@ -162,7 +162,7 @@ class _CurveSystem:
         return None if res is None else (res[0], res[1][1])
 
 
-def fold_at(fmap: ForcedMap, parameter: str, second: str, value: float, guess, p_guess: float,
+def fold_at(fmap: StroboscopicMap, parameter: str, second: str, value: float, guess, p_guess: float,
             tol: float = 1e-11, kind: int = FOLD, family: Family | None = None) -> tuple[np.ndarray, float] | None:
     """The bifurcation point of ``kind`` (default: fold) near ``(guess, p_guess)`` at
     ``second = value``, by Newton on the extended system with ``second`` fixed.  Returns
@@ -178,7 +178,7 @@ def fold_at(fmap: ForcedMap, parameter: str, second: str, value: float, guess, p
     return y, p
 
 
-def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, stop: float,
+def continue_folds(fmap: StroboscopicMap, parameter: str, second: str, start: float, stop: float,
                    p_range: tuple[float, float], max_points: int = 400, **steps) -> BifurcationCurve:
     """Follow the folds of the responses in ``parameter`` as ``second`` goes from ``start``.
 
@@ -188,13 +188,13 @@ def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, s
 
     Parameters
     ----------
-    fmap : ForcedMap
+    fmap : StroboscopicMap
         The map with the fixed parameters and the RK4 steps per period.
     parameter : {"P0", "Omega"}
         The fold's own parameter.
     second : str
         The second parameter (different from ``parameter``): ``"P0"``, ``"Omega"`` or a
-        constant of the map's damping law (:attr:`model.forced.ForcedMap.parameters`).
+        constant of the map's damping law (:attr:`model.protocol.StroboscopicMap.parameters`).
     start, stop : float
         Range of ``second``.
     p_range : (float, float)
@@ -219,7 +219,7 @@ def continue_folds(fmap: ForcedMap, parameter: str, second: str, start: float, s
                           abs(p_range[1] - p_range[0]), max_points=max_points, **steps)
 
 
-def continue_curve(fmap: ForcedMap, parameter: str, second: str, start: float, stop: float, state, value: float,
+def continue_curve(fmap: StroboscopicMap, parameter: str, second: str, start: float, stop: float, state, value: float,
                    p_span: float, kind: int = FOLD, family: Family | None = None, ds: float = 0.02,
                    ds_min: float = 1e-7, ds_max: float = 0.05, max_points: int = 400,
                    tol: float = 1e-10, rebuild=None) -> BifurcationCurve:
@@ -231,13 +231,13 @@ def continue_curve(fmap: ForcedMap, parameter: str, second: str, start: float, s
 
     Parameters
     ----------
-    fmap : ForcedMap
+    fmap : StroboscopicMap
         The map with the fixed parameters and the RK4 steps per period.
     parameter : {"P0", "Omega"}
         The point's own parameter (the one of the branch it was located on).
     second : str
         ``"P0"``, ``"Omega"``, a constant of the map's damping law (``"c"``, ``"zeta"``, ...:
-        :attr:`model.forced.ForcedMap.parameters`) or a membrane parameter (e.g. ``"delta"``,
+        :attr:`model.protocol.StroboscopicMap.parameters`) or a membrane parameter (e.g. ``"delta"``,
         with ``rebuild``)
         The second parameter (different from ``parameter``).
     start, stop : float
@@ -261,7 +261,7 @@ def continue_curve(fmap: ForcedMap, parameter: str, second: str, start: float, s
     tol : float
         Newton tolerance on the scaled unknowns.
     rebuild : callable, optional
-        For a membrane parameter ``second``: ``value -> (ForcedMap, Family or None)``, the map
+        For a membrane parameter ``second``: ``value -> (StroboscopicMap, Family or None)``, the map
         (with ``fmap``'s forcing and steps) and the family block rebuilt at that value; called
         once per value met (cached).
 

@@ -1,6 +1,7 @@
 """Pseudo-arclength continuation of periodic responses in ``Omega`` or ``P0`` (Figs. 14-17).
 
-The branch of fixed points of the stroboscopic map (:class:`model.forced.ForcedMap`) is
+The branch of fixed points of the stroboscopic map (:class:`model.protocol.StroboscopicMap`,
+e.g. the ROM's :class:`model.forced.ForcedMap`) is
 followed in the scaled unknowns ``x = (S y / L, lambda / Lambda)`` (``S`` of
 :func:`model.forced.state_scale` at the reference frequency, ``L`` = :data:`LENGTH`,
 ``Lambda`` = the length of the parameter range), so that arclength weighs a change of the
@@ -10,7 +11,7 @@ response and a change of the parameter alike.  The steps follow AUTO-07p/Bifurca
 * corrector: Newton on ``G(x) = S (P(y) - y) / L = 0`` plus the arclength condition
   ``t . (x - x_pred) = 0``, with the bordered Jacobian ``[[S (Phi - I) S^-1, dG/dmu], [t]]``
   (``Phi`` the monodromy matrix and ``dG/dmu`` from one integration of the RK4 variational
-  equations, :meth:`model.forced.ForcedMap.monodromy_parameter`);
+  equations, ``monodromy_parameter`` of the map);
 * step control: a failed corrector or a tangent turning by more than :data:`MAX_TURN`
   halves ``ds``; a corrector converged in at most 3 iterations grows it by 1.5, up to
   ``ds_max``;
@@ -50,7 +51,7 @@ import numba as nb
 import numpy as np
 
 from .families import Family
-from .forced import PARAMETERS, ForcedMap, sorted_multipliers, state_scale
+from .protocol import PARAMETERS, StroboscopicMap, sorted_multipliers
 from .shooting import shoot
 
 #: Length scale ``L`` (m) of the scaled displacements.
@@ -164,7 +165,7 @@ class _Problem:
         self.start, self.stop = start, stop
         self.span = abs(stop - start)
         self.lo, self.hi = min(start, stop), max(start, stop)
-        self.s = state_scale(fmap.dof, fmap.forcing.Omega if parameter == "P0" else 0.5 * (start + stop)) / LENGTH
+        self.s = fmap.state_scale(None if parameter == "P0" else 0.5 * (start + stop)) / LENGTH
         self.n = 2 * fmap.dof
         self._ratio = self.s[:, None] / self.s[None, :]  # dG/dy = (s_i / s_j) (Phi - I)_ij
 
@@ -177,7 +178,7 @@ class _Problem:
     def pack(self, y, lam):
         return np.append(self.s * y, (lam - self.start) / self.span)
 
-    def at(self, lam) -> ForcedMap:
+    def at(self, lam) -> StroboscopicMap:
         """The stroboscopic map at parameter value ``lam``."""
         return self.fmap.varied(self.parameter, lam)
 
@@ -224,7 +225,7 @@ def _ns_test(mu):
     return float(out.real)
 
 
-def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, guess=None,
+def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: float, guess=None,
                     ds: float = 0.01, ds_min: float = 1e-6, ds_max: float = 0.05,
                     max_points: int = 400, tol: float = 1e-10,
                     families: Sequence[Family] = (), switch=None) -> Branch:
@@ -232,7 +233,7 @@ def continue_orbits(fmap: ForcedMap, parameter: str, start: float, stop: float, 
 
     Parameters
     ----------
-    fmap : ForcedMap
+    fmap : StroboscopicMap
         The stroboscopic map with the fixed ``Omega`` (rad s-1), ``P0`` (Pa) and damping,
         and the RK4 steps per period; the continued parameter is overridden by the branch.
     parameter : {"Omega", "P0"}

@@ -27,14 +27,13 @@ from .damping import NO_MATRIX, DampingLaw, Viscous
 from .families import Family, family_linear_system, family_monodromy
 from .integrate import OMEGA, PRESSURE, monodromy, monodromy_parameter, rk4_one_mode, rk4_steps
 from .params import Loading
+from .protocol import PARAMETERS, KernelArguments, sorted_multipliers, state_scale
 from .rom import Forcing, Rom, linear_frequencies, linear_system
 
 #: RK4 steps per forcing period of shooting, continuation and stepped sweeps.  At
 #: delta = 1.1, Omega = 33.5, c = 0.05 the fold values in P0 change by 2e-6 (relative) from
 #: 128 to 256 steps and by 3e-5 from 64 to 128 steps (tests/test_shooting.py).
 DEFAULT_STEPS = 128
-#: The forcing parameters a map can be varied in (continuation, stepped sweeps).
-PARAMETERS = ("Omega", "P0")
 
 
 def damping_terms(rom: Rom, damping: DampingLaw) -> tuple[float, np.ndarray]:
@@ -82,50 +81,11 @@ def steps_per_period(rom: Rom, base: int) -> int:
     return max(int(base), 8 * math.ceil(base * float(omega[-1] / omega[0]) ** 1.25 / 8 - 1e-9))
 
 
-def state_scale(dof: int, omega: float) -> np.ndarray:
-    """Diagonal of ``S``: 1 for the K displacements, ``1/Omega`` (s) for the K velocities.
-
-    Displacements and velocities weigh alike in the norm ``|S y|`` of Newton residuals
-    and convergence tests.
-    """
-    return np.concatenate([np.ones(dof), np.full(dof, 1.0 / omega)])
-
-
-def sorted_multipliers(phi: np.ndarray) -> np.ndarray:
-    """Eigenvalues of ``phi`` sorted by decreasing modulus, then by decreasing imaginary
-    and real part (a conjugate pair: positive imaginary part first); all NaN when ``phi``
-    is not finite (a diverged integration: the caller reports it, nothing raises)."""
-    if not np.all(np.isfinite(phi)):
-        return np.full(phi.shape[0], np.nan + 0j)
-    mu = _eigenvalues_2x2(*phi.ravel().tolist()) if phi.shape == (2, 2) else None
-    if mu is None:
-        mu = np.linalg.eigvals(phi).astype(complex)
-    return mu[np.lexsort((-mu.real, -mu.imag, -np.abs(mu)))]
-
-
-def _eigenvalues_2x2(a: float, b: float, c: float, d: float) -> np.ndarray | None:
-    # Eigenvalues of [[a, b], [c, d]] (finite) in closed form, or None when the formula
-    # overflows (LAPACK then decides): a one-mode branch asks at every point, and numpy's
-    # eigvals costs 10 us a call there against 1 us.  The discriminant is formed as
-    # ((a - d)/2)^2 + bc, free of the cancellation of tr^2/4 - det; of two real roots the
-    # larger in modulus comes from the sum without cancellation, the other from the
-    # determinant.
-    half = 0.5 * (a + d)
-    e = 0.5 * (a - d)
-    disc = e * e + b * c
-    if not (math.isfinite(half) and math.isfinite(disc)):
-        return None
-    if disc < 0.0:
-        root = math.sqrt(-disc)
-        return np.array([complex(half, root), complex(half, -root)])
-    big = half + math.copysign(math.sqrt(disc), half)
-    small = (a * d - b * c) / big if big != 0.0 else 0.0
-    return np.array([big, small], dtype=complex) if math.isfinite(big) and math.isfinite(small) else None
-
-
 @dataclass(frozen=True)
 class ForcedMap:
-    """The stroboscopic map of a forced ROM at one point ``(Omega, P0)`` and damping law.
+    """The stroboscopic map of a forced ROM at one point ``(Omega, P0)`` and damping law:
+    the ROM's implementation of :class:`model.protocol.StroboscopicMap`, with the
+    capabilities ``family_monodromy`` and ``kernel_arguments``.
 
     Build with :meth:`from_loading` or :meth:`build`.  The forcing values are not validated
     here (a continuation corrector may step slightly outside the physical range);
@@ -222,9 +182,25 @@ class ForcedMap:
         return family_monodromy(np.asarray(y, dtype=float), 0.0, self.period, self.steps, self.rom.tables,
                                 self.forcing, fam.tables, rate, matrix)
 
-    def state_scale(self) -> np.ndarray:
-        """:func:`state_scale` at this map's ``Omega``."""
-        return state_scale(self.dof, self.forcing.Omega)
+    def value(self, parameter: str) -> float:
+        """The current value of ``parameter`` (:attr:`parameters`)."""
+        if parameter in PARAMETERS:
+            return float(getattr(self.forcing, parameter))
+        if parameter not in self.parameters:
+            raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(self.parameters)}")
+        if self.damping is None:  # a bare rate: the viscous c it stands for
+            return self.forcing.damping_rate * self.rom.membrane.Gamma * self.rom.membrane.h
+        return float(getattr(self.damping, parameter))
+
+    def state_scale(self, Omega: float | None = None) -> np.ndarray:
+        """:func:`state_scale` at this map's ``Omega`` or at ``Omega``."""
+        return state_scale(self.dof, self.forcing.Omega if Omega is None else Omega)
+
+    @property
+    def kernel_arguments(self) -> KernelArguments:
+        """The ROM's tables, forcing and steps for the compiled loops of the algorithms
+        (the optional capability of :mod:`model.protocol`)."""
+        return KernelArguments(self.rom.tables, self.forcing, self.steps)
 
     def _state(self, y) -> np.ndarray:
         y = np.array(y, dtype=float)

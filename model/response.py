@@ -2,7 +2,7 @@
 
 One parameter (``Omega`` or ``P0``) takes the values of a list, first in increasing and
 then in decreasing order; at every value the ROM is integrated period by period (the
-stroboscopic map of :class:`model.forced.ForcedMap`) from the steady state of the previous
+stroboscopic map, :class:`model.protocol.StroboscopicMap`) from the steady state of the previous
 value, until the map has settled.  The descending sweep starts from the last state of the
 ascending one.  Both directions therefore follow a branch until it ends at a fold and jump
 there: this is the independent cross-check of :mod:`model.continuation`.
@@ -29,8 +29,9 @@ from typing import NamedTuple
 import numba as nb
 import numpy as np
 
-from .forced import PARAMETERS, ForcedMap
+from .protocol import PARAMETERS, StroboscopicMap
 from .integrate import rk4_steps
+from .protocol import kernel_arguments
 
 
 class SweepResult(NamedTuple):
@@ -58,6 +59,21 @@ class SweepResult(NamedTuple):
 
 
 @nb.njit(cache=True)
+def _residual(y, prev, scale, tol, atol):
+    # The test of one period: -1 when the state is not finite, 1 when the relative
+    # stroboscopic residual is below tol, 0 otherwise.
+    num = 0.0
+    den = 0.0
+    for i in range(y.size):
+        d = scale[i] * (y[i] - prev[i])
+        num += d * d
+        den += (scale[i] * y[i]) ** 2
+    if not np.isfinite(num):
+        return -1
+    return 1 if np.sqrt(num) < tol * (np.sqrt(den) + atol) else 0
+
+
+@nb.njit(cache=True)
 def _settle(y, steps, tab, forcing, scale, tol, atol, consecutive, min_periods, max_periods, work, prev):
     # Integrate whole periods in place until the relative stroboscopic residual stays
     # below tol for `consecutive` periods; returns (periods, converged).
@@ -69,37 +85,45 @@ def _settle(y, steps, tab, forcing, scale, tol, atol, consecutive, min_periods, 
         for i in range(n):
             prev[i] = y[i]
         rk4_steps(y, 0.0, h, steps, tab, forcing, work)
-        num = 0.0
-        den = 0.0
-        for i in range(n):
-            d = scale[i] * (y[i] - prev[i])
-            num += d * d
-            den += (scale[i] * y[i]) ** 2
-        if not np.isfinite(num):
+        test = _residual(y, prev, scale, tol, atol)
+        if test < 0:
             return j, False
-        if np.sqrt(num) < tol * (np.sqrt(den) + atol):
-            run += 1
-        else:
-            run = 0
+        run = run + 1 if test == 1 else 0
         if run >= consecutive and j >= min_periods:
             return j, True
     return max_periods, False
 
 
-def _settle_at(fmap: ForcedMap, y, tol, atol, consecutive, min_periods, max_periods, work, prev):
-    """:func:`_settle` on ``fmap``; returns ``(periods, converged)``."""
-    return _settle(y, fmap.steps, fmap.rom.tables, fmap.forcing, fmap.state_scale(), tol, atol,
-                   consecutive, min_periods, max_periods, work, prev)
+def _settle_at(fmap, y, tol, atol, consecutive, min_periods, max_periods, work, prev):
+    """:func:`_settle` on ``fmap`` in place on ``y``; returns ``(periods, converged)``.  A
+    map without ``kernel_arguments`` (:mod:`model.protocol`) is advanced period by period
+    from Python, with the same test."""
+    kernel = kernel_arguments(fmap)
+    scale = fmap.state_scale()
+    if kernel is not None:
+        return _settle(y, kernel.steps, kernel.tables, kernel.forcing, scale, tol, atol,
+                       consecutive, min_periods, max_periods, work, prev)
+    run = 0
+    for j in range(1, max_periods + 1):
+        prev[:] = y
+        y[:] = fmap.advance(y)
+        test = _residual(y, prev, scale, tol, atol)
+        if test < 0:
+            return j, False
+        run = run + 1 if test == 1 else 0
+        if run >= consecutive and j >= min_periods:
+            return j, True
+    return max_periods, False
 
 
-def stepped_sweep(fmap: ForcedMap, parameter: str, values, tol: float = 1e-6, consecutive: int = 20,
+def stepped_sweep(fmap: StroboscopicMap, parameter: str, values, tol: float = 1e-6, consecutive: int = 20,
                   min_periods: int = 20, max_periods: int = 30000, atol: float = 1e-12,
                   initial=None) -> SweepResult:
     """Steady-state amplitudes for ``parameter`` stepped up through ``values`` and back down.
 
     Parameters
     ----------
-    fmap : ForcedMap
+    fmap : StroboscopicMap
         The stroboscopic map with the fixed forcing and the RK4 steps per period; the
         swept parameter is replaced.
     parameter : {"Omega", "P0"}
@@ -147,7 +171,7 @@ def stepped_sweep(fmap: ForcedMap, parameter: str, values, tol: float = 1e-6, co
     return SweepResult(vals, amp, states, conv, periods)
 
 
-def refine_jumps(fmap: ForcedMap, parameter: str, sweep: SweepResult, max_jumps: int = 2,
+def refine_jumps(fmap: StroboscopicMap, parameter: str, sweep: SweepResult, max_jumps: int = 2,
                  jump_fraction: float = 0.3, rtol: float = 1e-3, tol: float = 1e-6,
                  consecutive: int = 20, max_periods: int = 30000, atol: float = 1e-12) -> np.ndarray:
     """Locate the jumps of a stepped sweep with an adaptive step, still by brute force.

@@ -1,7 +1,8 @@
 """Periodic responses of the forced ROM by shooting on the stroboscopic map (section 4.3).
 
 A ``T``-periodic response (``T = 2 pi / Omega``) of the forced ROM of Eq. (31) is a fixed
-point of the stroboscopic (Poincare) map ``P`` of a :class:`model.forced.ForcedMap`.
+point of the stroboscopic (Poincare) map ``P`` (:class:`model.protocol.StroboscopicMap`, e.g.
+the ROM's :class:`model.forced.ForcedMap`).
 :func:`shoot` solves ``F(y) = P(y) - y = 0`` by Newton's method with the monodromy matrix
 ``Phi = dP/dy`` (the exact derivative of the discrete RK4 map, built from the ROM's
 closed-form Jacobian), so it converges in a few iterations from a good guess however
@@ -17,7 +18,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .forced import ForcedMap, sorted_multipliers
+from .protocol import StroboscopicMap, sorted_multipliers
 
 
 class PeriodicOrbit(NamedTuple):
@@ -50,13 +51,13 @@ class PeriodicOrbit(NamedTuple):
     converged: bool
 
 
-def shoot(fmap: ForcedMap, guess, tol: float = 1e-10, max_iter: int = 25,
+def shoot(fmap: StroboscopicMap, guess, tol: float = 1e-10, max_iter: int = 25,
           atol: float = 1e-12) -> PeriodicOrbit:
     """Periodic response by Newton's method on ``F(y) = P(y) - y`` (stroboscopic map).
 
     Parameters
     ----------
-    fmap : ForcedMap
+    fmap : StroboscopicMap
         The stroboscopic map (ROM, forcing, RK4 steps per period).
     guess : (2K,) array
         Initial guess of ``y(0) = (q, q')`` (m, m s-1).

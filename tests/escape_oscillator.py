@@ -1,4 +1,4 @@
-"""A textbook forced oscillator with the interface of model.forced.ForcedMap.
+"""A textbook forced oscillator behind the map protocol (model.protocol.StroboscopicMap).
 
 Thompson's escape equation ``x'' + beta x' + x - x^2 = F sin(Omega t)`` (J. M. T. Thompson,
 Proc. R. Soc. Lond. A 421, 1989): a softening, asymmetric one-well oscillator whose periodic
@@ -6,7 +6,8 @@ responses period-double on the way to escape.  The membrane ROM is odd in its co
 and its symmetric (w(t + T/2) = -w(t)) responses cannot period-double (docs/model.md,
 "Symmetry families"), so period doubling is exercised on this oscillator, through the same
 continuation code (``model.continuation.continue_orbits`` takes any object with this
-interface).  ``P0`` is the amplitude ``F``.
+interface).  ``P0`` is the amplitude ``F``; the damping ``beta`` is the map's parameter
+``c`` (its viscous law), so that job files spell it as for the membrane.
 """
 
 from collections import namedtuple
@@ -65,16 +66,22 @@ class EscapeMap:
     forcing: Forcing
     steps: int = 128
     dof = 1
+    parameters = ("Omega", "P0", "c")
 
     @property
     def period(self):
         return 2.0 * np.pi / self.forcing.Omega
 
+    def value(self, parameter):
+        return self.beta if parameter == "c" else float(getattr(self.forcing, parameter))
+
     def varied(self, parameter, value):
+        if parameter == "c":
+            return replace(self, beta=float(value))
         return replace(self, forcing=self.forcing._replace(**{parameter: float(value)}))
 
-    def state_scale(self):
-        return np.array([1.0, 1.0 / self.forcing.Omega])
+    def state_scale(self, Omega=None):
+        return np.array([1.0, 1.0 / (self.forcing.Omega if Omega is None else Omega)])
 
     def _flow(self, y, variational, which=0):
         f = self.forcing
@@ -93,6 +100,13 @@ class EscapeMap:
         for _ in range(periods):
             y = self._flow(y, False)[0]
         return y
+
+    def advance_batch(self, states, periods=1):
+        return np.array([self.advance(y, periods) for y in np.asarray(states, dtype=float)]).reshape(-1, 2)
+
+    def multipliers(self, y):
+        mu = np.linalg.eigvals(self.monodromy(y)[1])
+        return mu[np.argsort(-np.abs(mu))]
 
     def amplitude(self, y, periods=1):
         return float(abs(y[0]))

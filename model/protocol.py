@@ -1,0 +1,150 @@
+"""What the algorithms need of a forced model at one parameter point: the map protocol.
+
+Shooting (:mod:`model.shooting`), continuation (:mod:`model.continuation`), two-parameter
+curves (:mod:`model.codim2`), stepped responses (:mod:`model.response`) and basins
+(:mod:`model.basins`) take any object with the members of :class:`StroboscopicMap`: the
+stroboscopic (Poincare) map of a periodically forced, second-order model whose state is
+``y = (q, q')`` with ``dof`` coordinates ``q``.  :class:`model.forced.ForcedMap` (the ROM)
+is one implementation; ``tests/escape_oscillator.py`` (Thompson's escape oscillator) is
+another, registered for job files by ``tests/escape_model.py`` (docs/architecture.md).
+
+Optional capabilities, asked for with ``getattr(fmap, name, None)``; an algorithm falls
+back without them:
+
+``family_monodromy(y, family)``
+    The monodromy block of an asymmetric symmetry family along an axisymmetric orbit
+    (stability per family: continuation ``families``, codim-2 curves of family points).
+    Without it, no family option can be used.
+``kernel_arguments``
+    :class:`KernelArguments`: the arrays the package's compiled ROM loops take (the
+    basins' lock-step slots, the compiled settling loop of stepped responses, the
+    compiled one-mode Newton search).  Without it these algorithms advance states with
+    ``advance_batch`` / ``advance`` from Python, one period at a time.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, NamedTuple, Protocol, runtime_checkable
+
+import numpy as np
+
+#: The forcing parameters every map can be varied in and differentiated by
+#: (``monodromy_parameter``): the continuation and stepped-sweep parameters.
+PARAMETERS = ("Omega", "P0")
+
+
+@runtime_checkable
+class StroboscopicMap(Protocol):
+    """The stroboscopic map ``P`` of a forced model at one parameter point.
+
+    Attributes
+    ----------
+    dof : int
+        Coordinates ``q``; the state ``y = (q, q')`` has ``2 dof`` components.
+    period : float
+        The forcing period ``T = 2 pi / Omega`` (s): ``P`` advances a state by ``T`` from
+        ``t = 0``.
+    parameters : tuple of str
+        What :meth:`varied` and :meth:`value` take: ``"Omega"``, ``"P0"`` and the damping
+        law's constants.
+    """
+
+    dof: int
+
+    @property
+    def period(self) -> float: ...
+
+    @property
+    def parameters(self) -> tuple[str, ...]: ...
+
+    def value(self, parameter: str) -> float:
+        """The current value of ``parameter``."""
+
+    def varied(self, parameter: str, value: float) -> StroboscopicMap:
+        """The same map with ``parameter`` set to ``value``."""
+
+    def state_scale(self, Omega: float | None = None) -> np.ndarray:
+        """Weights ``S`` (``(2 dof,)``) of the norm ``|S y|`` of Newton residuals and
+        convergence tests, at this map's frequency or at ``Omega``."""
+
+    def advance(self, y, periods: int = 1) -> np.ndarray:
+        """``P^periods(y)``, a new array."""
+
+    def advance_batch(self, states, periods: int = 1) -> np.ndarray:
+        """``P^periods`` of each row of ``states`` ``(N, 2 dof)``, a new array."""
+
+    def monodromy(self, y) -> tuple[np.ndarray, np.ndarray]:
+        """``P(y)`` and ``dP/dy``."""
+
+    def monodromy_parameter(self, y, parameter: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``P(y)``, ``dP/dy`` and ``dP/d parameter`` for ``"Omega"`` (at fixed steps per
+        period) or ``"P0"``."""
+
+    def multipliers(self, y) -> np.ndarray:
+        """Floquet multipliers at ``y``, by decreasing modulus."""
+
+    def amplitude(self, y, periods: int = 1) -> float:
+        """The reported amplitude (m) of the orbit of ``periods`` periods from ``y``."""
+
+
+class KernelArguments(NamedTuple):
+    """The optional ``kernel_arguments`` capability of a map: what the compiled ROM loops take.
+
+    Attributes
+    ----------
+    tables : model.rom.RomTables
+    forcing : model.rom.Forcing
+    steps : int
+        RK4 steps per forcing period.
+    """
+
+    tables: Any
+    forcing: Any
+    steps: int
+
+
+def kernel_arguments(fmap) -> KernelArguments | None:
+    """``fmap.kernel_arguments``, or None for a map without the capability."""
+    return getattr(fmap, "kernel_arguments", None)
+
+
+def state_scale(dof: int, omega: float) -> np.ndarray:
+    """Diagonal of ``S``: 1 for the K displacements, ``1/Omega`` (s) for the K velocities.
+
+    Displacements and velocities weigh alike in the norm ``|S y|`` of Newton residuals
+    and convergence tests.
+    """
+    return np.concatenate([np.ones(dof), np.full(dof, 1.0 / omega)])
+
+
+def sorted_multipliers(phi: np.ndarray) -> np.ndarray:
+    """Eigenvalues of ``phi`` sorted by decreasing modulus, then by decreasing imaginary
+    and real part (a conjugate pair: positive imaginary part first); all NaN when ``phi``
+    is not finite (a diverged integration: the caller reports it, nothing raises)."""
+    if not np.all(np.isfinite(phi)):
+        return np.full(phi.shape[0], np.nan + 0j)
+    mu = _eigenvalues_2x2(*phi.ravel().tolist()) if phi.shape == (2, 2) else None
+    if mu is None:
+        mu = np.linalg.eigvals(phi).astype(complex)
+    return mu[np.lexsort((-mu.real, -mu.imag, -np.abs(mu)))]
+
+
+def _eigenvalues_2x2(a: float, b: float, c: float, d: float) -> np.ndarray | None:
+    # Eigenvalues of [[a, b], [c, d]] (finite) in closed form, or None when the formula
+    # overflows (LAPACK then decides): a one-mode branch asks at every point, and numpy's
+    # eigvals costs 10 us a call there against 1 us.  The discriminant is formed as
+    # ((a - d)/2)^2 + bc, free of the cancellation of tr^2/4 - det; of two real roots the
+    # larger in modulus comes from the sum without cancellation, the other from the
+    # determinant.
+    half = 0.5 * (a + d)
+    e = 0.5 * (a - d)
+    disc = e * e + b * c
+    if not (math.isfinite(half) and math.isfinite(disc)):
+        return None
+    if disc < 0.0:
+        root = math.sqrt(-disc)
+        return np.array([complex(half, root), complex(half, -root)])
+    big = half + math.copysign(math.sqrt(disc), half)
+    small = (a * d - b * c) / big if big != 0.0 else 0.0
+    return np.array([big, small], dtype=complex) if math.isfinite(big) and math.isfinite(small) else None
