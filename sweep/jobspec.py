@@ -1,7 +1,7 @@
 """Job files: read, validate whole, and describe a sweep before anything is computed.
 
-A job file is TOML with the tables ``[job]``, ``[membrane]`` and ``[damping]`` (optional),
-``[grid]`` and ``[<analysis>]`` (the analysis' options).  Every problem raises
+A job file is TOML with the tables ``[job]``, ``[model]``, ``[membrane]`` and ``[damping]``
+(optional), ``[grid]`` and ``[<analysis>]`` (the analysis' options).  Every problem raises
 :class:`~sweep.analyses.base.JobError` naming the dotted key, the value and what is
 allowed; every problem found is reported (a malformed file, a missing ``[job]`` table or
 an unknown analysis stop the validation at once).
@@ -23,9 +23,9 @@ import numpy as np
 
 from model.damping import LAWS, DampingLaw, Viscous
 from model.params import Loading, Membrane, ParameterError
-from sweep import analyses
-from sweep.analyses.base import (DAMPING_KEYS, GRID_KEYS, MISSING, Analysis, DampingSpec, JobError, JobErrors, Point,
-                                 check_keys, parameter_record)
+from sweep import analyses, models
+from sweep.analyses.base import (DAMPING_KEYS, DEFAULT_MODEL, GRID_KEYS, MISSING, Analysis, DampingSpec, JobContext,
+                                 JobError, JobErrors, ModelSpec, Point, check_keys, parameter_record)
 from sweep.analyses.mode_sets import ModeSetSweep, is_mode_set_list
 from sweep.grid import TaskLayout, default_chunk
 
@@ -57,6 +57,8 @@ class Job:
         per task from the grid).
     damping : DampingSpec
         The ``[damping]`` table (the viscous law without one).
+    model : ModelSpec
+        The ``[model]`` table (the ROM without one).
     layout : TaskLayout
         Grid, tasks and chunks.
     text : str
@@ -69,6 +71,7 @@ class Job:
     options: Any
     membrane: Membrane
     damping: DampingSpec
+    model: ModelSpec
     layout: TaskLayout
     text: str
 
@@ -80,10 +83,11 @@ class Job:
     def point(self, t: int) -> tuple[Point, int]:
         """The :class:`~sweep.analyses.base.Point` of task ``t`` and its subtask index."""
         values, subtask = self.layout.task(t)
-        return grid_point(self.membrane, values, self.damping.law), subtask
+        return grid_point(self.membrane, values, self.damping.law, self.model), subtask
 
 
-def grid_point(membrane: Membrane, values: Mapping[str, float], damping: DampingLaw = Viscous()) -> Point:
+def grid_point(membrane: Membrane, values: Mapping[str, float], damping: DampingLaw = Viscous(),
+               model: ModelSpec = DEFAULT_MODEL) -> Point:
     """The typed records of one grid point: ``values`` (grid key -> value) replace the
     fields of ``membrane``, of the :class:`~model.params.Loading` defaults and the constants
     of the damping law ``damping`` (the viscous law's ``c`` is also the loading's)."""
@@ -92,7 +96,7 @@ def grid_point(membrane: Membrane, values: Mapping[str, float], damping: Damping
     if isinstance(law, Viscous):
         loading["c"] = law.c
     fields = {k: v for k, v in values.items() if k not in loading and k not in DAMPING_KEYS}
-    return Point(dataclasses.replace(membrane, **fields), Loading(**loading), dict(values), law)
+    return Point(dataclasses.replace(membrane, **fields), Loading(**loading), dict(values), law, model)
 
 
 def job_hash(text: str) -> str:
@@ -167,12 +171,13 @@ def parse_job(text: str, source: str = "<job>") -> Job:
             and is_mode_set_list(options_table.get("modes")):
         analysis = ModeSetSweep(analysis)
 
-    tables = ("job", "membrane", "damping", "grid", analysis_name)
+    tables = ("job", "model", "membrane", "damping", "grid", analysis_name)
     for key, value in doc.items():
         if key not in tables:
             allowed = ", ".join(f"[{t}]" for t in tables)
             errors.append(JobError(key, value, f"unknown table; the tables are {allowed}"))
 
+    model = checked(lambda: _model(_table(doc, "model", required=False)))
     membrane = checked(lambda: _membrane(_table(doc, "membrane", required=False)))
     damping = checked(lambda: _damping(_table(doc, "damping", required=False)))
     grid_table = checked(lambda: _table(doc, "grid", required=True))
@@ -182,13 +187,13 @@ def parse_job(text: str, source: str = "<job>") -> Job:
     required_ok = False
     if grid is not None:
         cases = checked(lambda: _cases(grid_table["cases"], grid) if "cases" in grid_table else (), default=())
-        if damping is not None:
+        if damping is not None and model is not None:
             checked(_damping_grid, damping, grid)
-            required_ok = checked(_required_grid, analysis, analysis_name, grid, damping, default=False)
+            required_ok = checked(_required_grid, analysis, analysis_name, grid, damping, model, default=False)
     options = None
     if required_ok and membrane is not None:
         options = checked(lambda: analysis.parse_options(_table(doc, analysis_name, required=False), grid,
-                                                         membrane, damping))
+                                                         membrane, JobContext(damping, model)))
     chunk = checked(lambda: _integer("job.chunk", job["chunk"], 1, "an integer > 0 (tasks per chunk)")
                     if "chunk" in job else None)
     if errors:
@@ -197,7 +202,7 @@ def parse_job(text: str, source: str = "<job>") -> Job:
     n_subtasks = analysis.n_subtasks(options)
     n_tasks = math.prod(len(v) for v in grid.values()) * n_subtasks
     layout = TaskLayout(tuple(grid), tuple(grid.values()), n_subtasks, chunk or default_chunk(n_tasks), cases)
-    return Job(name, analysis_name, analysis, options, membrane, damping, layout, text)
+    return Job(name, analysis_name, analysis, options, membrane, damping, model, layout, text)
 
 
 def _table(doc: Mapping, key: str, *, required: bool) -> dict:
@@ -284,18 +289,31 @@ def _damping_grid(damping: DampingSpec, grid: Mapping[str, np.ndarray]) -> None:
             raise JobError(f"grid.{key}", grid[key].tolist(), f"set in [damping] already (one place for {key})")
 
 
+def _model(table: Mapping) -> ModelSpec:
+    """``[model]``: ``kind`` (``"rom"`` by default) and the model's own keys."""
+    kind = table.get("kind", "rom")
+    if not isinstance(kind, str):
+        raise JobError("model.kind", kind, "a string naming a registered model")
+    model = models.get(kind)
+    return ModelSpec(kind, model.parse_options(table))
+
+
 def _required_grid(analysis: Analysis, analysis_name: str, grid: Mapping[str, np.ndarray],
-                   damping: DampingSpec) -> bool:
+                   damping: DampingSpec, model: ModelSpec) -> bool:
     """Whether the analysis' ``required_grid`` keys are present; a required damping key
-    (``c``) stands for every constant of the job's law, in the grid or in ``[damping]``."""
+    (``c``) stands for every constant of the job's law, in the grid or in ``[damping]``,
+    and the membrane keys (``delta``, ``delta_o``) are required only of a model that has
+    them (:attr:`sweep.models.base.Model.required_grid`)."""
     errors = []
-    for key in analysis.required_grid:
+    own = model.model().required_grid
+    needed = [k for k in analysis.required_grid if k not in ("delta", "delta_o") or k in own]
+    for key in needed:
         if key in DAMPING_KEYS:
             errors += [JobError(f"grid.{k}", MISSING, f"analysis {analysis_name!r} needs the damping law's {k} "
                                                       "in [grid] or [damping]") for k in damping.missing(grid)]
         elif key not in grid:
             errors.append(JobError(f"grid.{key}", MISSING, f"analysis {analysis_name!r} needs grid keys "
-                                   + ", ".join(analysis.required_grid)))
+                                   + ", ".join(needed)))
     if errors:
         raise errors[0] if len(errors) == 1 else JobErrors(errors)
     return True

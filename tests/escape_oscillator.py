@@ -53,6 +53,19 @@ def _rk4(y, beta, F, omega, h, steps, variational, which):
     return np.array([x, v]), phi
 
 
+@nb.njit(cache=True)
+def _rk4_from(y, beta, F, omega, h, t):
+    # One RK4 step of the state from time t.
+    def f(t, x, v):
+        return v, -beta * v - x + x * x + F * np.sin(omega * t)
+    x, v = y[0], y[1]
+    k1x, k1v = f(t, x, v)
+    k2x, k2v = f(t + 0.5 * h, x + 0.5 * h * k1x, v + 0.5 * h * k1v)
+    k3x, k3v = f(t + 0.5 * h, x + 0.5 * h * k2x, v + 0.5 * h * k2v)
+    k4x, k4v = f(t + h, x + h * k3x, v + h * k3v)
+    return np.array([x + h / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x), v + h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v)])
+
+
 def rhs(beta, F, omega):
     """The right-hand side for scipy's ``solve_ivp``."""
     return lambda t, y: [y[1], -beta * y[1] - y[0] + y[0] ** 2 + F * np.sin(omega * t)]
@@ -109,4 +122,11 @@ class EscapeMap:
         return mu[np.argsort(-np.abs(mu))]
 
     def amplitude(self, y, periods=1):
-        return float(abs(y[0]))
+        """``max |x|`` over the RK4 samples of ``periods`` periods from ``y``."""
+        best = abs(float(y[0]))
+        h = self.period / self.steps
+        z = np.asarray(y, dtype=float)
+        for i in range(periods * self.steps):
+            z = _rk4_from(z, self.beta, self.forcing.P0, self.forcing.Omega, h, i * h)
+            best = max(best, abs(float(z[0])))
+        return best

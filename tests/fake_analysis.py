@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from sweep.analyses.base import (DEFAULT_DAMPING, MISSING, STATUS_NOT_CONVERGED, STATUS_OK, Analysis,
+from sweep.analyses.base import (DEFAULT_CONTEXT, MISSING, STATUS_NOT_CONVERGED, STATUS_OK, Analysis,
                                  JobError, Variable)
 
 
@@ -37,7 +37,7 @@ class Fake(Analysis):
     name = "fake"
     required_grid = ("delta",)
 
-    def parse_options(self, table, grid, membrane, damping=DEFAULT_DAMPING):
+    def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
         for key in table:
             if key not in ("scale", "n_sub", "sleep", "fail_delta"):
                 raise JobError(f"fake.{key}", table[key], "unknown key")

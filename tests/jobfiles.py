@@ -82,7 +82,7 @@ BAD = {
     "unknown grid key": (("Omega = 2.0", "omega = 2.0"),
                          ["grid.omega = 2.0", "unknown key", "delta, delta_o, Omega, P0, c"]),
     "unknown table": (("[fake]", "[fak]\nscale = 1\n[fake]"),
-                      ["fak = {'scale': 1}", "unknown table", "[job], [membrane], [damping], [grid], [fake]"]),
+                      ["fak = {'scale': 1}", "unknown table", "[job], [model], [membrane], [damping], [grid], [fake]"]),
     "table is a value": (("[job]", "membrane = 3\n[job]"),
                          ["membrane = 3", "a [membrane] table"]),
     "membrane h <= 0": (("[grid]", "[membrane]\nh = 0.0\n[grid]"),

@@ -11,10 +11,8 @@ Tests and benchmarks add analyses of their own through the environment variable
 
 from __future__ import annotations
 
-import importlib
-import os
-
-from sweep.analyses.base import Analysis, JobError
+from sweep.analyses.base import Analysis
+from sweep.registry import Registry
 
 #: Environment variable with extra ``name=module:attribute`` entries (tests, benchmarks).
 EXTRA_ENV = "SWEEP_EXTRA_ANALYSES"
@@ -29,14 +27,7 @@ BUILTIN = {
 }
 
 
-def _extra_entries() -> dict[str, str]:
-    entries = {}
-    for item in filter(None, (s.strip() for s in os.environ.get(EXTRA_ENV, "").split(","))):
-        name, sep, target = item.partition("=")
-        if not sep or ":" not in target:
-            raise JobError(EXTRA_ENV, item, "comma-separated name=module:attribute items")
-        entries[name.strip()] = target.strip()
-    return entries
+_REGISTRY = Registry("analyses", "job.analysis", BUILTIN, EXTRA_ENV)
 
 
 def registry() -> dict[str, str]:
@@ -48,7 +39,7 @@ def registry() -> dict[str, str]:
         ``name -> "module:attribute"``: the built-in analyses, then the entries of
         ``SWEEP_EXTRA_ANALYSES``.
     """
-    return {**BUILTIN, **_extra_entries()}
+    return _REGISTRY.entries()
 
 
 def get(name: str) -> Analysis:
@@ -69,15 +60,11 @@ def get(name: str) -> Analysis:
     JobError
         If no analysis of that name is available (the message lists those that are).
     """
-    entries = registry()
-    if name not in entries:
-        raise JobError("job.analysis", name, "one of the available analyses: "
-                       + (", ".join(repr(n) for n in entries) or "none is installed"))
-    module_name, _, attribute = entries[name].partition(":")
-    analysis = getattr(importlib.import_module(module_name), attribute)
+    analysis = _REGISTRY.load(name)
+    entry = registry()[name]
     if not isinstance(analysis, Analysis):
-        raise TypeError(f"{entries[name]} is a {type(analysis).__name__}, not an Analysis")
+        raise TypeError(f"{entry} is a {type(analysis).__name__}, not an Analysis")
     if hasattr(analysis, "warmup"):  # the protocol before warmups: it would be ignored
-        raise TypeError(f"{entries[name]} defines warmup(options); the runner calls warmups(options), a list "
+        raise TypeError(f"{entry} defines warmup(options); the runner calls warmups(options), a list "
                         "of calls (sweep/analyses/base.py)")
     return analysis

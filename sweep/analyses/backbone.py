@@ -29,7 +29,7 @@ from model.linear import frequency_bound
 from model.params import Membrane
 
 from . import options as opt
-from .base import DEFAULT_DAMPING, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Variable, check_keys
+from .base import DEFAULT_CONTEXT, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Variable, check_keys
 
 #: Default amplitude targets: 1 mm to 0.4 m.
 DEFAULT_AMPLITUDE = {"start": 1e-3, "stop": 0.4, "num": 40}
@@ -67,7 +67,7 @@ class BackboneAnalysis(Analysis):
         "peak_damping": "damping c of the decays of the peak-to-peak method (N s/m^3, > 0; default 0.05)",
     }
 
-    def parse_options(self, table, grid, membrane, damping=DEFAULT_DAMPING):
+    def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
         check_keys(table, self.name, tuple(self.OPTIONS))
         return BackboneOptions(
             modes=opt.modes(table, self.name),

@@ -120,6 +120,57 @@ DEFAULT_DAMPING = DampingSpec()
 
 
 @dataclass(frozen=True)
+class ModelSpec:
+    """The job's ``[model]`` table: which registered model (:mod:`sweep.models`) computes
+    the tasks, with its options.
+
+    Parameters
+    ----------
+    kind : str
+        ``[model] kind`` (``"rom"`` by default).
+    options : object
+        What the model's ``parse_options`` returned for the rest of the table.
+    """
+
+    kind: str = "rom"
+    options: Any = None
+
+    def model(self):
+        """The registered :class:`sweep.models.base.Model` (imported on first use)."""
+        from sweep import models
+        return models.get(self.kind)
+
+    def forced_map(self, point: Point, options: Any, modes=None, default_steps: int | None = None):
+        """The stroboscopic map (:class:`model.protocol.StroboscopicMap`) of this model at
+        ``point`` for an analysis with ``options`` (:meth:`sweep.models.base.Model.forced_map`)."""
+        return self.model().forced_map(point, self.options, options, modes, default_steps)
+
+
+#: A job without a ``[model]`` table: the Galerkin ROM.
+DEFAULT_MODEL = ModelSpec()
+
+
+@dataclass(frozen=True)
+class JobContext:
+    """What an analysis' options may depend on besides its own table and the grid.
+
+    Parameters
+    ----------
+    damping : DampingSpec
+        The ``[damping]`` table.
+    model : ModelSpec
+        The ``[model]`` table.
+    """
+
+    damping: DampingSpec = DEFAULT_DAMPING
+    model: ModelSpec = DEFAULT_MODEL
+
+
+#: A job with neither ``[damping]`` nor ``[model]``.
+DEFAULT_CONTEXT = JobContext()
+
+
+@dataclass(frozen=True)
 class Point:
     """One grid point of a job, as :meth:`Analysis.compute` receives it.
 
@@ -135,12 +186,15 @@ class Point:
     damping : DampingLaw
         The job's damping law with this point's constants (for the viscous law, ``c`` is
         also ``loading.c``).
+    model : ModelSpec
+        The job's model (its :meth:`ModelSpec.forced_map` builds the map of this point).
     """
 
     membrane: Membrane
     loading: Loading
     grid: Mapping[str, float]
     damping: DampingLaw = Viscous()
+    model: ModelSpec = DEFAULT_MODEL
 
     def value(self, name: str) -> float:
         """The value of parameter ``name`` at this point (a field of the membrane, the
@@ -234,12 +288,13 @@ class Analysis(ABC):
 
     @abstractmethod
     def parse_options(self, table: Mapping[str, Any], grid: Mapping[str, np.ndarray],
-                      membrane: Membrane, damping: DampingSpec = DEFAULT_DAMPING) -> Any:
+                      membrane: Membrane, context: JobContext = DEFAULT_CONTEXT) -> Any:
         """Validate the analysis' option table; raise :class:`JobError` on bad input.
 
         ``grid`` maps each grid key to its 1-D array of values; ``membrane`` is the
         membrane of the ``[membrane]`` table (its ``delta``, ``delta_o`` are the record's
-        defaults, the grid sets them per task); ``damping`` the ``[damping]`` table.
+        defaults, the grid sets them per task); ``context`` holds the ``[damping]`` and
+        ``[model]`` tables.
         Returns an immutable, picklable options object (a frozen dataclass), whose ``repr``
         is stable.
         """

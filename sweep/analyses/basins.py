@@ -46,7 +46,7 @@ from model.params import Loading, Membrane
 from model.rom import acceleration_mismatch, build_rom, lean_radial_points
 
 from . import options as opt
-from .base import DEFAULT_DAMPING, GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable, check_keys
+from .base import DEFAULT_CONTEXT, GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable, check_keys
 
 _SECTION = "basins"
 NOT_COMPUTED = -2
@@ -129,7 +129,7 @@ class Basins(Analysis):
     }
     required_grid = ("delta", "delta_o", "Omega", "P0", "c")
 
-    def parse_options(self, table, grid, membrane, damping=DEFAULT_DAMPING) -> BasinsOptions:
+    def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT) -> BasinsOptions:
         check_keys(table, _SECTION, tuple(self.OPTIONS))
         modes = opt.modes(table, _SECTION)
         lm = opt.number(table, _SECTION, "lattice_mode", 1, low=1, high=len(modes),
@@ -202,19 +202,19 @@ class Basins(Analysis):
                "tile_attractor_amplitude": np.full(A, np.nan),
                "tile_attractor_multiplier": np.full(A, np.nan),
                "status": STATUS_OK}
-        rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
-        steps = opt.steps_for(point.membrane, options.prestretch, options.modes, options.steps, mb.DEFAULT_STEPS)
-        fmap = ForcedMap.from_loading(rom, point.loading, steps, point.damping)
+        fmap = point.model.forced_map(point, options, default_steps=mb.DEFAULT_STEPS)
+        steps = getattr(fmap, "steps", 0)
         lattice = options.lattice()
-        full = rom
-        if rom.tables.table_max == 0.0 and options.method == "fast":  # brute: the reference keeps the full rule
+        full = rom = getattr(fmap, "rom", None)  # the ROM's lean quadrature: for its maps only
+        if rom is not None and rom.tables.table_max == 0.0 and options.method == "fast":
+            # (brute force, the reference, keeps the full rule)
             ps = opt.prestretch_for(point.membrane, options.prestretch)
             points = lean_radial_points(ps, rom, mb.window_states(lattice, fmap), LEAN_RTOL)
             if points < rom.radial_points:
                 rom = build_rom(ps, options.modes, radial_points=points)
                 fmap = fmap.with_rom(rom)
         out["tile_rk4_steps"] = steps
-        out["tile_radial_points"] = rom.radial_points
+        out["tile_radial_points"] = 0 if rom is None else rom.radial_points
         rows = options.tile_rows(subtask)
         states = mb.lattice_states(lattice, rows, S)
         cell_report: dict = {}

@@ -103,7 +103,7 @@ from model.shooting import shoot
 from model.switching import follow_bifurcated_branch, mixed_rom
 
 from . import options as opt
-from .base import (DEFAULT_DAMPING, GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
+from .base import (DEFAULT_CONTEXT, GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
                    check_keys)
 
 #: Length of the ``fold`` dimension.
@@ -248,10 +248,10 @@ class ContinuationAnalysis(Analysis):
                     "axisymmetric modes)",
     }
 
-    def parse_options(self, table, grid, membrane, damping=DEFAULT_DAMPING):
+    def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
         s = self.name
         check_keys(table, s, tuple(self.OPTIONS))
-        parameter = opt.forcing_parameter(table, s, grid, "is continued", damping)
+        parameter = opt.forcing_parameter(table, s, grid, "is continued", context.damping)
         low = 0.0
         start = opt.number(table, s, "start", low=low, low_open=parameter == "Omega")
         stop = opt.number(table, s, "stop", low=low, low_open=parameter == "Omega")
@@ -259,13 +259,15 @@ class ContinuationAnalysis(Analysis):
             raise JobError(f"{s}.stop", stop, "must differ from continuation.start")
         modes = opt.modes(table, s)
         families = opt.families(table, s, modes)
+        opt.rom_only(table, s, context.model, ("families", "branch_switching", "check"))
         return ContinuationOptions(
             parameter, start, stop, modes, opt.prestretch(table, s),
             opt.number(table, s, "max_points", 400, low=2, high=100_000, integer=True),
             opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0),
             opt.steps(table, s, DEFAULT_STEPS, low=16),
-            _second_parameter(table, s, parameter, damping), families,
-            _curves_option(table, s, parameter, grid, damping), *_switching(table, s, families), _family_check(table, s))
+            _second_parameter(table, s, parameter, context.damping), families,
+            _curves_option(table, s, parameter, grid, context.damping), *_switching(table, s, families),
+            _family_check(table, s))
 
     def variables(self, options):
         n, k, p = options.max_points, 2 * len(options.modes), options.parameter
@@ -431,10 +433,8 @@ class ContinuationAnalysis(Analysis):
         axisymmetric, blocks = symmetry_blocks(options.modes)
         by_symmetry = _by_symmetry(options)
         modes = tuple(options.modes[i] for i in axisymmetric) if by_symmetry else options.modes
-        rom = opt.rom_for(point.membrane, options.prestretch, modes)
-        steps = opt.steps_for(point.membrane, options.prestretch, options.modes, options.steps, DEFAULT_STEPS)
-        fmap = ForcedMap.from_loading(rom, point.loading, steps, point.damping).varied(options.parameter,
-                                                                                        options.start)
+        fmap = point.model.forced_map(point, options, modes, DEFAULT_STEPS).varied(options.parameter, options.start)
+        steps = getattr(fmap, "steps", 0)
         if by_symmetry:
             # a sine block with the radial indices of a cosine block has its multipliers:
             # one family each, so that every point is located once

@@ -18,7 +18,7 @@ from model.modes import bessel_roots
 from model.prestretch import solve_prestretch
 
 from . import options as opt
-from .base import DEFAULT_DAMPING, STATUS_FAILED, STATUS_OK, Analysis, JobError, Variable, check_keys
+from .base import DEFAULT_CONTEXT, STATUS_FAILED, STATUS_OK, Analysis, JobError, Variable, check_keys
 
 
 @dataclass(frozen=True)
@@ -40,7 +40,7 @@ class LinearAnalysis(Analysis):
                  "from 32 until the frequencies change by less than 2e-6, at most 256)",
     }
 
-    def parse_options(self, table, grid, membrane, damping=DEFAULT_DAMPING):
+    def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
         check_keys(table, self.name, tuple(self.OPTIONS))
         modes = opt.modes(table, self.name)
         basis = table.get("basis")

@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from .base import DEFAULT_DAMPING, Analysis, JobError, Variable, check_result
+from .base import DEFAULT_CONTEXT, Analysis, JobError, Variable, check_result
 
 #: Padding of integer variables and coordinates without a declared fill value.
 INT_PAD = -1
@@ -86,12 +86,12 @@ class ModeSetSweep(Analysis):
         self.OPTIONS = inner.OPTIONS
         self.required_grid = inner.required_grid
 
-    def parse_options(self, table, grid, membrane, damping=DEFAULT_DAMPING) -> ModeSetOptions:
+    def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT) -> ModeSetOptions:
         key = f"{self.name}.modes"
         sets = []
         for i, modes in enumerate(table["modes"]):
             try:
-                sets.append(self.inner.parse_options({**table, "modes": modes}, grid, membrane, damping))
+                sets.append(self.inner.parse_options({**table, "modes": modes}, grid, membrane, context))
             except JobError as exc:
                 if exc.key == key or exc.key.startswith(key + "."):
                     raise JobError(f"{key}[{i}]{exc.key[len(key):]}", exc.value, exc.allowed) from None

@@ -172,6 +172,16 @@ def forcing_parameter(table, section: str, grid, role: str, damping: DampingSpec
     return parameter
 
 
+def rom_only(table, section: str, model, keys) -> None:
+    """Refuse the options ``keys`` of ``table`` that need the ROM (mode families and what
+    is built on them) when the job's model (a :class:`~sweep.analyses.base.ModelSpec`)
+    has no ROM features."""
+    given = [k for k in keys if k in table]
+    if given and not model.model().rom_features:
+        raise JobError(f"{section}.{given[0]}", table[given[0]],
+                       f"needs the ROM's mode families; this job's model is {model.kind!r} ([model] kind)")
+
+
 def second_parameters(parameter: str, damping: DampingSpec) -> tuple[str, ...]:
     """The parameters a curve of bifurcation points may follow besides ``parameter``: the
     damping law's scalar constants (``c``, ``alpha``, ``beta``, ``zeta`` given as one

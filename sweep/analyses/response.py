@@ -25,7 +25,7 @@ from model.params import Loading, Membrane
 from model.response import refine_jumps, stepped_sweep
 
 from . import options as opt
-from .base import DEFAULT_DAMPING, GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Variable, check_keys
+from .base import DEFAULT_CONTEXT, GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Variable, check_keys
 
 
 @dataclass(frozen=True)
@@ -69,10 +69,10 @@ class ResponseAnalysis(Analysis):
         "refine_jumps": "true: locate each jump to 0.1 % by an adaptive brute-force march (default false)",
     }
 
-    def parse_options(self, table, grid, membrane, damping=DEFAULT_DAMPING):
+    def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
         s = self.name
         check_keys(table, s, tuple(self.OPTIONS))
-        parameter = opt.forcing_parameter(table, s, grid, "is swept by the analysis", damping)
+        parameter = opt.forcing_parameter(table, s, grid, "is swept by the analysis", context.damping)
         values = opt.linspace(table, s, "values", low=0.0, low_open=parameter == "Omega", max_num=10_000)
         return ResponseOptions(
             parameter, values, opt.modes(table, s), opt.prestretch(table, s),
@@ -112,10 +112,9 @@ class ResponseAnalysis(Analysis):
         }
 
     def compute(self, point, options, subtask):
-        rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
         values = options.swept_values
-        steps = opt.steps_for(point.membrane, options.prestretch, options.modes, options.steps, DEFAULT_STEPS)
-        fmap = ForcedMap.from_loading(rom, point.loading, steps, point.damping).varied(options.parameter, values[0])
+        fmap = point.model.forced_map(point, options, default_steps=DEFAULT_STEPS).varied(options.parameter, values[0])
+        steps = getattr(fmap, "steps", 0)
         res = stepped_sweep(fmap, options.parameter, values, tol=options.tol, consecutive=options.consecutive,
                             max_periods=options.max_periods,
                             min_periods=min(options.consecutive, options.max_periods))

@@ -14,7 +14,7 @@ import numpy as np
 from model.prestretch import solve_prestretch
 
 from . import options as opt
-from .base import DEFAULT_DAMPING, STATUS_OK, Analysis, JobError, Variable, check_keys
+from .base import DEFAULT_CONTEXT, STATUS_OK, Analysis, JobError, Variable, check_keys
 
 
 @dataclass(frozen=True)
@@ -38,7 +38,7 @@ class StaticAnalysis(Analysis):
                "inner radius of the grid to Re, 201 points)",
     }
 
-    def parse_options(self, table, grid, membrane, damping=DEFAULT_DAMPING):
+    def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
         check_keys(table, self.name, tuple(self.OPTIONS))
         re = membrane.Re
         default = {"start": float(np.min(grid["delta_o"])) * re, "stop": re, "num": 201}
