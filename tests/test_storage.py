@@ -19,7 +19,10 @@ import pytest
 import xarray as xr
 from jobfiles import GOOD, MPI_JOB, TESTS, TIMEOUT, data, sweep, sweep_env
 
-from sweep import cli, partlog, storage
+from sweep import cli, partlog
+from sweep.storage.netcdf import flat_boxes, run_attributes
+from sweep.storage.parts import read_runs
+from sweep.storage.resume import ChunkSet
 from sweep.launch import find_mpiexec
 
 def run(capsys, *argv):
@@ -42,7 +45,7 @@ def test_flat_ranges_split_into_contiguous_boxes():
     shape = (3, 4, 5)
     full = np.arange(60).reshape(shape)
     for start, stop in [(0, 60), (7, 8), (3, 47), (20, 40), (19, 41), (59, 60), (0, 1), (5, 25)]:
-        boxes = storage.flat_boxes(start, stop, shape)
+        boxes = flat_boxes(start, stop, shape)
         assert len(boxes) <= 2 * len(shape) - 1
         got = np.concatenate([full[tuple(slice(c, c + e) for c, e in zip(corner, extent))].ravel()
                               for corner, extent in boxes])
@@ -101,7 +104,7 @@ def _chunks_and_problems(path):
 def test_chunk_set_is_a_bitmap():
     flags = np.zeros(11, bool)
     flags[[0, 3, 10]] = True
-    done = storage.ChunkSet(11, np.packbits(flags))
+    done = ChunkSet(11, np.packbits(flags))
     assert [k for k in range(11) if k in done] == [0, 3, 10] and done.count() == 3
     assert done.bits.nbytes == 2 and done.tasks(4, 42) == 4 + 4 + 2
 
@@ -222,12 +225,12 @@ def test_resume_after_a_code_change_is_refused_unless_allowed(tmp_path):
                     pythonpath=code_dir)
     assert allowed.returncode == 0, allowed.stderr
     assert "note: resumed with different code (--allow-code-change, recorded): source sha256" in allowed.stderr
-    run_attrs = storage.run_attributes(tmp_path / "out.nc")
+    run_attrs = run_attributes(tmp_path / "out.nc")
     assert run_attrs["code_changed_during_run"] == 1
     assert "resumed with different code: source sha256" in run_attrs["history"]
     with xr.open_dataset(tmp_path / "out.nc") as ds:
         assert ds.attrs["source"].startswith("membrane-sweep ")
-    runs = storage.read_runs(tmp_path / "out.nc.parts")
+    runs = read_runs(tmp_path / "out.nc.parts")
     assert [r["run"] for r in runs] == [1, 2]  # the refused attempt is no run
     first, last = runs[0]["provenance"], runs[-1]["provenance"]
     assert first["source_sha256"] != last["source_sha256"] and set(first["versions"]) >= {"numpy", "numba", "MPI"}
@@ -365,7 +368,7 @@ def test_two_pieces_collect_into_the_file_of_one_run(capsys, job, tmp_path):
     assert "6 / 6 tasks completed, 3 / 3 chunks" in out
     assert run(capsys, "collect", tmp_path / "two.nc")[0] == 0
     assert data(tmp_path / "two.nc").identical(data(tmp_path / "one.nc"))
-    assert "chunks 2/2" in storage.run_attributes(tmp_path / "two.nc")["history"]
+    assert "chunks 2/2" in run_attributes(tmp_path / "two.nc")["history"]
     failing = tmp_path / "failing.toml"
     failing.write_text(job.read_text().replace("scale = 1.0", "scale = 1.0\nfail_delta = 1.1"))
     code, out, _ = run(capsys, "run", failing, "-o", tmp_path / "f.nc", "--chunks", "1/2")
@@ -391,8 +394,8 @@ def test_pieces_run_side_by_side_and_a_whole_run_waits_for_them(tmp_path):
     results = [p.communicate(timeout=TIMEOUT) for p in pieces]
     assert all(p.returncode == 0 for p in pieces), [err for _, err in results]
     assert whole.returncode == 1 and "(piece-" in whole.stderr and "is in use by a run" in whole.stderr
-    assert sorted(r["chunks"] for r in storage.read_runs(parts)) == ["1/3", "2/3", "3/3"]
-    assert len({r["run"] for r in storage.read_runs(parts)}) == 3
+    assert sorted(r["chunks"] for r in read_runs(parts)) == ["1/3", "2/3", "3/3"]
+    assert len({r["run"] for r in read_runs(parts)}) == 3
     assert sweep("collect", "mpi.nc", ranks=0, cwd=tmp_path).returncode == 0
     assert data(tmp_path / "mpi.nc").identical(data(tmp_path / "ref.nc"))
 
