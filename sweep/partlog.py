@@ -1,8 +1,8 @@
 """Append-only part logs: the results of finished chunks, one log file per rank and run.
 
-A log is a sequence of records, one per chunk, each handed to the operating system with a
-single ``write`` call before the next chunk starts (it survives a killed process; the file
-is synced to disk when the log is closed)::
+A log is a sequence of records, one per chunk, each written with a single ``write`` call
+and synced to disk (``os.fsync``) before the next chunk starts: a killed process or a
+power loss loses at most the chunk being written::
 
     header  <4s H H q q q q I>  magic b"MSWP", format version, 0, chunk number,
                                 first task, task count, payload length, CRC-32
@@ -93,19 +93,25 @@ class Writer:
     def __init__(self, path: Path, variables: Sequence):
         self.path, self.variables = path, list(variables)
         self._fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o644)
+        # the new file's directory entry, without which its synced records are lost too
+        directory = os.open(path.parent, os.O_RDONLY)
+        try:
+            os.fsync(directory)
+        finally:
+            os.close(directory)
 
     def append(self, chunk: int, tasks: range, status: np.ndarray, arrays: Mapping[str, np.ndarray],
                messages: Mapping[int, str]) -> None:
-        """Write one chunk's record in one ``write`` call."""
+        """Write one chunk's record in one ``write`` call and sync it to disk."""
         data = encode(chunk, tasks, status, arrays, messages, self.variables)
         view = memoryview(data)
         while view:
             view = view[os.write(self._fd, view):]
+        os.fsync(self._fd)
 
     def close(self) -> None:
-        """Sync to disk and close; a log with no record is removed."""
+        """Close (every record is on disk already); a log with no record is removed."""
         if self._fd >= 0:
-            os.fsync(self._fd)
             empty = os.fstat(self._fd).st_size == 0
             os.close(self._fd)
             self._fd = -1

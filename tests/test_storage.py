@@ -96,6 +96,26 @@ def test_a_record_round_trips_and_every_kind_of_damage_is_caught(tmp_path):
     assert [r.chunk for r in logs] == [0, 1, 2] and logs.problems() == [] and logs.tasks == 6
 
 
+def test_every_record_is_on_disk_before_the_next_chunk(tmp_path, monkeypatch):
+    from sweep.analyses.base import Variable
+
+    synced = []
+    real_fsync = os.fsync
+    monkeypatch.setattr(os, "fsync", lambda fd: (synced.append(os.fstat(fd).st_size), real_fsync(fd)))
+    variables = [Variable("x", (), (), "f8", "m", "x")]
+    log = tmp_path / "a.log"
+    w = partlog.Writer(log, variables)
+    for k in range(3):
+        w.append(k, range(2 * k, 2 * k + 2), np.zeros(2, np.int8), {"x": np.full(2, k + 0.5)}, {})
+        # synced after this record was written, before the next one (the directory entry first)
+        assert synced[-1] == log.stat().st_size and len(synced) == k + 2
+        logs = partlog.Logs([log], 2, 6)  # another reader, before close
+        with partlog.Reader(variables) as reader:
+            assert [reader.read(r)[1]["x"][0] for r in logs] == [j + 0.5 for j in range(k + 1)]
+    w.close()
+    assert len(synced) == 4
+
+
 def _chunks_and_problems(path):
     logs = partlog.Logs([path], 2, 6)
     return [r.chunk for r in logs], logs.problems()
