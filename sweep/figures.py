@@ -339,11 +339,11 @@ def _family_colors(plt, families) -> dict:
 
 
 def stability_map_figures(ds, outdir, par: str, rows: str) -> list:
-    from model.continuation import resonant_end, unstable_points
-
     """Stability maps: per row of the grid parameter ``rows`` (e.g. P0), the intervals of the
     continued parameter where the resonant stretch of the branch (from its start to the
     first saddle-node) is unstable to each family, and the saddle-nodes of the row."""
+    from model.continuation import resonant_end, unstable_points
+
     plt = pyplot()
     exclude = ("c", rows, "point", "fold", "multiplier", "mode", "family", "family_multiplier", "curve",
                "curve_point", "cusp")
@@ -384,10 +384,10 @@ def stability_map_figures(ds, outdir, par: str, rows: str) -> list:
 
 
 def bifurcation_curve_figures(ds, outdir, par: str) -> list:
-    from model.continuation import KIND_LABELS
-
     """Curves of bifurcation points in the plane of the continued and the second parameter,
     coloured by the family of their block (black: axisymmetric), marked by kind."""
+    from model.continuation import KIND_LABELS
+
     plt = pyplot()
     second = next(v[len("curve_"):] for v in ds.data_vars
                   if v.startswith("curve_") and v not in ("curve_amplitude", "curve_kind", "curve_family", f"curve_{par}"))
