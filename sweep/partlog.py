@@ -33,6 +33,11 @@ import numpy as np
 MAGIC = b"MSWP"
 VERSION = 1
 _HEADER = struct.Struct("<4sHHqqqqI")
+#: Logs a merge keeps open at once: those :class:`Reader` keeps (the least recently used
+#: is closed beyond this), and one more while :func:`scan` verifies a batch of records.
+MAX_OPEN = 64
+#: Records :func:`scan` verifies per opening of a log.
+SCAN_BATCH = 256
 
 
 @dataclass(frozen=True)
@@ -129,45 +134,59 @@ def scan(path: Path, chunk_size: int, n_tasks: int, problems: list, fixed_size=N
     ``problems`` receives ``(chunk or -1, one line naming the file and the offset)``.
     ``fixed_size(count)``, when given, is the size of the arrays of a record of ``count``
     tasks: a shorter payload does not hold this analysis' variables.
+
+    The log is open only while a batch of :data:`SCAN_BATCH` records is verified, never
+    while they are yielded: a merge of many logs (:class:`Logs`) holds none of them open
+    between its records.
     """
     size = path.stat().st_size
-    last = -1
-    with open(path, "rb") as f:
-        pos = 0
-        while pos < size:
-            head = f.read(_HEADER.size)
-            if len(head) < _HEADER.size:
-                problems.append((-1, f"{path}: truncated record header at byte {pos} (a run killed "
-                                     "while writing); its chunk will be recomputed"))
-                return
-            magic, version, _, chunk, start, count, length, crc = _HEADER.unpack(head)
-            if magic != MAGIC or version != VERSION or length < 0 or count < 0:
-                problems.append((-1, f"{path}: unreadable record header at byte {pos}; the rest of the "
-                                     "file is ignored and its chunks will be recomputed"))
-                return
-            if length > size - pos - _HEADER.size:
-                problems.append((chunk, f"{path}: chunk {chunk} truncated at byte {pos} (a run killed "
-                                        "while writing, or a damaged length); it will be recomputed"))
-                return
-            payload = f.read(length)
-            zero = _HEADER.pack(magic, version, 0, chunk, start, count, length, 0)
-            if zlib.crc32(payload, zlib.crc32(zero)) != crc:
-                problems.append((chunk, f"{path}: chunk {chunk} at byte {pos} fails its checksum "
-                                        "(corrupted); it is not merged and will be recomputed"))
-            elif start != chunk * chunk_size or count != min(chunk_size, n_tasks - start) or count <= 0:
-                problems.append((-1, f"{path}: record at byte {pos} claims chunk {chunk} with tasks "
-                                     f"{start}..{start + count - 1}, which is not that chunk of this job; "
-                                     "ignored"))
-            elif fixed_size is not None and length < fixed_size(count):
-                problems.append((chunk, f"{path}: chunk {chunk} at byte {pos} is shorter than the variables of "
-                                        "this analysis (written by other code); it will be recomputed"))
-            elif chunk <= last:
-                problems.append((-1, f"{path}: record at byte {pos} (chunk {chunk}) is out of order "
-                                     "(a rank writes its chunks in increasing order); ignored"))
-            else:
-                last = chunk
-                yield Record(path, pos + _HEADER.size, length, chunk, start, count)
-            pos += _HEADER.size + length
+    pos, last, ended = 0, -1, False
+    while pos < size and not ended:
+        with open(path, "rb") as f:
+            f.seek(pos)
+            batch, pos, last, ended = _verify(f, path, pos, size, last, chunk_size, n_tasks, problems, fixed_size)
+        yield from batch
+
+
+def _verify(f, path, pos, size, last, chunk_size, n_tasks, problems, fixed_size):
+    """Verify up to :data:`SCAN_BATCH` records of the open log ``f`` from byte ``pos`` (see
+    :func:`scan`); returns ``(records, next pos, last chunk, whether the scan ended)``."""
+    batch = []
+    while pos < size and len(batch) < SCAN_BATCH:
+        head = f.read(_HEADER.size)
+        if len(head) < _HEADER.size:
+            problems.append((-1, f"{path}: truncated record header at byte {pos} (a run killed "
+                                 "while writing); its chunk will be recomputed"))
+            return batch, pos, last, True
+        magic, version, _, chunk, start, count, length, crc = _HEADER.unpack(head)
+        if magic != MAGIC or version != VERSION or length < 0 or count < 0:
+            problems.append((-1, f"{path}: unreadable record header at byte {pos}; the rest of the "
+                                 "file is ignored and its chunks will be recomputed"))
+            return batch, pos, last, True
+        if length > size - pos - _HEADER.size:
+            problems.append((chunk, f"{path}: chunk {chunk} truncated at byte {pos} (a run killed "
+                                    "while writing, or a damaged length); it will be recomputed"))
+            return batch, pos, last, True
+        payload = f.read(length)
+        zero = _HEADER.pack(magic, version, 0, chunk, start, count, length, 0)
+        if zlib.crc32(payload, zlib.crc32(zero)) != crc:
+            problems.append((chunk, f"{path}: chunk {chunk} at byte {pos} fails its checksum "
+                                    "(corrupted); it is not merged and will be recomputed"))
+        elif start != chunk * chunk_size or count != min(chunk_size, n_tasks - start) or count <= 0:
+            problems.append((-1, f"{path}: record at byte {pos} claims chunk {chunk} with tasks "
+                                 f"{start}..{start + count - 1}, which is not that chunk of this job; "
+                                 "ignored"))
+        elif fixed_size is not None and length < fixed_size(count):
+            problems.append((chunk, f"{path}: chunk {chunk} at byte {pos} is shorter than the variables of "
+                                    "this analysis (written by other code); it will be recomputed"))
+        elif chunk <= last:
+            problems.append((-1, f"{path}: record at byte {pos} (chunk {chunk}) is out of order "
+                                 "(a rank writes its chunks in increasing order); ignored"))
+        else:
+            last = chunk
+            batch.append(Record(path, pos + _HEADER.size, length, chunk, start, count))
+        pos += _HEADER.size + length
+    return batch, pos, last, False
 
 
 class Logs:
@@ -176,7 +195,9 @@ class Logs:
     Iterating merges the logs (each is in increasing chunk order) and yields every chunk
     once: a chunk found twice (two runs computed it) keeps its first verified record,
     results being a function of the task only.  Memory does not grow with the number of
-    records: one bit per chunk records what was found.  After an iteration, :attr:`done`
+    records (one bit per chunk records what was found, at most :data:`SCAN_BATCH` records
+    per log are held), nor do open files with the number of logs (at most :data:`MAX_OPEN`
+    + 1 with a :class:`Reader`).  After an iteration, :attr:`done`
     (a packed bitmap) holds the chunks found, :attr:`tasks` their tasks, and
     :meth:`problems` what was rejected (except chunks with a verified copy elsewhere).
 
@@ -228,10 +249,7 @@ class Logs:
 
 class Reader:
     """Reads records, keeping each log open once (the records of a collect alternate
-    between the ranks' logs).  Use as a context manager."""
-
-    #: Logs kept open at once (the least recently used is closed beyond this).
-    MAX_OPEN = 64
+    between the ranks' logs), at most :data:`MAX_OPEN` of them.  Use as a context manager."""
 
     def __init__(self, variables: Sequence):
         self.variables = list(variables)
@@ -259,7 +277,7 @@ class Reader:
         """
         f = self._files.pop(record.path, None)
         if f is None:
-            if len(self._files) >= self.MAX_OPEN:
+            if len(self._files) >= MAX_OPEN:
                 self._files.pop(next(iter(self._files))).close()
             f = open(record.path, "rb")
         self._files[record.path] = f  # most recently used last

@@ -398,6 +398,34 @@ def test_two_pieces_collect_into_the_file_of_one_run(capsys, job, tmp_path):
     assert info.value.code == 2 and "'3/2' is invalid: need 1 <= I <= N" in capsys.readouterr().err
 
 
+def test_a_merge_of_more_logs_than_it_keeps_open_is_the_same(capsys, job, tmp_path, monkeypatch):
+    import io
+
+    job.write_text(job.read_text().replace("chunk = 2", "chunk = 1"))  # two records per log
+    assert run(capsys, "run", job, "-o", tmp_path / "one.nc")[0] == 0
+    for i in range(1, 4):
+        assert run(capsys, "run", job, "-o", tmp_path / "pieces.nc", "--chunks", f"{i}/3")[0] == 0
+    assert len(list((tmp_path / "pieces.nc.parts").glob("run-*.log"))) == 3
+    live, peak = set(), [0]
+
+    class Counted(io.BufferedReader):
+        def __init__(self, path, mode="rb"):
+            super().__init__(io.FileIO(path, "r"))
+            live.add(id(self))
+            peak[0] = max(peak[0], len(live))
+
+        def close(self):
+            live.discard(id(self))
+            super().close()
+
+    monkeypatch.setattr(partlog, "open", Counted, raising=False)
+    monkeypatch.setattr(partlog, "MAX_OPEN", 1)
+    monkeypatch.setattr(partlog, "SCAN_BATCH", 1)
+    assert run(capsys, "collect", tmp_path / "pieces.nc")[0] == 0
+    assert peak[0] == 2 and not live  # the reader's one log and the one being scanned again
+    assert data(tmp_path / "pieces.nc").identical(data(tmp_path / "one.nc"))
+
+
 def test_pieces_run_side_by_side_and_a_whole_run_waits_for_them(tmp_path):
     job = tmp_path / "job.toml"
     job.write_text(MPI_JOB.format(sleep=0.05))
