@@ -652,11 +652,6 @@ class ContinuationAnalysis(Analysis):
                                               long_name="damping at which the two saddle-nodes merge (cusp)"),
                 "cusp_value": cusp_v.assign_attrs(units=GRID_KEYS["P0"][0], long_name="P0 at the cusp")}
 
-    def figures(self, ds, outdir):
-        from sweep.figures import continuation_figures
-
-        return continuation_figures(ds, outdir)
-
 
 def _cusp(ds):
     import xarray as xr
