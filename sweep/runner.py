@@ -188,7 +188,7 @@ def compute_chunk(job: Job, k: int) -> tuple[range, dict[str, np.ndarray], np.nd
 
 
 def _compute(job: Job, log: Path, plan: Plan, comm: MPI.Intracomm,
-             progress: Progress | None) -> int:
+             progress: Progress | None) -> tuple[int, int]:
     """Compute the chunks of ``plan``, appending them to this rank's ``log``; collective
     over comm.
 
