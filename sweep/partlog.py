@@ -124,7 +124,7 @@ class Writer:
                 self.path.unlink(missing_ok=True)
 
 
-def scan(path: Path, chunk_size: int, n_tasks: int, problems: list, fixed_size=None) -> Iterator[Record]:
+def scan(path: Path, chunk_size: int, n_tasks: int, problems: list) -> Iterator[Record]:
     """The verified records of one log, in file order; what is wrong goes to ``problems``.
 
     Each record's CRC is checked and its task range compared with the job's chunk layout
@@ -132,8 +132,6 @@ def scan(path: Path, chunk_size: int, n_tasks: int, problems: list, fixed_size=N
     increasing order, so a record out of that order is rejected too.  A rejected record
     is skipped; an unreadable header ends the scan (nothing after it can be located).
     ``problems`` receives ``(chunk or -1, one line naming the file and the offset)``.
-    ``fixed_size(count)``, when given, is the size of the arrays of a record of ``count``
-    tasks: a shorter payload does not hold this analysis' variables.
 
     The log is open only while a batch of :data:`SCAN_BATCH` records is verified, never
     while they are yielded: a merge of many logs (:class:`Logs`) holds none of them open
@@ -144,11 +142,11 @@ def scan(path: Path, chunk_size: int, n_tasks: int, problems: list, fixed_size=N
     while pos < size and not ended:
         with open(path, "rb") as f:
             f.seek(pos)
-            batch, pos, last, ended = _verify(f, path, pos, size, last, chunk_size, n_tasks, problems, fixed_size)
+            batch, pos, last, ended = _verify(f, path, pos, size, last, chunk_size, n_tasks, problems)
         yield from batch
 
 
-def _verify(f, path, pos, size, last, chunk_size, n_tasks, problems, fixed_size):
+def _verify(f, path, pos, size, last, chunk_size, n_tasks, problems):
     """Verify up to :data:`SCAN_BATCH` records of the open log ``f`` from byte ``pos`` (see
     :func:`scan`); returns ``(records, next pos, last chunk, whether the scan ended)``."""
     batch = []
@@ -176,9 +174,6 @@ def _verify(f, path, pos, size, last, chunk_size, n_tasks, problems, fixed_size)
             problems.append((-1, f"{path}: record at byte {pos} claims chunk {chunk} with tasks "
                                  f"{start}..{start + count - 1}, which is not that chunk of this job; "
                                  "ignored"))
-        elif fixed_size is not None and length < fixed_size(count):
-            problems.append((chunk, f"{path}: chunk {chunk} at byte {pos} is shorter than the variables of "
-                                    "this analysis (written by other code); it will be recomputed"))
         elif chunk <= last:
             problems.append((-1, f"{path}: record at byte {pos} (chunk {chunk}) is out of order "
                                  "(a rank writes its chunks in increasing order); ignored"))
@@ -209,10 +204,8 @@ class Logs:
         The job's chunk layout.
     """
 
-    def __init__(self, paths, chunk_size: int, n_tasks: int, variables: Sequence | None = None):
+    def __init__(self, paths, chunk_size: int, n_tasks: int):
         self.paths, self.chunk_size, self.n_tasks = list(paths), chunk_size, n_tasks
-        self.fixed_size = None if variables is None else (
-            lambda count: sum(f[3] for f in _fields(variables, count)))
         self.n_chunks = -(-n_tasks // chunk_size)
         self.done = np.zeros((self.n_chunks + 7) // 8, np.uint8)
         self.tasks = 0
@@ -222,7 +215,7 @@ class Logs:
         self.done[:] = 0
         self.tasks = 0
         self._problems = []
-        streams = [scan(p, self.chunk_size, self.n_tasks, self._problems, self.fixed_size) for p in self.paths]
+        streams = [scan(p, self.chunk_size, self.n_tasks, self._problems) for p in self.paths]
         last = -1
         for rec in heapq.merge(*streams, key=lambda r: r.chunk):
             if rec.chunk == last:

@@ -44,7 +44,7 @@ def read_manifest(parts: Path) -> dict:
     path = parts / MANIFEST
     try:
         manifest = json.loads(path.read_text())
-        manifest["job_sha256"], manifest["n_tasks"]  # noqa: B018 - the keys every reader needs
+        manifest["job_sha256"], manifest["n_tasks"], manifest["variables"]  # noqa: B018 - the keys every reader needs
         return manifest
     except FileNotFoundError:
         if parts.is_dir():
@@ -82,7 +82,7 @@ def layout(job: Job) -> list:
 
 def check_layout(job: Job, manifest: dict, parts: Path) -> None:
     """Refuse to read parts written by code that stores other variables (RunError)."""
-    if manifest.get("variables") is not None and manifest["variables"] != layout(job):
+    if manifest["variables"] != layout(job):
         runs = read_runs(parts)
         commit = runs[-1]["provenance"].get("git_commit") if runs else None
         raise RunError(f"the parts in {parts}/ were written by code that stores other variables than this "
@@ -93,6 +93,6 @@ def check_layout(job: Job, manifest: dict, parts: Path) -> None:
 def part_logs(job: Job, parts: Path) -> partlog.Logs:
     """The part logs of a parts directory, to be streamed (:class:`sweep.partlog.Logs`)."""
     try:
-        return partlog.Logs(_logs(parts), job.layout.chunk, job.layout.n_tasks, job.analysis.variables(job.options))
+        return partlog.Logs(_logs(parts), job.layout.chunk, job.layout.n_tasks)
     except OSError as exc:
         raise file_error(exc, "listing the part logs") from None

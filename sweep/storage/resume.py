@@ -163,10 +163,6 @@ def _prepare(job, out, parts, lock, resume, overwrite, allow_code_change, break_
         raise RunError(f"cannot resume: {parts}/ was written by a different job file (its text "
                        f"has sha256 {manifest['job_sha256'][:12]}..., this one {job.sha256[:12]}...); "
                        "restore that file, or start again with --overwrite or another -o")
-    if manifest.get("format") != partlog.VERSION:
-        raise RunError(f"cannot resume: {parts}/ was written by an older version of membrane-sweep "
-                       "(one HDF5 file per chunk), whose parts this version does not read; start "
-                       "again with --overwrite, or finish it with the version that started it")
     runs = read_runs(parts)
     changed = provenance.differences(runs[-1]["provenance"], current) if runs else []
     if changed and not allow_code_change:
