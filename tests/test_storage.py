@@ -286,6 +286,21 @@ prestretch = "analytic"
     assert "1 failed (1: LinAlgError: " in out
 
 
+def test_the_fig14a_branch_covers_its_range_with_the_default_max_points(capsys, tmp_path):
+    # The paper's job without its max_points = 1000 and ds_max = 0.3: at the default step the
+    # branch has 885 points, more than the 400 that used to be the default.
+    text = (TESTS.parent / "jobs" / "fig14-bifurcation-omega.toml").read_text()
+    path = tmp_path / "fig14a.toml"
+    path.write_text(text.replace("delta = [1.1, 1.5, 2.0]", "delta = [1.1]").replace("ds_max = 0.3\n", "")
+                    .replace("max_points = 1000\n", ""))
+    code, out, err = run(capsys, "run", path, "-o", tmp_path / "fig14a.nc")
+    assert code == 0, err
+    with xr.open_dataset(tmp_path / "fig14a.nc") as ds:
+        assert ds.sizes["point"] == 4000 and int(ds["status"].item()) == 0 and ds["message"].item() == ""
+        n = int(ds["n_points"].item())
+        assert 400 < n < 4000 and ds["Omega"].squeeze().values[n - 1] == 55.0
+
+
 @pytest.mark.slow
 def test_linear_above_the_eq29_bound_is_not_ok(capsys, tmp_path):
     # At n = 31 (delta 1.5, analytic pre-stretch) the Bessel-basis Galerkin solution is not
