@@ -20,9 +20,10 @@ def pyplot():
 
 
 def save_figure(fig, outdir, name, dpi: float | None = None) -> Path:
-    """Save ``fig`` as ``outdir/name`` in the format of :func:`draw` (the suffix of ``name``
-    is replaced), close it, return the path.  ``dpi`` is this figure's default resolution.
-    Under :func:`make` the figure is handed back instead (nothing is written)."""
+    """Save ``fig`` as ``outdir/name`` in the format of :func:`sweep.figures.draw` (the suffix
+    of ``name`` is replaced), close it, return the path.  ``dpi`` is this figure's default
+    resolution.  Under :func:`sweep.figures.make` the figure is handed back instead (nothing
+    is written)."""
     import matplotlib.pyplot as plt
 
     collected = COLLECTOR.get()

@@ -13,8 +13,10 @@ from sweep.errors import RunError
 from sweep.jobspec import Job
 from sweep.storage.files import file_error, replace_atomically
 
+#: The manifest's file name in the parts directory.
 MANIFEST = "manifest.json"
 _LOG = re.compile(r"run-(\d+)-rank-(\d+)\.log")
+#: File names of the run records, ``run-RRRR.json``.
 RUN = re.compile(r"run-(\d+)\.json")
 
 
@@ -30,7 +32,6 @@ def log_path(parts: Path, run: int, rank: int) -> Path:
 
 def _logs(parts: Path) -> list[Path]:
     return sorted(p for p in parts.iterdir() if _LOG.fullmatch(p.name))
-
 
 
 def read_manifest(parts: Path) -> dict:
@@ -72,7 +73,6 @@ def read_runs(parts: Path) -> list[dict]:
             except (OSError, ValueError):
                 continue
     return sorted(runs, key=lambda r: r.get("run", 0))
-
 
 
 def layout(job: Job) -> list:

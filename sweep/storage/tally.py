@@ -6,10 +6,11 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from sweep.analyses.base import STATUS_MEANINGS, STATUS_NOT_CONVERGED, STATUS_OK, STATUS_FAILED, STATUS_SKIPPED
+from sweep.analyses.base import STATUS_FAILED, STATUS_MEANINGS, STATUS_NOT_CONVERGED, STATUS_OK, STATUS_SKIPPED
 
 #: ``status`` of a task whose chunk has not been computed (a partial collect).
 STATUS_MISSING = -1
+#: CF ``flag_values`` and ``flag_meanings`` of the published ``status`` variable.
 STATUS_FLAG_VALUES = np.array([STATUS_MISSING, 0, 1, 2, 3], dtype=np.int8)
 STATUS_FLAG_MEANINGS = "missing " + STATUS_MEANINGS
 
