@@ -1,9 +1,9 @@
 """Axisymmetric pre-stretch of the annular membrane (paper, section 3).
 
 Three variants of the deformed radius ``r_o(rho)`` share one interface
-(:class:`Prestretch`): ``analytic`` (linearised solution, Eq. 21), ``numeric`` (shooting
-on the nonlinear equilibrium Eq. 15, with the corrected first-order form of
-docs/model.md, "Corrected first-order form") and
+(:class:`Prestretch`): ``analytic`` (linearised solution, Eq. 21), ``numeric`` (Chebyshev
+collocation of the nonlinear equilibrium Eq. 15, with the corrected first-order form of
+docs/model.md, "Corrected first-order form"; shooting only seeds it where Eq. 21 does not) and
 ``fit`` (least-squares fit Eq. 18 of the numeric solution, used by the paper's
 Appendix A).  Radii are in metres; internally the problem is scaled by ``Re`` (Eq. 20).
 """
@@ -251,7 +251,8 @@ def solve_prestretch(membrane: Membrane, kind: str = "numeric") -> Prestretch:
         Geometry and material; only ``delta``, ``delta_o``, ``Re`` (and ``C1``, ``h`` for
         stresses and traction) matter.
     kind : {"analytic", "numeric", "fit"}
-        Eq. (21), shooting on Eq. (15), or the Eq. (18) fit of the shooting solution.
+        Eq. (21), Chebyshev collocation of Eq. (15), or the Eq. (18) fit of the collocation
+        solution.
 
     Returns
     -------

@@ -142,16 +142,16 @@ def _plan(args: argparse.Namespace) -> int:
 
 
 def _status(args: argparse.Namespace) -> int:
-    from sweep import storage
+    from sweep.storage.status import describe_status
 
-    print(storage.describe_status(Path(args.out)))
+    print(describe_status(Path(args.out)))
     return 0
 
 
 def _collect(args: argparse.Namespace) -> int:
-    from sweep import storage
+    from sweep.storage.netcdf import collect
 
-    report = storage.collect(Path(args.out), break_lock=args.break_lock)
+    report = collect(Path(args.out), break_lock=args.break_lock)
     for note in report.notes:
         print(f"note: {note}", file=sys.stderr)
     print(f"wrote {report.path}: {report.summary()}")

@@ -1,8 +1,8 @@
 """Append-only part logs: the results of finished chunks, one log file per rank and run.
 
-A log is a sequence of records, one per chunk, each handed to the operating system with a
-single ``write`` call before the next chunk starts (it survives a killed process; the file
-is synced to disk when the log is closed)::
+A log is a sequence of records, one per chunk, each written with a single ``write`` call
+and synced to disk (``os.fsync``) before the next chunk starts: a killed process or a
+power loss loses at most the chunk being written::
 
     header  <4s H H q q q q I>  magic b"MSWP", format version, 0, chunk number,
                                 first task, task count, payload length, CRC-32
@@ -33,6 +33,11 @@ import numpy as np
 MAGIC = b"MSWP"
 VERSION = 1
 _HEADER = struct.Struct("<4sHHqqqqI")
+#: Logs a merge keeps open at once: those :class:`Reader` keeps (the least recently used
+#: is closed beyond this), and one more while :func:`scan` verifies a batch of records.
+MAX_OPEN = 64
+#: Records :func:`scan` verifies per opening of a log.
+SCAN_BATCH = 256
 
 
 @dataclass(frozen=True)
@@ -93,19 +98,25 @@ class Writer:
     def __init__(self, path: Path, variables: Sequence):
         self.path, self.variables = path, list(variables)
         self._fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o644)
+        # the new file's directory entry, without which its synced records are lost too
+        directory = os.open(path.parent, os.O_RDONLY)
+        try:
+            os.fsync(directory)
+        finally:
+            os.close(directory)
 
     def append(self, chunk: int, tasks: range, status: np.ndarray, arrays: Mapping[str, np.ndarray],
                messages: Mapping[int, str]) -> None:
-        """Write one chunk's record in one ``write`` call."""
+        """Write one chunk's record in one ``write`` call and sync it to disk."""
         data = encode(chunk, tasks, status, arrays, messages, self.variables)
         view = memoryview(data)
         while view:
             view = view[os.write(self._fd, view):]
+        os.fsync(self._fd)
 
     def close(self) -> None:
-        """Sync to disk and close; a log with no record is removed."""
+        """Close (every record is on disk already); a log with no record is removed."""
         if self._fd >= 0:
-            os.fsync(self._fd)
             empty = os.fstat(self._fd).st_size == 0
             os.close(self._fd)
             self._fd = -1
@@ -113,7 +124,7 @@ class Writer:
                 self.path.unlink(missing_ok=True)
 
 
-def scan(path: Path, chunk_size: int, n_tasks: int, problems: list, fixed_size=None) -> Iterator[Record]:
+def scan(path: Path, chunk_size: int, n_tasks: int, problems: list) -> Iterator[Record]:
     """The verified records of one log, in file order; what is wrong goes to ``problems``.
 
     Each record's CRC is checked and its task range compared with the job's chunk layout
@@ -121,47 +132,56 @@ def scan(path: Path, chunk_size: int, n_tasks: int, problems: list, fixed_size=N
     increasing order, so a record out of that order is rejected too.  A rejected record
     is skipped; an unreadable header ends the scan (nothing after it can be located).
     ``problems`` receives ``(chunk or -1, one line naming the file and the offset)``.
-    ``fixed_size(count)``, when given, is the size of the arrays of a record of ``count``
-    tasks: a shorter payload does not hold this analysis' variables.
+
+    The log is open only while a batch of :data:`SCAN_BATCH` records is verified, never
+    while they are yielded: a merge of many logs (:class:`Logs`) holds none of them open
+    between its records.
     """
     size = path.stat().st_size
-    last = -1
-    with open(path, "rb") as f:
-        pos = 0
-        while pos < size:
-            head = f.read(_HEADER.size)
-            if len(head) < _HEADER.size:
-                problems.append((-1, f"{path}: truncated record header at byte {pos} (a run killed "
-                                     "while writing); its chunk will be recomputed"))
-                return
-            magic, version, _, chunk, start, count, length, crc = _HEADER.unpack(head)
-            if magic != MAGIC or version != VERSION or length < 0 or count < 0:
-                problems.append((-1, f"{path}: unreadable record header at byte {pos}; the rest of the "
-                                     "file is ignored and its chunks will be recomputed"))
-                return
-            if length > size - pos - _HEADER.size:
-                problems.append((chunk, f"{path}: chunk {chunk} truncated at byte {pos} (a run killed "
-                                        "while writing, or a damaged length); it will be recomputed"))
-                return
-            payload = f.read(length)
-            zero = _HEADER.pack(magic, version, 0, chunk, start, count, length, 0)
-            if zlib.crc32(payload, zlib.crc32(zero)) != crc:
-                problems.append((chunk, f"{path}: chunk {chunk} at byte {pos} fails its checksum "
-                                        "(corrupted); it is not merged and will be recomputed"))
-            elif start != chunk * chunk_size or count != min(chunk_size, n_tasks - start) or count <= 0:
-                problems.append((-1, f"{path}: record at byte {pos} claims chunk {chunk} with tasks "
-                                     f"{start}..{start + count - 1}, which is not that chunk of this job; "
-                                     "ignored"))
-            elif fixed_size is not None and length < fixed_size(count):
-                problems.append((chunk, f"{path}: chunk {chunk} at byte {pos} is shorter than the variables of "
-                                        "this analysis (written by other code); it will be recomputed"))
-            elif chunk <= last:
-                problems.append((-1, f"{path}: record at byte {pos} (chunk {chunk}) is out of order "
-                                     "(a rank writes its chunks in increasing order); ignored"))
-            else:
-                last = chunk
-                yield Record(path, pos + _HEADER.size, length, chunk, start, count)
-            pos += _HEADER.size + length
+    pos, last, ended = 0, -1, False
+    while pos < size and not ended:
+        with open(path, "rb") as f:
+            f.seek(pos)
+            batch, pos, last, ended = _verify(f, path, pos, size, last, chunk_size, n_tasks, problems)
+        yield from batch
+
+
+def _verify(f, path, pos, size, last, chunk_size, n_tasks, problems):
+    """Verify up to :data:`SCAN_BATCH` records of the open log ``f`` from byte ``pos`` (see
+    :func:`scan`); returns ``(records, next pos, last chunk, whether the scan ended)``."""
+    batch = []
+    while pos < size and len(batch) < SCAN_BATCH:
+        head = f.read(_HEADER.size)
+        if len(head) < _HEADER.size:
+            problems.append((-1, f"{path}: truncated record header at byte {pos} (a run killed "
+                                 "while writing); its chunk will be recomputed"))
+            return batch, pos, last, True
+        magic, version, _, chunk, start, count, length, crc = _HEADER.unpack(head)
+        if magic != MAGIC or version != VERSION or length < 0 or count < 0:
+            problems.append((-1, f"{path}: unreadable record header at byte {pos}; the rest of the "
+                                 "file is ignored and its chunks will be recomputed"))
+            return batch, pos, last, True
+        if length > size - pos - _HEADER.size:
+            problems.append((chunk, f"{path}: chunk {chunk} truncated at byte {pos} (a run killed "
+                                    "while writing, or a damaged length); it will be recomputed"))
+            return batch, pos, last, True
+        payload = f.read(length)
+        zero = _HEADER.pack(magic, version, 0, chunk, start, count, length, 0)
+        if zlib.crc32(payload, zlib.crc32(zero)) != crc:
+            problems.append((chunk, f"{path}: chunk {chunk} at byte {pos} fails its checksum "
+                                    "(corrupted); it is not merged and will be recomputed"))
+        elif start != chunk * chunk_size or count != min(chunk_size, n_tasks - start) or count <= 0:
+            problems.append((-1, f"{path}: record at byte {pos} claims chunk {chunk} with tasks "
+                                 f"{start}..{start + count - 1}, which is not that chunk of this job; "
+                                 "ignored"))
+        elif chunk <= last:
+            problems.append((-1, f"{path}: record at byte {pos} (chunk {chunk}) is out of order "
+                                 "(a rank writes its chunks in increasing order); ignored"))
+        else:
+            last = chunk
+            batch.append(Record(path, pos + _HEADER.size, length, chunk, start, count))
+        pos += _HEADER.size + length
+    return batch, pos, last, False
 
 
 class Logs:
@@ -170,7 +190,9 @@ class Logs:
     Iterating merges the logs (each is in increasing chunk order) and yields every chunk
     once: a chunk found twice (two runs computed it) keeps its first verified record,
     results being a function of the task only.  Memory does not grow with the number of
-    records: one bit per chunk records what was found.  After an iteration, :attr:`done`
+    records (one bit per chunk records what was found, at most :data:`SCAN_BATCH` records
+    per log are held), nor do open files with the number of logs (at most :data:`MAX_OPEN`
+    + 1 with a :class:`Reader`).  After an iteration, :attr:`done`
     (a packed bitmap) holds the chunks found, :attr:`tasks` their tasks, and
     :meth:`problems` what was rejected (except chunks with a verified copy elsewhere).
 
@@ -182,10 +204,8 @@ class Logs:
         The job's chunk layout.
     """
 
-    def __init__(self, paths, chunk_size: int, n_tasks: int, variables: Sequence | None = None):
+    def __init__(self, paths, chunk_size: int, n_tasks: int):
         self.paths, self.chunk_size, self.n_tasks = list(paths), chunk_size, n_tasks
-        self.fixed_size = None if variables is None else (
-            lambda count: sum(f[3] for f in _fields(variables, count)))
         self.n_chunks = -(-n_tasks // chunk_size)
         self.done = np.zeros((self.n_chunks + 7) // 8, np.uint8)
         self.tasks = 0
@@ -195,7 +215,7 @@ class Logs:
         self.done[:] = 0
         self.tasks = 0
         self._problems = []
-        streams = [scan(p, self.chunk_size, self.n_tasks, self._problems, self.fixed_size) for p in self.paths]
+        streams = [scan(p, self.chunk_size, self.n_tasks, self._problems) for p in self.paths]
         last = -1
         for rec in heapq.merge(*streams, key=lambda r: r.chunk):
             if rec.chunk == last:
@@ -222,10 +242,7 @@ class Logs:
 
 class Reader:
     """Reads records, keeping each log open once (the records of a collect alternate
-    between the ranks' logs).  Use as a context manager."""
-
-    #: Logs kept open at once (the least recently used is closed beyond this).
-    MAX_OPEN = 64
+    between the ranks' logs), at most :data:`MAX_OPEN` of them.  Use as a context manager."""
 
     def __init__(self, variables: Sequence):
         self.variables = list(variables)
@@ -253,7 +270,7 @@ class Reader:
         """
         f = self._files.pop(record.path, None)
         if f is None:
-            if len(self._files) >= self.MAX_OPEN:
+            if len(self._files) >= MAX_OPEN:
                 self._files.pop(next(iter(self._files))).close()
             f = open(record.path, "rb")
         self._files[record.path] = f  # most recently used last

@@ -4,8 +4,7 @@ Typed from the paper's Tables 1-2 (rad/s, ``Re = 1 m``); used by the validation 
 and by the tests.  Nothing here is computed.
 """
 
-#: Table 1, lowest frequency (m = 1, n = 0): (delta, delta_o) -> columns.
-TABLE1_COLUMNS = ("FEM", "AN", "App.1", "App.2")
+#: Table 1, lowest frequency (m = 1, n = 0): (delta, delta_o) -> (FEM, AN, App.1, App.2).
 TABLE1 = {
     (1.1, 0.2): (32.512, 32.307, 32.497, 32.499),
     (1.5, 0.2): (45.716, 45.561, 45.768, 45.686),
@@ -16,7 +15,6 @@ TABLE1 = {
 }
 
 #: Table 2, higher modes (m = 1): (delta_o, n, delta) -> (AN, FEM).
-TABLE2_COLUMNS = ("AN", "FEM")
 TABLE2 = {
     (0.2, 1, 1.1): (34.751, 35.725), (0.2, 1, 1.5): (50.293, 50.788), (0.2, 1, 2.0): (52.244, 52.513),
     (0.2, 2, 1.1): (42.840, 43.491), (0.2, 2, 1.5): (62.000, 62.349), (0.2, 2, 2.0): (64.406, 64.615),

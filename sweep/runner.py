@@ -25,7 +25,12 @@ from pathlib import Path
 import numpy as np
 from mpi4py import MPI
 
-from sweep import partlog, storage
+from sweep import partlog
+from sweep.storage.files import file_error
+from sweep.storage.lock import Lock
+from sweep.storage.netcdf import CollectReport, collect
+from sweep.storage.parts import log_path, parts_dir
+from sweep.storage.resume import Plan, prepare
 from sweep.analyses.base import STATUS_FAILED, STATUS_SKIPPED, TaskError, Variable, check_result
 from sweep.counter import ChunkCounter
 from sweep.errors import RunError
@@ -40,7 +45,7 @@ class RunSummary:
 
     Parameters
     ----------
-    report : storage.CollectReport or None
+    report : sweep.storage.netcdf.CollectReport or None
         What the final collect wrote (None for a run of one piece, which does not collect).
     tasks_computed : int
         Tasks computed by this run (all ranks).
@@ -56,7 +61,7 @@ class RunSummary:
         Peak resident memory of rank 0 after the collect, MiB.
     """
 
-    report: storage.CollectReport | None
+    report: CollectReport | None
     tasks_computed: int
     tasks_failed: int
     notes: list[str]
@@ -182,8 +187,8 @@ def compute_chunk(job: Job, k: int) -> tuple[range, dict[str, np.ndarray], np.nd
     return tasks, arrays, status, messages
 
 
-def _compute(job: Job, log: Path, plan: storage.Plan, comm: MPI.Intracomm,
-             progress: Progress | None) -> int:
+def _compute(job: Job, log: Path, plan: Plan, comm: MPI.Intracomm,
+             progress: Progress | None) -> tuple[int, int]:
     """Compute the chunks of ``plan``, appending them to this rank's ``log``; collective
     over comm.
 
@@ -206,7 +211,7 @@ def _compute(job: Job, log: Path, plan: storage.Plan, comm: MPI.Intracomm,
     except Exception as exc:  # noqa: BLE001 - agreed below, so that no rank hangs
         counter.stop()
         if isinstance(exc, OSError):
-            cause = storage.file_error(exc, f"writing {log}").message
+            cause = file_error(exc, f"writing {log}").message
         elif isinstance(exc, TaskError):
             cause = str(exc)
         else:
@@ -217,7 +222,7 @@ def _compute(job: Job, log: Path, plan: storage.Plan, comm: MPI.Intracomm,
             try:
                 writer.close()
             except OSError as exc:
-                failure = failure or (storage.file_error(exc, f"closing {log}").message, "")
+                failure = failure or (file_error(exc, f"closing {log}").message, "")
     counter.free()
     _agree(comm, failure)
     return comm.allreduce(mine), comm.allreduce(failed)
@@ -263,10 +268,10 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
     RunError
         On every rank, when the run is refused or cannot write its files.
     """
-    parts = storage.parts_dir(out)
-    lock = storage.Lock(parts, "run", piece)
+    parts = parts_dir(out)
+    lock = Lock(parts, "run", piece)
     try:
-        plan = _on_root(comm, lambda: storage.prepare(job, out, lock, resume=resume, overwrite=overwrite,
+        plan = _on_root(comm, lambda: prepare(job, out, lock, resume=resume, overwrite=overwrite,
                                                      allow_code_change=allow_code_change,
                                                      break_lock=break_lock, ranks=comm.size, piece=piece),
                         f"preparing {parts}/")
@@ -280,12 +285,12 @@ def run(job: Job, out: Path, comm: MPI.Intracomm, *, resume: bool = False,
         progress = (Progress(total, done, progress_stream, progress_bar)
                     if comm.rank == 0 and progress_stream is not None else None)
         start = time.perf_counter()
-        computed, failed = _compute(job, storage.log_path(parts, plan.run, comm.rank), plan, comm, progress)
+        computed, failed = _compute(job, log_path(parts, plan.run, comm.rank), plan, comm, progress)
         seconds = time.perf_counter() - start
         if progress is not None:
             progress.finish(computed)
         rss = comm.allgather(peak_rss_mib())
-        report = None if piece else _on_root(comm, lambda: storage.collect(out, lock_held=True),
+        report = None if piece else _on_root(comm, lambda: collect(out, lock_held=True),
                                              f"collecting {out}")
     finally:
         lock.release()

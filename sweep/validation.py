@@ -22,7 +22,7 @@ import numpy as np
 from model.continuation import KIND_LABELS, resonant_end, stable_amplitudes_at
 from sweep.analyses.mode_sets import select, set_label
 from sweep.errors import RunError
-from sweep.storage import run_attributes
+from sweep.storage.netcdf import run_attributes
 
 from .reference import TABLE1, TABLE2, TOL_AN, TOL_APP, TOL_FEM
 

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from sweep import figures
 from sweep.analyses.base import (DEFAULT_CONTEXT, MISSING, STATUS_NOT_CONVERGED, STATUS_OK, Analysis,
                                  JobError, Variable)
 
@@ -78,18 +79,16 @@ class Fake(Analysis):
                 "count": np.int32(10 * point.grid["delta"]) + subtask,
                 "status": STATUS_NOT_CONVERGED if math.sin(phase) < -0.9 else STATUS_OK}
 
-    def figures(self, ds, outdir):
-        path = Path(outdir) / "value.png"
-        path.write_bytes(b"\x89PNG fake")
-        return [path]
-
-
 class FakeNoFigures(Fake):
     name = "fake_nofig"
 
-    def figures(self, ds, outdir):
-        return super(Fake, self).figures(ds, outdir)
+
+def _figures(ds, outdir):
+    path = Path(outdir) / "value.png"
+    path.write_bytes(b"\x89PNG fake")
+    return [path]
 
 
 FAKE = Fake()
 FAKE_NOFIG = FakeNoFigures()
+figures.register(FAKE.name, _figures)

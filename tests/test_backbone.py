@@ -19,6 +19,7 @@ from model.prestretch import solve_prestretch
 from model.rom import build_rom, elastic_force, force_jacobian, force_work
 from sweep.analyses.backbone import BACKBONE
 from sweep.analyses.base import JobError
+from sweep.figures.backbone import backbone_figures
 from sweep.jobspec import grid_point, load_job
 
 AMPS = np.array([0.001, 0.05, 0.1, 0.2, 0.3, 0.4])
@@ -184,7 +185,7 @@ def test_analysis_compute_and_figures(tmp_path):
               **{k: (d, val, a) for k, (d, val, a) in BACKBONE.coords(options).items()}}
     assert BACKBONE.assemble is None  # the result has the raw layout
     ds = xr.Dataset(data, coords)
-    paths = BACKBONE.figures(ds, tmp_path)
+    paths = backbone_figures(ds, tmp_path)
     assert [p.name for p in paths] == ["backbone.png", "modal_amplitudes.png"]
     assert all(p.stat().st_size > 10_000 for p in paths)
 

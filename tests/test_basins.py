@@ -19,6 +19,7 @@ from model.prestretch import solve_prestretch
 from model.rom import _force_table, build_rom
 from sweep.analyses.base import JobError
 from sweep.analyses.basins import BASINS
+from sweep.figures.basins import basins_figures
 from sweep.jobspec import grid_point
 
 GRID = {k: np.array([v]) for k, v in
@@ -313,7 +314,7 @@ def test_assemble_merges_tiles_whatever_their_order(tmp_path):
     frac = a["basin_fraction"].squeeze().values
     assert frac[0] > 0.5 and frac[0] + frac[1] == pytest.approx(1.0)
     assert np.all((a["integrity_factor"].squeeze().values[:2] > 0))
-    paths = BASINS.figures(a, tmp_path)
+    paths = basins_figures(a, tmp_path)
     assert len(paths) == 1 and paths[0].exists()
 
 

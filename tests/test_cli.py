@@ -8,7 +8,8 @@ import sys
 import pytest
 import xarray as xr
 
-from sweep import analyses, cli, storage
+from sweep import analyses, cli
+from sweep.storage.netcdf import run_attributes
 from sweep.progress import Progress, format_duration
 from jobfiles import BAD, EXTRA, GOOD, job_text
 
@@ -52,7 +53,7 @@ def test_run_status_collect(capsys, job, tmp_path):
     assert f"wrote {out_nc}: 6 / 6 tasks: " in out and ", 0 failed; 6 computed by this run on 1 rank(s)" in out
     assert "6 / 6 tasks (100%)" in err and "memory: peak RSS per rank" in err
     first = data(out_nc)
-    run_attrs = storage.run_attributes(out_nc)
+    run_attrs = run_attributes(out_nc)
     assert run_attrs["job_file"] == JOB and first.attrs["analysis"] == "fake"
     assert run_attrs["tasks_completed"] == 6 and first.attrs["software_version"]
     assert len(first.attrs["source_sha256"]) == 64 and "numpy" in run_attrs["library_versions"]

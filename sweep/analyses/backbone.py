@@ -117,11 +117,6 @@ class BackboneAnalysis(Analysis):
                 "omega_bound": float(frequency_bound(point.membrane, rom.alpha[_backbone_mode(rom)])),
                 "status": STATUS_OK if ok else STATUS_NOT_CONVERGED}
 
-    def figures(self, ds, outdir):
-        from sweep.figures import backbone_figures
-
-        return backbone_figures(ds, outdir)
-
 
 BACKBONE = BackboneAnalysis()
 

@@ -359,13 +359,3 @@ class Analysis(ABC):
         """Variables computed from the collected result ``ds`` (opened from the file) and
         appended to it: ``name -> DataArray`` (default none)."""
         return {}
-
-    def figures(self, ds, outdir) -> list:
-        """Write the standard plots of a result as PNG files (``python -m sweep figures``).
-
-        ``ds`` is the published Dataset read back from the NetCDF file, ``outdir`` an
-        existing :class:`pathlib.Path`.  Returns the paths written.  The built-in analyses
-        delegate to :mod:`sweep.figures`; the default writes nothing, and the command line
-        says that this analysis has no figures.
-        """
-        return []

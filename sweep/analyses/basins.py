@@ -372,11 +372,6 @@ class Basins(Analysis):
         m, n = options.modes[options.lattice_mode - 1]
         return f"({m}, {n})"
 
-    def figures(self, ds, outdir) -> list:
-        from sweep.figures import basins_figures
-
-        return basins_figures(ds, outdir)
-
 
 BASINS = Basins()
 

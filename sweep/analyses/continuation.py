@@ -130,6 +130,11 @@ class ContinuationOptions:
 
 #: Length of the ``cusp`` dimension (cusps of the fold curve, NaN padded).
 MAX_CUSPS = 4
+#: Arclength (scaled unknowns: the parameter range is 1, 0.05 m of displacement is 1) that
+#: the default ``max_points`` covers at steps of ``ds_max``.  The Fig. 14 branches (delta =
+#: 1.1, 1.5, 2.0; P0 = 1 Pa, c = 0.05 N s/m^3, Omega 25..55 rad/s) are about 96, 170 and 290
+#: long (885, 1614 and 2873 points at ds_max = 0.1; 319, 563 and 980 at 0.3).
+BRANCH_ARCLENGTH = 400
 #: Largest arclength step of the bifurcation curves (scaled unknowns): along them the
 #: orbit's phase turns while its amplitude barely changes, so steps are larger than on a
 #: branch; the turning test (model.continuation.MAX_TURN) still bounds them.
@@ -222,7 +227,9 @@ class ContinuationAnalysis(Analysis):
         "stop": "end of the range (required)",
         "modes": opt.MODES_HELP,
         "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
-        "max_points": "length of the point dimension: most points on a branch (default 400)",
+        "max_points": "length of the point dimension: most points on a branch (default "
+                      f"ceil({BRANCH_ARCLENGTH} / ds_max), {math.ceil(BRANCH_ARCLENGTH / 0.1)} at ds_max = 0.1: "
+                      "enough for the paper's Fig. 14 branches; shorter branches are NaN padded)",
         "ds_max": "largest arclength step in scaled unknowns: the whole parameter range is 1, 0.05 m "
                   "of displacement is 1 (default 0.1)",
         "steps": opt.steps_help(DEFAULT_STEPS, "the modes of `modes`, not those of `families`"),
@@ -260,10 +267,12 @@ class ContinuationAnalysis(Analysis):
         modes = opt.modes(table, s)
         families = opt.families(table, s, modes)
         opt.rom_only(table, s, context.model, ("families", "branch_switching", "check"))
+        ds_max = opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0)
         return ContinuationOptions(
             parameter, start, stop, modes, opt.prestretch(table, s),
-            opt.number(table, s, "max_points", 400, low=2, high=100_000, integer=True),
-            opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0),
+            opt.number(table, s, "max_points", math.ceil(BRANCH_ARCLENGTH / ds_max), low=2, high=100_000,
+                       integer=True),
+            ds_max,
             opt.steps(table, s, DEFAULT_STEPS, low=16),
             _second_parameter(table, s, parameter, context.damping), families,
             _curves_option(table, s, parameter, grid, context.damping), *_switching(table, s, families),
@@ -653,11 +662,6 @@ class ContinuationAnalysis(Analysis):
         return {"cusp_c": cusp_c.assign_attrs(units=GRID_KEYS["c"][0],
                                               long_name="damping at which the two saddle-nodes merge (cusp)"),
                 "cusp_value": cusp_v.assign_attrs(units=GRID_KEYS["P0"][0], long_name="P0 at the cusp")}
-
-    def figures(self, ds, outdir):
-        from sweep.figures import continuation_figures
-
-        return continuation_figures(ds, outdir)
 
 
 def _cusp(ds):

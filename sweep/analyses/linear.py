@@ -90,10 +90,5 @@ class LinearAnalysis(Analysis):
             out["message"] = "; ".join(problems)
         return out
 
-    def figures(self, ds, outdir):
-        from sweep.figures import linear_figures
-
-        return linear_figures(ds, outdir)
-
 
 LINEAR = LinearAnalysis()

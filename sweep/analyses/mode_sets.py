@@ -204,22 +204,9 @@ class ModeSetSweep(Analysis):
         return ds.assign_coords(n_modes=("mode_set", np.array([len(o.modes) for o in options.sets], np.int32),
                                          {"long_name": "number of modes of the set", "units": "1"}), **extents)
 
-    def figures(self, ds, outdir) -> list:
-        paths = []
-        from sweep.figures import mode_set_figures
-
-        for label in ds["mode_set"].values:
-            paths += self.inner.figures(select(ds, str(label)), outdir / _slug(str(label)))
-        return paths + mode_set_figures(ds, outdir, self.name)
-
 
 #: Attribute of a coordinate that the sets describe differently: set label -> long name (JSON).
 _NAME_BY_SET = "long_name_by_mode_set"
-
-
-def _slug(label: str) -> str:
-    """A directory name for a set label: ``"(1,0)+(2,0)"`` -> ``"modes_1_0-2_0"``."""
-    return "modes_" + "-".join(p.strip("()").replace(",", "_") for p in label.split("+"))
 
 
 def _coordinate_names(parts, labels) -> dict[str, dict[str, str]]:

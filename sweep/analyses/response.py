@@ -50,7 +50,6 @@ class ResponseOptions:
 MAX_JUMPS = 2
 
 
-
 class ResponseAnalysis(Analysis):
     """Brute-force stepped sweeps of the forced ROM, up and down."""
 
@@ -139,11 +138,6 @@ class ResponseAnalysis(Analysis):
 
     def attributes(self, options):
         return {"swept_parameter": options.parameter}
-
-    def figures(self, ds, outdir):
-        from sweep.figures import response_figures
-
-        return response_figures(ds, outdir)
 
 
 RESPONSE = ResponseAnalysis()

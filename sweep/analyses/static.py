@@ -71,10 +71,5 @@ class StaticAnalysis(Analysis):
         return {"r_o": r, "sigma_1": s1, "sigma_2": s2, "traction": np.float64(ps.traction()),
                 "status": STATUS_OK}
 
-    def figures(self, ds, outdir):
-        from sweep.figures import static_figures
-
-        return static_figures(ds, outdir)
-
 
 STATIC = StaticAnalysis()

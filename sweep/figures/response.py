@@ -1,0 +1,53 @@
+"""Figures of the ``response`` analysis: brute-force resonance curves (Figs. 13, 18)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from sweep.figures.output import pyplot, save_figure
+from sweep.figures.panels import computed_points, panel_axes, point_label
+
+
+def response_figures(ds, outdir) -> list:
+    """Brute-force resonance curves (Figs. 13, 18): up and down sweeps per grid point.
+
+    Up sweeps solid with upward triangles, down sweeps dashed with downward triangles,
+    values that did not settle crossed, located jumps thin vertical lines.  Up to four grid
+    points share one axes; with more, the grid key with the most values is overlaid in each
+    panel and the others make one panel each.
+    """
+    plt = pyplot()
+    par = ds.attrs["swept_parameter"]
+    xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
+    points = list(computed_points(ds, (par, "direction")))
+    swept = [k for k in ("delta", "delta_o", "Omega", "P0", "c") if k != par and ds.sizes.get(k, 1) > 1]
+    overlay = max(swept, key=lambda k: ds.sizes[k]) if len(points) > 4 and swept else None
+    panels = list(computed_points(ds, (par, "direction", overlay))) if overlay else [{}]
+    fig, axes = panel_axes(plt, len(panels))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for ax, panel in zip(axes, panels):
+        members = [sel for sel in points if all(sel[k] == v for k, v in panel.items())]
+        for j, sel in enumerate(members):
+            b = ds.sel(sel)
+            color = colors[j % len(colors)]
+            label = point_label({k: v for k, v in sel.items() if k not in panel and ds.sizes.get(k, 1) > 1})
+            for d, ls, marker in (("up", "-", "^"), ("down", "--", "v")):
+                a = b.amplitude.sel(direction=d)
+                ax.plot(b[par], a * 1e3, ls=ls, marker=marker, ms=3, color=color, label=f"{label} {d}".strip())
+                bad = b.converged.sel(direction=d) == 0
+                ax.plot(b[par].values[bad.values], a.values[bad.values] * 1e3, "x", color="k")
+                for x in b.jump_value.sel(direction=d).values:
+                    if np.isfinite(x):
+                        ax.axvline(x, ls=ls, lw=0.8, color=color, alpha=0.6)
+                        ax.annotate(f"{x:.4g}", (x, 1.0), xycoords=("data", "axes fraction"), fontsize=7,
+                                    ha="center", va="bottom", color=color)
+        ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)")
+        if panel:
+            ax.set_title(point_label(panel), fontsize=9, pad=14)
+        ax.legend(ncol=2, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), frameon=False)
+    fixed = {k: float(ds[k][0]) for k in ("delta", "delta_o", "Omega", "P0", "c")
+             if k != par and ds.sizes.get(k, 0) == 1}
+    fig.suptitle("Steady states stepped up and down (brute force); thin lines: located jumps\n"
+                 + point_label(fixed), fontsize=10)
+    fig.tight_layout()
+    return [save_figure(fig, outdir, f"response_{par}.png")]
