@@ -29,6 +29,7 @@ paths take a scalar).
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, field, fields
 
@@ -66,11 +67,15 @@ class DampingLaw:
             object.__setattr__(self, f.name, _check(self, f.name, getattr(self, f.name)))
 
     def replaced(self, name: str, value: float) -> DampingLaw:
-        """The same law with constant ``name`` set to ``value``."""
+        """The same law with constant ``name`` set to ``value``, not validated: a
+        continuation corrector may step slightly outside the physical range (job files
+        validate what users give, through the constructor)."""
         if name not in self.parameters():
             raise ValueError(f"parameter = {name!r} is invalid: the {self.name} damping law has "
                              + ", ".join(self.parameters()))
-        return type(self)(**{**{f.name: getattr(self, f.name) for f in fields(self)}, name: value})
+        new = copy.copy(self)
+        object.__setattr__(new, name, float(value))
+        return new
 
     @classmethod
     def parameters(cls) -> tuple[str, ...]:

@@ -24,13 +24,12 @@ import numpy as np
 from model.damping import LAWS, DampingLaw, Viscous
 from model.params import Loading, Membrane, ParameterError
 from sweep import analyses, models
-from sweep.analyses.base import (DAMPING_KEYS, DEFAULT_MODEL, GRID_KEYS, MISSING, Analysis, DampingSpec, JobContext,
-                                 JobError, JobErrors, ModelSpec, Point, check_keys, parameter_record)
+from sweep.analyses.base import (DAMPING_KEYS, DEFAULT_MODEL, GEOMETRY_KEYS, GRID_KEYS, MEMBRANE_KEYS, MISSING, Analysis,
+                                 DampingSpec, JobContext, JobError, JobErrors, ModelSpec, Point, check_keys,
+                                 parameter_record)
 from sweep.analyses.mode_sets import ModeSetSweep, is_mode_set_list
 from sweep.grid import TaskLayout, default_chunk
 
-#: Keys of the ``[membrane]`` table (the grid sets delta and delta_o).
-MEMBRANE_KEYS = ("C1", "h", "Gamma", "Re")
 
 _JOB_KEYS = ("name", "analysis", "chunk")
 _NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]*")
@@ -306,7 +305,7 @@ def _required_grid(analysis: Analysis, analysis_name: str, grid: Mapping[str, np
     them (:attr:`sweep.models.base.Model.required_grid`)."""
     errors = []
     own = model.model().required_grid
-    needed = [k for k in analysis.required_grid if k not in ("delta", "delta_o") or k in own]
+    needed = [k for k in analysis.required_grid if k not in GEOMETRY_KEYS or k in own]
     for key in needed:
         if key in DAMPING_KEYS:
             errors += [JobError(f"grid.{k}", MISSING, f"analysis {analysis_name!r} needs the damping law's {k} "

@@ -1,4 +1,5 @@
-"""Write the reference of the analyses' options, ``docs/options.md``, from their ``OPTIONS``.
+"""Write the reference of the options, ``docs/options.md``: the analyses' ``OPTIONS``, the
+models' and the damping laws' constants.
 
 Usage (from the repository root)::
 
@@ -13,7 +14,12 @@ import argparse
 import importlib
 from pathlib import Path
 
+from dataclasses import fields
+
+from model.damping import LAWS
+from sweep import models
 from sweep.analyses import BUILTIN
+from sweep.models import BUILTIN as MODELS
 
 
 def render() -> str:
@@ -22,13 +28,32 @@ def render() -> str:
              "The table `[<analysis>]` of a job file takes these keys (anything else is refused with the",
              "list of the allowed ones). Generated from the analyses' `OPTIONS` by",
              "`python -m sweep.options_doc`; do not edit by hand. Grid keys, `[grid] cases` and the",
-             "`[job]` and `[membrane]` tables are described in `docs/running.md`.", ""]
+             "`[job]` and `[membrane]` tables are described in `docs/running.md`; the `[model]` and",
+             "`[damping]` tables come last.", ""]
     for name, target in BUILTIN.items():
         module, _, attribute = target.partition(":")
         analysis = getattr(importlib.import_module(module), attribute)
         lines += [f"## `{name}`", "", "| key | meaning |", "|---|---|"]
         lines += [f"| `{key}` | {text.replace('|', chr(92) + '|')} |" for key, text in analysis.OPTIONS.items()]
         lines.append("")
+    lines += ["## `[model]`", "",
+              "`kind` names the model that computes the tasks (default `\"rom\"`); the rest of the table",
+              "is that model's. Models of one's own are registered through `SWEEP_EXTRA_MODELS`",
+              "(`docs/architecture.md`).", "", "| kind | keys besides `kind` | membrane grid keys it needs |",
+              "|---|---|---|"]
+    for name in MODELS:
+        model = models.get(name)
+        keys = ", ".join(f"`{k}`: {t}" for k, t in model.OPTIONS.items()) or "none (the ROM's `modes`, "\
+            "`prestretch` and `steps` are the analysis' options)"
+        lines.append(f"| `{name}` | {keys} | {', '.join(f'`{k}`' for k in model.required_grid) or 'none'} |")
+    lines += ["", "## `[damping]`", "",
+              "`law` chooses the damping law (default `\"viscous\"`); its constants may be given here or as",
+              "grid keys (not both). `docs/model.md` (\"Damping laws\") states each law.", "",
+              "| law | constant | units | meaning |", "|---|---|---|---|"]
+    for name, law in LAWS.items():
+        for f in fields(law):
+            lines.append(f"| `{name}` | `{f.name}` | {f.metadata['units']} | {f.metadata['long_name']} |")
+    lines.append("")
     return "\n".join(lines)
 
 

@@ -14,7 +14,7 @@ import importlib
 import os
 from collections.abc import Mapping
 
-from sweep.analyses.base import JobError
+from sweep.job_errors import JobError
 
 
 class Registry:

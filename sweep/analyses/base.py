@@ -18,6 +18,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from dataclasses import fields as dataclass_fields
 from typing import Any, ClassVar
 
 import numpy as np
@@ -25,6 +26,8 @@ import numpy as np
 from model import damping as damping_laws
 from model.damping import DampingLaw, Viscous
 from model.params import Loading, Membrane, parameter_info
+# the job-file errors are names of the analysis contract too (analyses raise them)
+from sweep.job_errors import MISSING, JobError, JobErrors, check_keys  # noqa: F401
 
 #: Values of the per-task ``status`` variable (CF ``flag_values``/``flag_meanings``).
 STATUS_OK = 0
@@ -50,48 +53,13 @@ DAMPING_KEYS = tuple(dict.fromkeys(p for law in damping_laws.LAWS.values() for p
 #: parameter records (:mod:`model.params`, :mod:`model.damping`).
 GRID_KEYS: dict[str, tuple[str, str]] = {
     key: parameter_record(key)[1:] for key in ("delta", "delta_o", "Omega", "P0", *DAMPING_KEYS)}
-
-
-class _Missing:
-    """Type of :data:`MISSING`."""
-
-    def __repr__(self) -> str:
-        return "<missing>"
-
-
-#: The ``value`` of a :class:`JobError` for a required key that is absent, so the message
-#: reads ``job.name = <missing> is invalid: ...``.
-MISSING = _Missing()
-
-
-class JobError(ValueError):
-    """A job file is invalid.  The message names the key, the value and what is allowed."""
-
-    def __init__(self, key: str, value: Any, allowed: str):
-        self.key, self.value, self.allowed = key, value, allowed
-        super().__init__(f"{key} = {value!r} is invalid: {allowed}")
-
-
-class JobErrors(JobError):
-    """Several problems of one job file, all reported at once (one line each)."""
-
-    def __init__(self, errors: list[JobError]):
-        self.errors = errors
-        first = errors[0]
-        ValueError.__init__(self, "\n".join(str(e) for e in errors))
-        self.key, self.value, self.allowed = first.key, first.value, first.allowed
-
-
-def check_keys(table: Mapping[str, Any], section: str, allowed) -> None:
-    """Reject the first key of ``table`` that is not in ``allowed`` (a :class:`JobError`).
-
-    ``section`` is the dotted name of the table (``"job"``, ``"grid.delta"``,
-    ``"continuation"``); the message lists the allowed keys in the order given.
-    """
-    for key, value in table.items():
-        if key not in allowed:
-            raise JobError(f"{section}.{key}", value,
-                           f"unknown key; the keys of [{section}] are " + ", ".join(allowed))
+#: The grid keys of the membrane's geometry.
+GEOMETRY_KEYS = ("delta", "delta_o")
+#: The grid keys of the forcing and the damping.
+LOADING_KEYS = tuple(k for k in GRID_KEYS if k not in GEOMETRY_KEYS)
+#: The keys of the ``[membrane]`` table: the :class:`~model.params.Membrane` fields that
+#: are not grid keys.
+MEMBRANE_KEYS = tuple(f.name for f in dataclass_fields(Membrane) if f.name not in GRID_KEYS)
 
 
 @dataclass(frozen=True)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from sweep.analyses.base import GRID_KEYS
 from sweep.figures.output import pyplot, save_figure
 from sweep.figures.panels import grid_points, point_label
 
@@ -10,7 +11,7 @@ def backbone_figures(ds, outdir) -> list:
     """Backbone curves (Figs. 10-12) and modal amplitudes (Fig. 9)."""
     plt = pyplot()
     sels = list(grid_points(ds, ()))
-    swept = [d for d in ("delta", "delta_o", "Omega", "P0", "c") if ds.sizes.get(d, 1) > 1]
+    swept = [d for d in GRID_KEYS if ds.sizes.get(d, 1) > 1]
 
     def label(sel):
         return point_label({d: sel[d] for d in (swept or ["delta", "delta_o"]) if d in sel})

@@ -4,10 +4,14 @@ from __future__ import annotations
 
 import itertools
 
+from sweep.analyses.base import GRID_KEYS, STATUS_SKIPPED
+
 #: Units of the grid keys in axis labels.
-GRID_UNITS = {"delta": "", "delta_o": "", "Omega": "rad/s", "P0": "Pa", "c": r"N s/m$^3$"}
+GRID_UNITS = {"delta": "", "delta_o": "", "Omega": "rad/s", "P0": "Pa", "c": r"N s/m$^3$", "alpha": r"s$^{-1}$",
+              "beta": "s", "zeta": ""}
 #: Plot symbols of the grid keys.
-SYMBOLS = {"delta": r"$\delta$", "delta_o": r"$\delta_o$", "Omega": r"$\Omega$", "P0": "$P_0$", "c": "$c$"}
+SYMBOLS = {"delta": r"$\delta$", "delta_o": r"$\delta_o$", "Omega": r"$\Omega$", "P0": "$P_0$", "c": "$c$",
+           "alpha": r"$\alpha$", "beta": r"$\beta$", "zeta": r"$\zeta$"}
 
 
 def point_label(sel) -> str:
@@ -19,8 +23,6 @@ def point_label(sel) -> str:
 def computed_points(ds, exclude):
     """:func:`grid_points` without those left out by the job's ``[grid] cases`` (status 3
     everywhere along the excluded dims)."""
-    from sweep.analyses.base import STATUS_SKIPPED
-
     for sel in grid_points(ds, exclude):
         if "status" not in ds or bool((ds["status"].sel(sel) != STATUS_SKIPPED).any()):
             yield sel
@@ -28,7 +30,7 @@ def computed_points(ds, exclude):
 
 def grid_points(ds, exclude):
     """Iterate over the grid points of ``ds`` other than the dims in ``exclude``."""
-    dims = [d for d in ("delta", "delta_o", "Omega", "P0", "c") if d in ds.dims and d not in exclude]
+    dims = [d for d in GRID_KEYS if d in ds.dims and d not in exclude]
     for values in itertools.product(*(ds[d].values for d in dims)):
         yield dict(zip(dims, values))
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from sweep.analyses.base import GRID_KEYS
 from sweep.figures.output import pyplot, save_figure
 from sweep.figures.panels import computed_points, panel_axes, point_label
 
@@ -20,7 +21,7 @@ def response_figures(ds, outdir) -> list:
     par = ds.attrs["swept_parameter"]
     xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
     points = list(computed_points(ds, (par, "direction")))
-    swept = [k for k in ("delta", "delta_o", "Omega", "P0", "c") if k != par and ds.sizes.get(k, 1) > 1]
+    swept = [k for k in GRID_KEYS if k != par and ds.sizes.get(k, 1) > 1]
     overlay = max(swept, key=lambda k: ds.sizes[k]) if len(points) > 4 and swept else None
     panels = list(computed_points(ds, (par, "direction", overlay))) if overlay else [{}]
     fig, axes = panel_axes(plt, len(panels))
@@ -45,7 +46,7 @@ def response_figures(ds, outdir) -> list:
         if panel:
             ax.set_title(point_label(panel), fontsize=9, pad=14)
         ax.legend(ncol=2, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), frameon=False)
-    fixed = {k: float(ds[k][0]) for k in ("delta", "delta_o", "Omega", "P0", "c")
+    fixed = {k: float(ds[k][0]) for k in GRID_KEYS
              if k != par and ds.sizes.get(k, 0) == 1}
     fig.suptitle("Steady states stepped up and down (brute force); thin lines: located jumps\n"
                  + point_label(fixed), fontsize=10)

@@ -12,7 +12,7 @@ from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from typing import Any, ClassVar
 
-from sweep.analyses.base import check_keys
+from sweep.job_errors import check_keys
 
 
 class Model(ABC):

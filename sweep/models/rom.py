@@ -6,8 +6,6 @@ analysis' own table (docs/options.md); ``[model]`` takes ``kind`` only.
 
 from __future__ import annotations
 
-from model.forced import DEFAULT_STEPS, ForcedMap
-from sweep.analyses import options as opt
 from sweep.models.base import Model
 
 
@@ -19,6 +17,10 @@ class RomModel(Model):
     rom_features = True
 
     def forced_map(self, point, model_options, options, modes=None, default_steps=None):
+        # imported here: a job file names its model at validation, which compiles nothing
+        from model.forced import DEFAULT_STEPS, ForcedMap
+        from sweep.analyses import options as opt
+
         modes = options.modes if modes is None else modes
         rom = opt.rom_for(point.membrane, options.prestretch, tuple(modes))
         steps = opt.steps_for(point.membrane, options.prestretch, options.modes, options.steps,

@@ -15,7 +15,7 @@ import numpy as np
 import xarray as xr
 
 from sweep import partlog, provenance
-from sweep.analyses.base import GRID_KEYS, STATUS_FAILED, STATUS_OK, STATUS_SKIPPED
+from sweep.analyses.base import GRID_KEYS, MEMBRANE_KEYS, STATUS_FAILED, STATUS_OK, STATUS_SKIPPED, parameter_record
 from sweep.errors import RunError
 from sweep.jobspec import Job, parse_job
 from sweep.storage.files import file_error, replace_atomically
@@ -341,7 +341,8 @@ def _attributes(job: Job, parts: Path) -> tuple[dict, dict]:
     The global ones are what results of one analysis computed by the same code on the same
     membrane share (so that ``xarray.combine_by_coords`` and ``open_mfdataset`` combine runs
     over different grid values with their defaults): CF conventions, the analysis and its
-    attributes, the package version and source hash, the membrane constants.  What is
+    attributes, the package version and source hash, the membrane constants, the model
+    kind, the damping law and the constants its ``[damping]`` table gives.  What is
     particular to a run (job file, history, dates, task counts, git commit, library
     versions) goes to the group ``run`` (:func:`run_attributes`; ``tasks_completed`` is
     added when the parts have been read).
@@ -361,7 +362,10 @@ def _attributes(job: Job, parts: Path) -> tuple[dict, dict]:
         "software": "membrane-sweep",
         "software_version": last["package_version"],
         "source_sha256": last["source_sha256"],
-        **{f"membrane_{k}": getattr(job.membrane, k) for k in ("C1", "h", "Gamma", "Re")},
+        **{f"membrane_{k}": getattr(job.membrane, k) for k in MEMBRANE_KEYS},
+        "model": job.model.kind,
+        "damping_law": job.damping.law.name,
+        **damping_attributes(job.damping),
         **job.analysis.attributes(job.options),
     }
     run = {
@@ -384,6 +388,16 @@ def _write_run_group(path: Path, attrs: dict) -> None:
 
     with netCDF4.Dataset(path, "a") as nc:
         nc.createGroup(RUN_GROUP).setncatts(attrs)
+
+
+def damping_attributes(damping) -> dict:
+    """Global attributes of the constants a job's ``[damping]`` table gives (those of the
+    grid are coordinates with units): ``damping_<name>`` and ``damping_<name>_units``."""
+    out = {}
+    for name in sorted(damping.given):
+        out[f"damping_{name}"] = np.asarray(getattr(damping.law, name), dtype=float)
+        out[f"damping_{name}_units"] = parameter_record(name)[1]
+    return out
 
 
 def run_attributes(path: Path) -> dict:
