@@ -51,6 +51,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from benchmarks.c_reference import compile_reference  # noqa: E402
 from model.forced import ForcedMap, steps_per_period  # noqa: E402
+from model.damping_kernels import matrix_or_none  # noqa: E402
 from model.integrate import LOCKSTEP_WIDTH, rk4_quadrature_lockstep  # noqa: E402
 from model.params import Loading, Membrane  # noqa: E402
 from model.prestretch import solve_prestretch  # noqa: E402
@@ -105,7 +106,7 @@ def lockstep_rk4(states, fmap, periods):
         for _ in range(periods):
             rk4_quadrature_lockstep(columns, block.shape[0], 0.0, h, fmap.steps, t.weight, t.rho2, t.r2, t.dr2,
                                     t.b_rho, t.b_theta, t.axisymmetric, t.k_force, t.load, f.damping_rate, f.P0,
-                                    f.Omega, f.damping_matrix)
+                                    f.Omega, matrix_or_none(f.damping_matrix))
         out[s:s + block.shape[0]] = columns[:, :block.shape[0]].T
     return out
 

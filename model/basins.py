@@ -77,6 +77,7 @@ from typing import NamedTuple
 import numba as nb
 import numpy as np
 
+from .damping_kernels import matrix_or_none
 from .protocol import StroboscopicMap, kernel_arguments
 from .integrate import (LOCKSTEP_WIDTH, NO_PARAMETER, lockstep_table, monodromy_one_mode, quadrature_lockstep_pays,
                         rk4_one_mode_lockstep, rk4_quadrature_lockstep, rk4_steps)
@@ -423,17 +424,18 @@ def classify_lattice(states, lattice: Lattice, fmap: StroboscopicMap, settings: 
     # kernel_arguments (model.protocol) has neither: the kernel hands every period of the
     # occupied slots back here, to the map's advance_batch (code 2).
     kernel = kernel_arguments(fmap)
-    tab = forcing = coef_t = columns = None
+    tab = forcing = coef_t = columns = damping_matrix = None
     steps = 0
     if kernel is not None:
         tab, forcing, steps = kernel
+        damping_matrix = matrix_or_none(forcing.damping_matrix)  # None: the lock-step loop prunes the term
         table = tab.table_max > 0.0
         coef_t = lockstep_table(tab) if table else None
         columns = None if table else np.empty((n, width))
     h = fmap.period / max(steps, 1)
     while True:
         code = _classify_kernel(states, labels, periods, cells, sc, known, criteria, tab, coef_t, columns,
-                                forcing, h, steps, slots)
+                                forcing, damping_matrix, h, steps, slots)
         if code == 0:
             break
         if code == 2:  # periods that left the force table (again by rk4_steps), or of a map without kernels
@@ -845,8 +847,8 @@ def _check(b, slots, cells, flat, sc, known, crit, nx, ny):
 
 
 @nb.njit(cache=True)
-def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_t, columns, forcing, h, steps,
-                     slots):
+def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_t, columns, forcing, damping_matrix,
+                     h, steps, slots):
     # Returns 0 when every state is labelled, 1 to ask the caller for a Newton search
     # from slots.y[cursor[_AT_SLOT]] with period cursor[_AT_SEARCH_K], 2 to ask it to
     # integrate again, with the map, the periods of the slots flagged _SLOT_QUADRATURE
@@ -945,7 +947,7 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
                         columns[i, j] = 0.0
                 rk4_quadrature_lockstep(columns, width, 0.0, h, steps, tab.weight, tab.rho2, tab.r2, tab.dr2,
                                         tab.b_rho, tab.b_theta, tab.axisymmetric, tab.k_force, tab.load,
-                                        forcing.damping_rate, forcing.P0, forcing.Omega, forcing.damping_matrix)
+                                        forcing.damping_rate, forcing.P0, forcing.Omega, damping_matrix)
                 for j in range(m):
                     for i in range(n):
                         slots.y[lanes[j], i] = columns[i, j]

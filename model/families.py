@@ -316,8 +316,8 @@ def family_monodromy(y0, t0, period, steps, tab, forcing, fam, fam_rate, fam_mat
     fam : FamilyTables
     fam_rate : float
         The scalar part of the perturbations' damping (s-1).
-    fam_matrix : (M, M) or (0, 0) array
-        Its matrix part (:func:`family_damping`).
+    fam_matrix : (M, M) array or None
+        Its matrix part (:func:`model.forced.family_damping`), None for a scalar law.
 
     Returns
     -------
@@ -353,10 +353,11 @@ def family_monodromy(y0, t0, period, steps, tab, forcing, fam, fam_rate, fam_mat
                 for c in range(m):
                     kp[s, r, c] = ps[M + r, c]
                     kp[s, M + r, c] = -fam_rate * ps[M + r, c]
-                for l in range(fam_matrix.shape[0]):
-                    d = fam_matrix[r, l]
-                    for c in range(m):
-                        kp[s, M + r, c] -= d * ps[M + l, c]
+                if fam_matrix is not None:
+                    for l in range(M):
+                        d = fam_matrix[r, l]
+                        for c in range(m):
+                            kp[s, M + r, c] -= d * ps[M + l, c]
                 for l in range(M):
                     kj = fam.k_force[r] * jac[r, l]
                     for c in range(m):

@@ -24,6 +24,7 @@ import numba as nb
 import numpy as np
 
 from .damping import NO_MATRIX, DampingLaw, Viscous
+from .damping_kernels import matrix_or_none
 from .families import Family, family_linear_system, family_monodromy
 from .integrate import OMEGA, PRESSURE, monodromy, monodromy_parameter, rk4_one_mode, rk4_steps
 from .params import Loading
@@ -50,6 +51,9 @@ def family_damping(fam: Family, membrane, damping: DampingLaw) -> tuple[float, n
     (:func:`model.families.family_linear_system`; per-mode constants by increasing frequency)."""
     if isinstance(damping, Viscous):
         return damping.terms(np.eye(1), np.eye(1), membrane.Gamma * membrane.h)
+    if isinstance(getattr(damping, "zeta", None), tuple):
+        raise ValueError(f"zeta = {list(damping.zeta)} is invalid for a family: one ratio for every mode (a list "
+                         "follows the ROM's mode set, of which the family blocks are not part)")
     return damping.terms(*family_linear_system(fam, membrane), membrane.Gamma * membrane.h)
 
 
@@ -175,12 +179,12 @@ class ForcedMap:
         """The monodromy block ``(2M, 2M)`` of family ``fam`` along the axisymmetric orbit
         from ``y`` (:func:`model.families.family_monodromy`), the perturbations damped by
         this map's law on the family's own linear problem."""
-        if self.damping is None:
+        if self.damping is None or isinstance(self.damping, Viscous):  # mass-proportional: the map's own rate
             rate, matrix = self.forcing.damping_rate, NO_MATRIX
         else:
             rate, matrix = family_damping(fam, self.rom.membrane, self.damping)
         return family_monodromy(np.asarray(y, dtype=float), 0.0, self.period, self.steps, self.rom.tables,
-                                self.forcing, fam.tables, rate, matrix)
+                                self.forcing, fam.tables, rate, matrix_or_none(matrix))
 
     def value(self, parameter: str) -> float:
         """The current value of ``parameter`` (:attr:`parameters`)."""

@@ -26,7 +26,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from .damping_kernels import add_matrix_damping, add_matrix_damping_columns
+from .damping_kernels import add_matrix_damping, add_matrix_damping_columns, matrix_or_none
 from .noalias import NoAliasCompiler
 from .rom import (TABLE_DEGREE, axisymmetric_force, axisymmetric_force_jacobian, general_force,
                   general_force_jacobian, table_eval, table_eval_pair)
@@ -278,8 +278,9 @@ def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, rho2, r2, dr2, b_rho
         ``axisymmetric``).
     c_damp, p_load, omega : float
         Damping rate (s-1), ``P0`` (Pa), ``Omega`` (rad s-1).
-    damping_matrix : (K, K) or (0, 0) array
-        The matrix part of the damping (:class:`model.rom.Forcing`).
+    damping_matrix : (K, K) array or None
+        The matrix part of the damping (:class:`model.rom.Forcing`), None for a scalar law
+        (:func:`model.damping_kernels.matrix_or_none`).
 
     Notes
     -----
@@ -342,7 +343,8 @@ def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, rho2, r2, dr2, b_rho
                 lk = pt * load[k]
                 for b in range(count):
                     acc[k, b] = -c_damp * vs[k, b] - kf * acc[k, b] + lk
-            add_matrix_damping_columns(damping_matrix, vs, count, acc)
+            if damping_matrix is not None:
+                add_matrix_damping_columns(damping_matrix, vs, count, acc)
             w = 1.0 if (s == 0 or s == 3) else 2.0
             for k in range(K):
                 for b in range(count):
@@ -464,7 +466,7 @@ def _aug_rhs(t, z, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_for
     for k in range(K):
         out[k] = z[K + k]
         out[K + k] = -c_damp * z[K + k] - k_force[k] * g[k] + pt * load[k]
-    if damping_matrix.shape[0] > 0:
+    if damping_matrix is not None:
         add_matrix_damping(damping_matrix, z[K:n], out[K:n])
     for i in range(K):
         top = n + i * w
@@ -472,11 +474,12 @@ def _aug_rhs(t, z, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_for
         for col in range(w):
             out[top + col] = z[vel + col]
             out[vel + col] = -c_damp * z[vel + col]
-        for l in range(damping_matrix.shape[0]):
-            d = damping_matrix[i, l]
-            src = n + (K + l) * w
-            for col in range(w):
-                out[vel + col] -= d * z[src + col]
+        if damping_matrix is not None:
+            for l in range(K):
+                d = damping_matrix[i, l]
+                src = n + (K + l) * w
+                for col in range(w):
+                    out[vel + col] -= d * z[src + col]
         for l in range(K):
             kj = k_force[i] * jac[i, l]
             src = n + l * w
@@ -633,12 +636,14 @@ def monodromy_parameter(y0, t0, period, steps, tab, forcing, which):
         q, v, ok = monodromy_one_mode(y0, t0, period / steps, steps, tab, forcing, which, phi, dparam)
         if ok:
             return np.array([q, v]), phi, dparam
-    return _monodromy_parameter_quadrature(y0, t0, period, steps, tab, forcing, which)
+    return _monodromy_parameter_quadrature(y0, t0, period, steps, tab, forcing, which,
+                                           matrix_or_none(forcing.damping_matrix))
 
 
 @nb.njit(cache=True)
-def _monodromy_parameter_quadrature(y0, t0, period, steps, tab, forcing, which):
-    # monodromy_parameter on the quadrature force, for any mode set
+def _monodromy_parameter_quadrature(y0, t0, period, steps, tab, forcing, which, damping_matrix):
+    # monodromy_parameter on the quadrature force, for any mode set (the damping matrix
+    # None for a scalar law: model.damping_kernels)
     n = y0.size
     K = n // 2
     w = n + 1 if which != NO_PARAMETER else n
@@ -658,7 +663,7 @@ def _monodromy_parameter_quadrature(y0, t0, period, steps, tab, forcing, which):
     h = period / steps
     t = t0
     arrays = (tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta, tab.axisymmetric, tab.k_force, tab.load,
-              forcing.damping_rate, forcing.P0, forcing.Omega, forcing.damping_matrix)
+              forcing.damping_rate, forcing.P0, forcing.Omega, damping_matrix)
     _monodromy_quadrature(z, n, t, h, steps, *arrays, which, g, jac, work, k1, k2, k3, k4, tmp)
     # V row by row (no reshape: its error path alone costs seconds of compilation)
     phi = np.empty((n, n))

@@ -59,9 +59,10 @@ class SweepResult(NamedTuple):
 
 
 @nb.njit(cache=True)
-def _residual(y, prev, scale, tol, atol):
-    # The test of one period: -1 when the state is not finite, 1 when the relative
-    # stroboscopic residual is below tol, 0 otherwise.
+def _period_test(y, prev, scale, tol, atol, run, j, consecutive, min_periods):
+    # The test after period j: (-1, run) when the state is not finite, (1, run) when the
+    # relative stroboscopic residual has stayed below tol for `consecutive` periods (and
+    # j >= min_periods), (0, run) to go on; run counts the periods below tol in a row.
     num = 0.0
     den = 0.0
     for i in range(y.size):
@@ -69,8 +70,9 @@ def _residual(y, prev, scale, tol, atol):
         num += d * d
         den += (scale[i] * y[i]) ** 2
     if not np.isfinite(num):
-        return -1
-    return 1 if np.sqrt(num) < tol * (np.sqrt(den) + atol) else 0
+        return -1, run
+    run = run + 1 if np.sqrt(num) < tol * (np.sqrt(den) + atol) else 0
+    return (1 if run >= consecutive and j >= min_periods else 0), run
 
 
 @nb.njit(cache=True)
@@ -85,12 +87,9 @@ def _settle(y, steps, tab, forcing, scale, tol, atol, consecutive, min_periods, 
         for i in range(n):
             prev[i] = y[i]
         rk4_steps(y, 0.0, h, steps, tab, forcing, work)
-        test = _residual(y, prev, scale, tol, atol)
-        if test < 0:
-            return j, False
-        run = run + 1 if test == 1 else 0
-        if run >= consecutive and j >= min_periods:
-            return j, True
+        code, run = _period_test(y, prev, scale, tol, atol, run, j, consecutive, min_periods)
+        if code != 0:
+            return j, code == 1
     return max_periods, False
 
 
@@ -107,12 +106,9 @@ def _settle_at(fmap, y, tol, atol, consecutive, min_periods, max_periods, work, 
     for j in range(1, max_periods + 1):
         prev[:] = y
         y[:] = fmap.advance(y)
-        test = _residual(y, prev, scale, tol, atol)
-        if test < 0:
-            return j, False
-        run = run + 1 if test == 1 else 0
-        if run >= consecutive and j >= min_periods:
-            return j, True
+        code, run = _period_test(y, prev, scale, tol, atol, run, j, consecutive, min_periods)
+        if code != 0:
+            return j, code == 1
     return max_periods, False
 
 

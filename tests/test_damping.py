@@ -197,11 +197,25 @@ def test_a_modal_job_at_the_viscous_ratio_gives_the_viscous_results(prestretch):
     ('[damping]\nlaw = "rayleigh"\nalpha = 0.1', "",
      "grid.beta = <missing> is invalid: continuation in P0 needs beta (s) in [grid] or [damping]"),
     ("", "", "grid.c = <missing> is invalid: continuation in P0 needs c (N s m-3) in [grid] or [damping]"),
+    ('[damping]\nlaw = "modal"\nzeta = [0.01, 0.02]', "",
+     "damping.zeta = [0.01, 0.02] is invalid: one ratio, or one per mode of continuation.modes (1)"),
+    ('[damping]\nlaw = "modal"\nzeta = [0.01]', "", None),
 ])
 def test_bad_damping_tables_are_refused_naming_the_key(damping, grid_c, message):
+    if message is None:  # the valid neighbour of the case before: one ratio for the one mode
+        assert parse_job(_continuation_job(damping, grid_c)).damping.law == Modal(zeta=0.01)
+        return
     with pytest.raises(JobError) as info:
         parse_job(_continuation_job(damping, grid_c))
     assert message in str(info.value)
+
+
+def test_a_list_of_ratios_is_refused_with_families():
+    text = _continuation_job('[damping]\nlaw = "modal"\nzeta = [0.01, 0.02]', "").replace(
+        'stop = 2.0', 'stop = 2.0\nmodes = [[1, 0], [2, 0]]\nfamilies = {n = [1], radial = 2}')
+    with pytest.raises(JobError, match=r"damping.zeta = \[0.01, 0.02\] is invalid: one ratio for every mode with "
+                                       "asymmetric families in continuation"):
+        parse_job(text)
 
 
 def test_damping_constants_are_grid_keys_and_curve_parameters():

@@ -132,6 +132,7 @@ class Basins(Analysis):
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT) -> BasinsOptions:
         check_keys(table, _SECTION, tuple(self.OPTIONS))
         modes = opt.modes(table, _SECTION)
+        opt.damping_modes(context.damping, _SECTION, modes, None)
         lm = opt.number(table, _SECTION, "lattice_mode", 1, low=1, high=len(modes),
                         integer=True)
         ic_x = opt.linspace(table, _SECTION, "ic_x", {"start": -0.3, "stop": 0.3, "num": 100},

@@ -267,6 +267,7 @@ class ContinuationAnalysis(Analysis):
         modes = opt.modes(table, s)
         families = opt.families(table, s, modes)
         opt.rom_only(table, s, context.model, ("families", "branch_switching", "check"))
+        opt.damping_modes(context.damping, s, modes, families or any(n for _, n in modes))
         ds_max = opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0)
         return ContinuationOptions(
             parameter, start, stop, modes, opt.prestretch(table, s),

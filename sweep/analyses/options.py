@@ -172,6 +172,20 @@ def forcing_parameter(table, section: str, grid, role: str, damping: DampingSpec
     return parameter
 
 
+def damping_modes(damping: DampingSpec, section: str, modes, families) -> None:
+    """A list of modal ratios (``[damping] zeta``) must have one ratio per mode of the
+    analysis' ``modes``, and is refused where ``families`` is true (family blocks, which are
+    no modes of the set and take one ratio for every mode)."""
+    zeta = getattr(damping.law, "zeta", None)
+    if not isinstance(zeta, tuple):
+        return
+    if families:
+        raise JobError("damping.zeta", list(zeta), f"one ratio for every mode with asymmetric families in {section} "
+                       "(the family blocks are not modes of the set)")
+    if len(zeta) != len(modes):
+        raise JobError("damping.zeta", list(zeta), f"one ratio, or one per mode of {section}.modes ({len(modes)})")
+
+
 def rom_only(table, section: str, model, keys) -> None:
     """Refuse the options ``keys`` of ``table`` that need the ROM (mode families and what
     is built on them) when the job's model (a :class:`~sweep.analyses.base.ModelSpec`)

@@ -73,8 +73,10 @@ class ResponseAnalysis(Analysis):
         check_keys(table, s, tuple(self.OPTIONS))
         parameter = opt.forcing_parameter(table, s, grid, "is swept by the analysis", context.damping)
         values = opt.linspace(table, s, "values", low=0.0, low_open=parameter == "Omega", max_num=10_000)
+        modes = opt.modes(table, s)
+        opt.damping_modes(context.damping, s, modes, None)
         return ResponseOptions(
-            parameter, values, opt.modes(table, s), opt.prestretch(table, s),
+            parameter, values, modes, opt.prestretch(table, s),
             opt.steps(table, s, DEFAULT_STEPS, low=16),
             opt.number(table, s, "tol", 1e-6, low=0.0, low_open=True, high=1e-2),
             opt.number(table, s, "consecutive", 20, low=1, high=10_000, integer=True),
