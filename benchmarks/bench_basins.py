@@ -49,7 +49,9 @@ import xarray as xr
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from model import attractors as ma  # noqa: E402
 from model import basins as mb  # noqa: E402
+from model import lattice as ml  # noqa: E402
 from model.forced import ForcedMap, steps_per_period  # noqa: E402
 from model.params import Loading, Membrane  # noqa: E402
 from model.prestretch import solve_prestretch  # noqa: E402
@@ -123,10 +125,10 @@ def agreement(path: Path, samples: int, K: int) -> None:
                     [(m, 0) for m in range(1, K + 1)])
     brute_steps = BRUTE_STEPS if K == 1 else 2 * steps
     fmap = ForcedMap.from_loading(rom, Loading(CASE["Omega"], CASE["P0"], CASE["c"]), brute_steps)
-    lattice = mb.Lattice(x, y, 0, K)
-    scale = mb.lattice_scale(lattice, 2 * K)
+    lattice = ml.Lattice(x, y, 0, K)
+    scale = ml.lattice_scale(lattice, 2 * K)
     # The attractors again, at the brute-force step count (Newton from the stored points).
-    atts = [mb.find_periodic_orbit(pts[a, 0], int(per[a]), fmap, scale, 1e-11)
+    atts = [ma.find_periodic_orbit(pts[a, 0], int(per[a]), fmap, scale, 1e-11)
             for a in range(per.size) if per[a] > 0]
     rng = np.random.default_rng(0)
     idx = rng.choice(lab.size, samples, replace=False)

@@ -65,7 +65,7 @@ Algorithm (one tile; everything is deterministic and depends only on the tile's 
 
 :func:`classify_lattice` with ``use_cells=False`` and ``discover=False`` is the
 brute-force reference: plain long integration until the trajectory converges into the
-capture disc of an attractor.  :func:`merge_attractors` identifies the attractors that
+capture disc of an attractor.  :func:`model.attractors.merge_attractors` identifies the attractors that
 independently classified tiles of one lattice found.
 """
 
@@ -77,76 +77,24 @@ from typing import NamedTuple
 import numba as nb
 import numpy as np
 
+from .attractors import find_periodic_orbit, match_attractor
+from . import basin_cells
+from .basin_cells import (EMPTY_CELL, MAX_CELL_LABEL, UNKNOWN_CELL, CellMap, StateCells, clean_label, lattice_cell,
+                          mark_cell, state_cell, state_cell_limit)
 from .damping_kernels import matrix_or_none
+from .integrate import (LOCKSTEP_WIDTH, lockstep_table, quadrature_lockstep_pays, rk4_one_mode_lockstep,
+                        rk4_quadrature_lockstep, rk4_steps)
+from .lattice import Lattice, lattice_scale
 from .protocol import StroboscopicMap, kernel_arguments
-from .integrate import (LOCKSTEP_WIDTH, NO_PARAMETER, lockstep_table, monodromy_one_mode, quadrature_lockstep_pays,
-                        rk4_one_mode_lockstep, rk4_quadrature_lockstep, rk4_steps)
 
 #: Label of an initial condition that could not be classified.
 UNCLASSIFIED = -1
 _PENDING = -2
-_UNKNOWN_CELL = -2
-_MIXED_CELL = -3
-_EMPTY_CELL = -4     # a free entry of the state-space cell map
-_MAX_CELL_LABEL = 127  # cell maps hold int8 labels: later attractors' cells are not recorded
+
 #: RK4 steps per forcing period of the basins' map: with 64 the labels of the Fig. 19a
 #: lattice agree with converged integration (192 steps) on 99.75 % of a random sample;
 #: with 48 steps on 97.75 %.
 DEFAULT_STEPS = 64
-
-
-@dataclass(frozen=True)
-class Lattice:
-    """A rectangular lattice of initial conditions on two state coordinates.
-
-    Parameters
-    ----------
-    x : (nx,) array
-        Values of the first coordinate (``ix``-th state component, a displacement in m).
-    y : (ny,) array
-        Values of the second coordinate (``iy``-th state component, a velocity in m s-1).
-    ix, iy : int
-        State indices of the two coordinates (``y = (q, q')``); the other state
-        components are zero.
-    """
-
-    x: np.ndarray
-    y: np.ndarray
-    ix: int = 0
-    iy: int = 1
-
-    @property
-    def shape(self) -> tuple[int, int]:
-        """``(nx, ny)``."""
-        return self.x.size, self.y.size
-
-    def extent(self) -> tuple[float, float]:
-        """Lattice extents ``(Lx, Ly)`` used to scale distances (a single value: 1)."""
-        lx = self.x[-1] - self.x[0] if self.x.size > 1 else 1.0
-        ly = self.y[-1] - self.y[0] if self.y.size > 1 else 1.0
-        return float(lx), float(ly)
-
-
-@dataclass(frozen=True)
-class Attractor:
-    """A stable periodic orbit of the stroboscopic map.
-
-    Parameters
-    ----------
-    points : (k, 2K) array
-        Its ``k`` Poincare points, in orbit order, starting with the point of smallest
-        first modal coordinate.
-    multipliers : (2K,) complex array
-        Floquet multipliers of the ``k``-th iterate.
-    """
-
-    points: np.ndarray
-    multipliers: np.ndarray
-
-    @property
-    def period(self) -> int:
-        """Period in forcing periods."""
-        return self.points.shape[0]
 
 
 @dataclass(frozen=True)
@@ -211,84 +159,6 @@ def default_settings(n_modes: int) -> Settings:
     """
     return Settings() if n_modes == 1 else Settings(consecutive=16, cell_resolution=100)
 
-
-def lattice_states(lattice: Lattice, rows, n_state: int) -> np.ndarray:
-    """Initial states of lattice rows ``rows`` (a slice or index array), row-major.
-
-    Returns shape ``(len(rows) * ny, n_state)``.
-    """
-    xs = lattice.x[rows]
-    out = np.zeros((xs.size * lattice.y.size, n_state))
-    out[:, lattice.ix] = np.repeat(xs, lattice.y.size)
-    out[:, lattice.iy] = np.tile(lattice.y, xs.size)
-    return out
-
-
-def window_states(lattice: Lattice, fmap: StroboscopicMap, periods: int = 4, per_period: int = 8) -> np.ndarray:
-    """States along the trajectories from the corners and edge midpoints of the lattice
-    window (its most energetic initial conditions), ``per_period`` per forcing period over
-    the first ``periods`` periods: a sample of the largest states a lattice's trajectories
-    reach, for :func:`model.rom.lean_radial_points` (the basins analysis checks the rule
-    again on the attractors found).  Returns shape ``(S (periods per_period + 1), 2K)``,
-    ``S = 8`` starts (fewer on a lattice of fewer than 3 points per axis).
-    """
-    kernel = kernel_arguments(fmap)
-    if kernel is None:
-        raise ValueError("window_states needs a map with kernel_arguments (a ROM): it samples within periods")
-    n = 2 * fmap.dof
-    xs, ys = lattice.x[[0, lattice.x.size // 2, -1]], lattice.y[[0, lattice.y.size // 2, -1]]
-    starts = np.unique([(xs[i], ys[j]) for i in range(3) for j in range(3) if (i, j) != (1, 1)], axis=0)
-    out = []
-    work = np.empty((6, n))
-    steps = max(1, kernel.steps // per_period)
-    h = fmap.period / (steps * per_period)
-    for x, y in starts:
-        z = np.zeros(n)
-        z[lattice.ix], z[lattice.iy] = x, y
-        out.append(z.copy())
-        for j in range(periods * per_period):
-            rk4_steps(z, j * steps * h, h, steps, kernel.tables, kernel.forcing, work)
-            out.append(z.copy())
-    return np.array(out)
-
-
-def lattice_scale(lattice: Lattice, n_state: int) -> np.ndarray:
-    """Inverse lattice extents per state component (displacements, then velocities): the
-    weights of the scaled norm in which capture radii and recurrences are measured."""
-    lx, ly = lattice.extent()
-    K = n_state // 2
-    return np.concatenate([np.full(K, 1.0 / lx), np.full(K, 1.0 / ly)])
-
-
-class _CellMap(NamedTuple):
-    # The refined cell map of the lattice plane and where it lies (kernel argument).
-    labels: np.ndarray   # (cx, cy) int8: a label, _UNKNOWN_CELL or _MIXED_CELL
-    x0: float            # centre of cell (0, 0) on the two lattice coordinates
-    dx: float            # cell sizes
-    y0: float
-    dy: float
-    ix: int              # state indices of the two lattice coordinates
-    iy: int
-    guard: int
-    enabled: bool
-
-
-class _StateCells(NamedTuple):
-    # The cell map of the whole state space (more than one mode), a hash table with open
-    # addressing: cell (c_0 .. c_{2K-1}), c_i = floor(y_i * inv_width_i), is stored at
-    # entry hash(c) or after it; entries are never removed.
-    keys: np.ndarray       # (cap, 2K) int16 cell coordinates of each entry
-    labels: np.ndarray     # (cap,) int8: a label, _UNKNOWN_CELL, _MIXED_CELL or _EMPTY_CELL
-    inv_width: np.ndarray  # (2K,) inverse cell widths (1 / m, s / m)
-    count: np.ndarray      # (1,) int64 entries in use
-    limit: int             # entries in use beyond which no cell is added (the table is then full)
-
-
-#: Entries of the state-space cell map (:class:`_StateCells`), a power of two (the hash is
-#: masked): 2**21, 2K int16 coordinates and a label each, 27 MB for three modes; once
-#: :func:`state_cell_limit` are in use no new cell is recorded, and trajectories are then
-#: classified by the cells already known, by capture or by Newton.
-STATE_CELL_CAPACITY = 1 << 21
 
 
 class _Criteria(NamedTuple):
@@ -401,14 +271,15 @@ def classify_lattice(states, lattice: Lattice, fmap: StroboscopicMap, settings: 
     dx = (lattice.x[-1] - lattice.x[0]) / (nx - 1) if nx > 1 else 1.0
     dy = (lattice.y[-1] - lattice.y[0]) / (ny - 1) if ny > 1 else 1.0
     plane = use_cells and n == 2
-    cells = _CellMap(np.full(((nx - 1) * r + 1, (ny - 1) * r + 1) if plane else (1, 1), _UNKNOWN_CELL,
+    cells = CellMap(np.full(((nx - 1) * r + 1, (ny - 1) * r + 1) if plane else (1, 1), UNKNOWN_CELL,
                              np.int8),
                      float(lattice.x[0]), dx / r, float(lattice.y[0]), dy / r, lattice.ix, lattice.iy,
                      s.guard, plane)
     whole = use_cells and n > 2
     # without the state-space map (one mode, brute force) sc is None, which numba prunes
     # with its branches: a one-mode job does not compile the hash table (0.4 s)
-    sc = _StateCells(np.zeros((STATE_CELL_CAPACITY, n), np.int16), np.full(STATE_CELL_CAPACITY, _EMPTY_CELL, np.int8),
+    capacity = basin_cells.STATE_CELL_CAPACITY  # the module attribute, read at each call
+    sc = StateCells(np.zeros((capacity, n), np.int16), np.full(capacity, EMPTY_CELL, np.int8),
                      scale * (s.cell_resolution or max(nx - 1, ny - 1, 1)), np.zeros(1, np.int64),
                      state_cell_limit()) if whole else None
     criteria = _Criteria(scale, s.radius**2, s.consecutive, s.trigger**2,
@@ -471,223 +342,6 @@ def classify_lattice(states, lattice: Lattice, fmap: StroboscopicMap, settings: 
     return labels, atts, periods
 
 
-def state_cell_limit() -> int:
-    """Cells the state-space cell map (:data:`STATE_CELL_CAPACITY` entries) takes before it
-    is full: three quarters, which keeps the probe sequences of the open addressing short."""
-    return 3 * STATE_CELL_CAPACITY // 4
-
-
-def match_attractor(att: Attractor, attractors, scale, tol: float) -> int:
-    """Index of the attractor of ``attractors`` equal to ``att`` (or -1).
-
-    Two attractors are equal when they have the same period and every point of one lies
-    within ``tol`` (scaled norm) of a point of the other.
-    """
-    for j, other in enumerate(attractors):
-        if other.period != att.period:
-            continue
-        d = (att.points[:, None, :] - other.points[None, :, :]) * scale
-        if np.all(np.min(np.sqrt((d**2).sum(axis=-1)), axis=1) < tol):
-            return j
-    return -1
-
-
-def merge_attractors(tiles, scale, tol: float):
-    """Identify the attractors that separately classified tiles of one lattice found.
-
-    Two attractors are the same when :func:`match_attractor` says so (same period, every
-    point within ``tol`` of a point of the other, scaled norm).  The merged attractors are
-    numbered by decreasing amplitude (ties: by their first Poincare point), so attractor 0
-    is the largest response.
-
-    Parameters
-    ----------
-    tiles : sequence of sequences of (Attractor, float)
-        Per tile, its attractors in the tile's own numbering, each with its amplitude (m).
-    scale : (2K,) array
-        Weights of the scaled norm (:func:`lattice_scale`).
-    tol : float
-        Matching distance in the scaled norm (the capture radius).
-
-    Returns
-    -------
-    merged : list of (Attractor, float)
-        The distinct attractors and their amplitudes, largest amplitude first; each keeps
-        the Poincare points of its first finder (tiles in order).
-    index : list of (A_t,) int arrays
-        Per tile, the merged index of each of its attractors.
-    """
-    found, where = [], []
-    for tile in tiles:
-        idx = np.empty(len(tile), np.int64)
-        for a, (att, amp) in enumerate(tile):
-            j = match_attractor(att, [f[0] for f in found], scale, tol)
-            if j < 0:
-                found.append((att, amp))
-                j = len(found) - 1
-            idx[a] = j
-        where.append(idx)
-    order = sorted(range(len(found)), key=lambda j: (-found[j][1], tuple(found[j][0].points[0])))
-    rank = np.empty(len(found), np.int64)
-    rank[order] = np.arange(len(found))
-    return [found[j] for j in order], [rank[idx] for idx in where]
-
-
-def find_periodic_orbit(y0, k: int, fmap: StroboscopicMap, scale, tol: float, max_iter: int = 30,
-                        max_step: float = 0.05):
-    """Newton iteration on ``P^k(y) - y = 0`` from ``y0``.
-
-    A one-mode ROM with a force table (a map with ``kernel_arguments``,
-    :mod:`model.protocol`) runs the whole iteration compiled (the 2 x 2
-    systems in closed form; 85 us a search at Fig. 19a against 250 us in Python, measured
-    on the 1968 searches of the 200 x 200 lattice); if a stage leaves the table, the
-    iteration starts again here on the general map.
-
-    Parameters
-    ----------
-    y0 : (2K,) array
-        Starting state at ``t = 0``.
-    k : int
-        Period in forcing periods.
-    fmap : StroboscopicMap
-        The stroboscopic map ``P``.
-    scale : (2K,) array
-        Inverse lattice extents of the state components (norm of the steps).
-    tol : float
-        Convergence tolerance on ``|P^k(y) - y|`` in the scaled norm.
-    max_step : float
-        Largest Newton step in the scaled norm (damped Newton).
-
-    Returns
-    -------
-    Attractor or None
-        The orbit (even when unstable: check ``multipliers``), or None when Newton did
-        not converge or the orbit's least period is below ``k``.
-    """
-    y = np.array(y0, dtype=np.float64)
-    n = y.size
-    if y.shape != (2 * fmap.dof,):
-        raise ValueError(f"y0 shape {y.shape} is invalid: need ({2 * fmap.dof},), a state of the map")
-    scale = np.asarray(scale, dtype=np.float64)
-    if scale.shape != y.shape:
-        raise ValueError(f"scale shape {scale.shape} is invalid: need {y.shape}, one weight per state component")
-    kernel = kernel_arguments(fmap)
-    if kernel is not None and kernel.tables.table_max > 0.0:  # one mode: the iteration compiled, in the table
-        pts, phi = np.empty((k + 1, 2)), np.empty((2, 2))
-        code = _newton_one_mode(y, k, fmap.period / kernel.steps, kernel.steps, kernel.tables, kernel.forcing,
-                                scale, tol, max_iter, max_step, pts, phi)
-        if code == _NEWTON_CONVERGED:
-            return _orbit(pts[:k], phi)
-        if code == _NEWTON_FAILED:
-            return None
-        # a stage left the table: the iteration below, whose map falls back to the quadrature
-    for _ in range(max_iter):
-        z = y.copy()
-        phi = np.eye(n)
-        pts = [y.copy()]
-        for j in range(k):
-            z, m = fmap.monodromy(z)
-            phi = m @ phi
-            if j < k - 1:
-                pts.append(z.copy())
-        res = z - y
-        if not np.all(np.isfinite(res)):
-            return None
-        if np.linalg.norm(res * scale) < tol:
-            pts = np.array(pts)
-            if k > 1 and any(np.linalg.norm((pts[j] - pts[0]) * scale) < 1e3 * tol
-                             for j in range(1, k)):
-                return None
-            return _orbit(pts, phi)
-        try:
-            dy = np.linalg.solve(phi - np.eye(n), -res)
-        except np.linalg.LinAlgError:
-            return None
-        size = np.linalg.norm(dy * scale)
-        if size > max_step:
-            dy *= max_step / size
-        y = y + dy
-    return None
-
-
-def _orbit(pts, phi) -> Attractor:
-    # The Attractor of a converged search: its points from the one of smallest first
-    # coordinate, the multipliers of P^k
-    first = int(np.argmin(pts[:, 0]))
-    return Attractor(np.roll(pts, -first, axis=0), np.linalg.eigvals(phi))
-
-
-# Outcomes of _newton_one_mode.
-_NEWTON_CONVERGED, _NEWTON_FAILED, _NEWTON_LEFT_TABLE = 0, 1, 2
-
-
-@nb.njit(cache=True)
-def _newton_one_mode(y, k, h, steps, tab, forcing, scale, tol, max_iter, max_step, pts, phi):
-    # find_periodic_orbit for a one-mode ROM from its force table (the same iteration, the
-    # 2 x 2 systems solved in closed form; pts is (k + 1, 2)).  Returns _NEWTON_CONVERGED
-    # (pts[:k]: the points of the orbit from the converged y, phi: the derivative of P^k),
-    # _NEWTON_FAILED (no convergence in max_iter, a singular system, a state not finite or
-    # a least period below k) or _NEWTON_LEFT_TABLE (a stage left the table's range).
-    y0 = y[0]
-    y1 = y[1]
-    for _ in range(max_iter):
-        if not _map_power_one_mode(y0, y1, k, h, steps, tab, forcing, pts, phi):
-            return _NEWTON_LEFT_TABLE
-        r0 = pts[k, 0] - y0
-        r1 = pts[k, 1] - y1
-        if not (np.isfinite(r0) and np.isfinite(r1)):
-            return _NEWTON_FAILED
-        if np.sqrt((r0 * scale[0]) ** 2 + (r1 * scale[1]) ** 2) < tol:
-            for j in range(1, k):
-                if np.sqrt(((pts[j, 0] - y0) * scale[0]) ** 2 + ((pts[j, 1] - y1) * scale[1]) ** 2) < 1e3 * tol:
-                    return _NEWTON_FAILED
-            return _NEWTON_CONVERGED
-        a00 = phi[0, 0] - 1.0
-        a11 = phi[1, 1] - 1.0
-        det = a00 * a11 - phi[0, 1] * phi[1, 0]
-        if det == 0.0 or not np.isfinite(det):
-            return _NEWTON_FAILED
-        d0 = (-r0 * a11 + r1 * phi[0, 1]) / det
-        d1 = (-r1 * a00 + r0 * phi[1, 0]) / det
-        size = np.sqrt((d0 * scale[0]) ** 2 + (d1 * scale[1]) ** 2)
-        if size > max_step:
-            d0 *= max_step / size
-            d1 *= max_step / size
-        y0 += d0
-        y1 += d1
-    return _NEWTON_FAILED
-
-
-@nb.njit(cache=True)
-def _map_power_one_mode(y0, y1, k, h, steps, tab, forcing, pts, phi):
-    # P^j(y), j = 0..k, of a one-mode ROM from its force table into pts[:k + 1] and the
-    # derivative of P^k into phi: the product of the monodromy matrices along the orbit,
-    # the latest on the left (chain rule).  False when a stage leaves the table's range.
-    m = np.empty((2, 2))
-    dparam = np.empty(2)
-    z = np.empty(2)
-    z[0] = y0
-    z[1] = y1
-    p00, p01, p10, p11 = 1.0, 0.0, 0.0, 1.0
-    pts[0, 0] = y0
-    pts[0, 1] = y1
-    for j in range(k):
-        # (the constant compiles a version of its own, specialised on the literal)
-        zq, zv, ok = monodromy_one_mode(z, 0.0, h, steps, tab, forcing, NO_PARAMETER, m, dparam)
-        if not ok:
-            return False
-        p00, p01, p10, p11 = (m[0, 0] * p00 + m[0, 1] * p10, m[0, 0] * p01 + m[0, 1] * p11,
-                              m[1, 0] * p00 + m[1, 1] * p10, m[1, 0] * p01 + m[1, 1] * p11)
-        z[0] = zq
-        z[1] = zv
-        pts[j + 1, 0] = zq
-        pts[j + 1, 1] = zv
-    phi[0, 0] = p00
-    phi[0, 1] = p01
-    phi[1, 0] = p10
-    phi[1, 1] = p11
-    return True
-
 
 # The tests run on every trajectory at every period, below, allocate nothing and are
 # compiled without reference counts (_nrt=False; see the note in model.rom).
@@ -704,73 +358,6 @@ def _near_attractor(y, att_pts, att_per, n_att, scale, r2):
             if d < r2:
                 return a
     return -1
-
-
-@nb.njit(cache=True, _nrt=False)
-def _cell(y, cells, nx, ny):
-    cx = int(np.floor((y[cells.ix] - cells.x0) / cells.dx + 0.5))
-    cy = int(np.floor((y[cells.iy] - cells.y0) / cells.dy + 0.5))
-    if cx < 0 or cx >= nx or cy < 0 or cy >= ny:
-        return -1
-    return cx * ny + cy
-
-
-@nb.njit(cache=True, _nrt=False)
-def _state_cell(y, sc):
-    # Entry of the state-space cell of y in sc (added, with an unknown label, when new),
-    # or -1 (a coordinate beyond the int16 cell range, or the table full).
-    n = y.size
-    mask = sc.labels.size - 1
-    h = 1469598103934665603
-    for i in range(n):
-        c = np.floor(y[i] * sc.inv_width[i])
-        if not abs(c) < 32767.0:
-            return -1
-        h = (h ^ (int(c) & 0xFFFF)) * 1099511628211  # FNV-1a over the coordinates (wraps)
-    e = (h ^ (h >> 29)) & mask
-    while sc.labels[e] != _EMPTY_CELL:
-        same = True
-        for i in range(n):
-            if sc.keys[e, i] != int(np.floor(y[i] * sc.inv_width[i])):
-                same = False
-                break
-        if same:
-            return e
-        e = (e + 1) & mask
-    if sc.count[0] >= sc.limit:
-        return -1
-    for i in range(n):
-        sc.keys[e, i] = int(np.floor(y[i] * sc.inv_width[i]))
-    sc.labels[e] = _UNKNOWN_CELL
-    sc.count[0] += 1
-    return e
-
-
-@nb.njit(cache=True, _nrt=False)
-def _mark(flat, c, label):
-    # A cell visited by trajectories of two fates straddles a basin boundary: it is
-    # marked mixed for good and never counts as clean.
-    if flat[c] == _UNKNOWN_CELL:
-        flat[c] = label
-    elif flat[c] != label:
-        flat[c] = _MIXED_CELL
-
-
-@nb.njit(cache=True, _nrt=False)
-def _clean_label(flat, c, nx, ny, guard):
-    # The label of cell c if every cell within ``guard`` cells of it has that label,
-    # else -1: the cell lies deep inside a basin at the lattice's resolution.
-    lab = flat[c]
-    if lab < 0:
-        return -1
-    cx = c // ny
-    cy = c - cx * ny
-    for i in range(max(cx - guard, 0), min(cx + guard + 1, nx)):
-        for j in range(max(cy - guard, 0), min(cy + guard + 1, ny)):
-            if flat[i * ny + j] != lab:
-                return -1
-    return lab
-
 
 @nb.njit(cache=True, _nrt=False)
 def _explained(y, known, n_searched, scale):
@@ -819,14 +406,14 @@ def _check(b, slots, cells, flat, sc, known, crit, nx, ny):
                 return -3
     if cells.enabled or sc is not None:
         if sc is None:
-            c = _cell(y, cells, nx, ny)
+            c = lattice_cell(y, cells, nx, ny)
         else:
-            c = _state_cell(y, sc)
+            c = state_cell(y, sc)
         if c >= 0 and st[_SLOT_TRAIL] < slots.trail.shape[1]:
             slots.trail[b, st[_SLOT_TRAIL]] = c
             st[_SLOT_TRAIL] += 1
             if sc is None:
-                lab = _clean_label(flat, c, nx, ny, cells.guard)
+                lab = clean_label(flat, c, nx, ny, cells.guard)
             else:
                 lab = max(sc.labels[c], -1)
             if lab >= 0:
@@ -900,15 +487,15 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
             i = st[_SLOT_STATE]
             labels[i] = label
             periods[i] = st[_SLOT_PERIODS]
-            if cells.enabled and 0 <= label <= _MAX_CELL_LABEL:
+            if cells.enabled and 0 <= label <= MAX_CELL_LABEL:
                 for j in range(st[_SLOT_TRAIL]):
-                    _mark(flat, slots.trail[b, j], label)
-                c = _cell(states[i], cells, nx, ny)
+                    mark_cell(flat, slots.trail[b, j], label)
+                c = lattice_cell(states[i], cells, nx, ny)
                 if c >= 0:
-                    _mark(flat, c, label)
-            elif sc is not None and 0 <= label <= _MAX_CELL_LABEL:
+                    mark_cell(flat, c, label)
+            elif sc is not None and 0 <= label <= MAX_CELL_LABEL:
                 for j in range(st[_SLOT_TRAIL]):
-                    _mark(sc.labels, slots.trail[b, j], label)
+                    mark_cell(sc.labels, slots.trail[b, j], label)
             st[_SLOT_STATE] = -1  # free: refilled on the next pass of this loop
         cur[_AT_SLOT] = 0
         active = 0

@@ -11,7 +11,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from model import attractors as ma
+from model import basin_cells as mc
 from model import basins as mb
+from model import lattice as ml
 from model.forced import ForcedMap
 from model.linear import galerkin_frequencies
 from model.params import Loading, Membrane
@@ -48,7 +51,7 @@ def test_newton_finds_the_linear_forced_response(rom):
     D = (w0**2 - om**2) ** 2 + (C_DAMP * om) ** 2
     A, B = F * (w0**2 - om**2) / D, F * C_DAMP * om / D
     scale = np.array([1 / 0.6, 1 / 20.0])
-    att = mb.find_periodic_orbit(np.zeros(2), 1, _fmap(rom, om, p0, 96), scale, 1e-13)
+    att = ma.find_periodic_orbit(np.zeros(2), 1, _fmap(rom, om, p0, 96), scale, 1e-13)
     assert att is not None and att.period == 1
     np.testing.assert_allclose(att.points[0], [A, B * om], rtol=2e-3)
     np.testing.assert_allclose(np.abs(att.multipliers), math.exp(-C_DAMP * np.pi / om),
@@ -72,16 +75,16 @@ def test_one_mode_newton_finds_what_the_quadrature_map_finds(rom):
         **_force_table(quadrature.rom.tables, q_max))}), table.forcing, table.steps) for q_max in (1e-6, 0.10003))
     scale = np.array([1 / 0.6, 1 / 20.0])
     pts, phi = np.empty((2, 2)), np.empty((2, 2))  # the saddle's start leaves the partial table mid-period
-    assert not mb._map_power_one_mode(0.1, -0.2, 1, partial.period / partial.steps, partial.steps,
+    assert not ma._map_power_one_mode(0.1, -0.2, 1, partial.period / partial.steps, partial.steps,
                                       partial.rom.tables, partial.forcing, pts, phi)
     starts = [(np.array([-0.12, -0.3]), 1, 30), (np.array([0.02, 0.0]), 1, 30), (np.array([0.1, -0.2]), 1, 30),
               (np.array([-0.12, -0.3]), 2, 30), (np.array([0.25, 8.0]), 1, 3)]
     found = []
     for y0, k, iterations in starts:
-        a = mb.find_periodic_orbit(y0, k, table, scale, 1e-11, max_iter=iterations)
-        b = mb.find_periodic_orbit(y0, k, quadrature, scale, 1e-11, max_iter=iterations)
-        c = mb.find_periodic_orbit(y0, k, tiny, scale, 1e-11, max_iter=iterations)
-        d = mb.find_periodic_orbit(y0, k, partial, scale, 1e-11, max_iter=iterations)
+        a = ma.find_periodic_orbit(y0, k, table, scale, 1e-11, max_iter=iterations)
+        b = ma.find_periodic_orbit(y0, k, quadrature, scale, 1e-11, max_iter=iterations)
+        c = ma.find_periodic_orbit(y0, k, tiny, scale, 1e-11, max_iter=iterations)
+        d = ma.find_periodic_orbit(y0, k, partial, scale, 1e-11, max_iter=iterations)
         assert (a is None) == (b is None) == (c is None) == (d is None)
         assert b is None or (np.array_equal(b.points, c.points) and np.array_equal(b.multipliers, c.multipliers))
         if a is not None:
@@ -107,7 +110,7 @@ def test_one_mode_map_power_derivative_is_the_chain_rule(rom):
     steps = [np.array([1e-6, 0.0]), np.array([0.0, 1e-5])]
     for k in (1, 2, 3):
         pts, phi = np.empty((k + 1, 2)), np.empty((2, 2))
-        assert mb._map_power_one_mode(y[0], y[1], k, h, fmap.steps, rom.tables, fmap.forcing, pts, phi)
+        assert ma._map_power_one_mode(y[0], y[1], k, h, fmap.steps, rom.tables, fmap.forcing, pts, phi)
         for j in range(k + 1):
             np.testing.assert_allclose(pts[j], fmap.advance(y, j), rtol=1e-12)
         fd = np.column_stack([(fmap.advance(y + e, k) - fmap.advance(y - e, k)) / (2 * e.sum()) for e in steps])
@@ -125,13 +128,13 @@ def test_one_mode_map_power_derivative_is_the_chain_rule(rom):
 def test_newton_search_with_arrays_of_the_wrong_shape_names_them(rom, y0, scale, message):
     # (the compiled one-mode search does not check its indices: a short scale would be read past)
     with pytest.raises(ValueError, match=message):
-        mb.find_periodic_orbit(y0, 1, _fmap(rom), scale, 1e-11)
+        ma.find_periodic_orbit(y0, 1, _fmap(rom), scale, 1e-11)
 
 
 def _converged(atts, rom, lattice, steps=192):
     """The attractors again by Newton at ``steps`` RK4 steps per period."""
-    scale = mb.lattice_scale(lattice, 2)
-    return [mb.find_periodic_orbit(a.points[0], a.period, _fmap(rom, steps=steps), scale, 1e-11)
+    scale = ml.lattice_scale(lattice, 2)
+    return [ma.find_periodic_orbit(a.points[0], a.period, _fmap(rom, steps=steps), scale, 1e-11)
             for a in atts]
 
 
@@ -143,8 +146,8 @@ def test_fast_labels_agree_with_converged_brute_force(rom):
     of a sample of the 200 x 200 lattice; 48 steps only on 97.75 %), not the fast
     method's own 64 steps.
     """
-    lat = mb.Lattice(np.linspace(-0.3, 0.3, 50), np.linspace(-10.0, 10.0, 50))
-    states = mb.lattice_states(lat, slice(None), 2)
+    lat = ml.Lattice(np.linspace(-0.3, 0.3, 50), np.linspace(-10.0, 10.0, 50))
+    states = ml.lattice_states(lat, slice(None), 2)
     labels, atts, _ = mb.classify_lattice(states, lat, _fmap(rom), mb.Settings())
     assert len(atts) == 2 and all(a.period == 1 for a in atts)
     assert np.all(labels >= 0)
@@ -172,8 +175,8 @@ def test_fig19_cases_have_two_attractors_and_a_larger_resonant_basin(delta, omeg
     large amplitude resonant response").  Window of jobs/fig19-basins.toml, 30 x 30.
     """
     rom = build_rom(solve_prestretch(Membrane(delta, 0.2), "numeric"), [(1, 0)])
-    lat = mb.Lattice(np.linspace(-2.0, 2.0, 30), np.linspace(-50.0, 50.0, 30))
-    labels, atts, _ = mb.classify_lattice(mb.lattice_states(lat, slice(None), 2), lat,
+    lat = ml.Lattice(np.linspace(-2.0, 2.0, 30), np.linspace(-50.0, 50.0, 30))
+    labels, atts, _ = mb.classify_lattice(ml.lattice_states(lat, slice(None), 2), lat,
                                           _fmap(rom, omega), mb.Settings())
     assert [a.period for a in atts] == [1, 1]
     assert all(np.max(np.abs(a.multipliers)) < 1.0 for a in atts)
@@ -187,7 +190,7 @@ def test_a_failed_search_is_not_repeated_from_the_same_state(rom, monkeypatch):
     """A Newton search that finds nothing explains the recurrences near its start: copies
     of one initial state (advanced in lock-step, recurring in the same period) search
     once per recurrence, as the state alone does."""
-    lat = mb.Lattice(np.linspace(-0.3, 0.3, 5), np.linspace(-10.0, 10.0, 5))
+    lat = ml.Lattice(np.linspace(-0.3, 0.3, 5), np.linspace(-10.0, 10.0, 5))
     calls = []
 
     def failing(y0, k, *args, **kwargs):
@@ -211,9 +214,9 @@ def test_periods_that_leave_the_force_table_are_integrated_again_by_the_caller(r
     loop of a ROM without a table (every state here starts and stays beyond 1e-6 m, so the
     table takes no step).  Brute force (capture only) must give exactly the labels and
     periods of that loop applied period by period, here in Python."""
-    lat = mb.Lattice(np.linspace(-0.3, 0.3, 50), np.linspace(-10.0, 10.0, 50))
+    lat = ml.Lattice(np.linspace(-0.3, 0.3, 50), np.linspace(-10.0, 10.0, 50))
     fmap = _fmap(rom)
-    states = mb.lattice_states(lat, slice(None), 2)
+    states = ml.lattice_states(lat, slice(None), 2)
     _, atts, _ = mb.classify_lattice(states[:200], lat, fmap, mb.Settings())
     tiny = ForcedMap(rom.__class__(**{**rom.__dict__, "tables": rom.tables._replace(**_force_table(rom.tables,
                                                                                                     1e-6))}),
@@ -224,7 +227,7 @@ def test_periods_that_leave_the_force_table_are_integrated_again_by_the_caller(r
     starts = np.concatenate([a.points[0] + rng.uniform(-1, 1, (12, 2)) * [0.009, 0.3] for a in atts])
     settings = mb.Settings(max_periods=200)
     labels, _, periods = mb.classify_lattice(starts, lat, tiny, settings, atts, use_cells=False, discover=False)
-    scale = mb.lattice_scale(lat, 2)
+    scale = ml.lattice_scale(lat, 2)
     for i, y in enumerate(starts):
         for nd in range(settings.max_periods + 1):
             near = [a for a, att in enumerate(atts)
@@ -237,15 +240,15 @@ def test_periods_that_leave_the_force_table_are_integrated_again_by_the_caller(r
 
 
 def test_unreached_attractor_gives_label_minus_one(rom):
-    lat = mb.Lattice(np.linspace(-0.2, 0.2, 3), np.linspace(-6.7, 6.7, 3))
-    states = mb.lattice_states(lat, slice(None), 2)
+    lat = ml.Lattice(np.linspace(-0.2, 0.2, 3), np.linspace(-6.7, 6.7, 3))
+    states = ml.lattice_states(lat, slice(None), 2)
     labels, atts, periods = mb.classify_lattice(states, lat, _fmap(rom), mb.Settings(max_periods=5),
                                                 use_cells=False, discover=False)
     assert atts == [] and np.all(labels == mb.UNCLASSIFIED) and np.all(periods == 5)
 
 
 def _state_cells(n_state, entries, resolution=10.0):
-    return mb._StateCells(np.zeros((entries, n_state), np.int16), np.full(entries, mb._EMPTY_CELL, np.int8),
+    return mc.StateCells(np.zeros((entries, n_state), np.int16), np.full(entries, mc.EMPTY_CELL, np.int8),
                           np.full(n_state, resolution), np.zeros(1, np.int64), 3 * entries // 4)
 
 
@@ -258,15 +261,15 @@ def test_state_cells_one_entry_per_cell_until_full():
     cells = rng.integers(-40, 40, size=(48, 4))
     cells = cells[np.unique(cells, axis=0, return_index=True)[1]][:40]
     states = (cells + 0.5) / 10.0
-    entries = [mb._state_cell(y, sc) for y in states]
+    entries = [mc.state_cell(y, sc) for y in states]
     assert len(set(entries)) == len(entries) == sc.count[0] == 40
-    assert [mb._state_cell(y + 0.04, sc) for y in states] == entries  # same cells
+    assert [mc.state_cell(y + 0.04, sc) for y in states] == entries  # same cells
     np.testing.assert_array_equal(sc.keys[entries], cells)
     more = (rng.integers(100, 200, size=(20, 4)) + 0.5) / 10.0
-    added = [mb._state_cell(y, sc) for y in more]
+    added = [mc.state_cell(y, sc) for y in more]
     assert sc.count[0] == sc.limit == 48 and added[8:] == [-1] * 12
-    assert [mb._state_cell(y, sc) for y in states] == entries  # still found once full
-    assert mb._state_cell(np.array([1e4, 0.0, 0.0, 0.0]), sc) == -1  # beyond the int16 range
+    assert [mc.state_cell(y, sc) for y in states] == entries  # still found once full
+    assert mc.state_cell(np.array([1e4, 0.0, 0.0, 0.0]), sc) == -1  # beyond the int16 range
 
 
 def test_state_space_cells_keep_the_labels_and_save_periods():
@@ -275,8 +278,8 @@ def test_state_space_cells_keep_the_labels_and_save_periods():
     periods (regression bound 0.8; 0.56 of brute force's periods when written)."""
     rom2 = build_rom(solve_prestretch(Membrane(1.1, 0.2), "analytic"), [(1, 0), (2, 0)])
     fmap = _fmap(rom2, steps=128)
-    lat = mb.Lattice(np.linspace(-0.3, 0.3, 7), np.linspace(-10.0, 10.0, 7), 0, 2)
-    states = mb.lattice_states(lat, slice(None), 4)
+    lat = ml.Lattice(np.linspace(-0.3, 0.3, 7), np.linspace(-10.0, 10.0, 7), 0, 2)
+    states = ml.lattice_states(lat, slice(None), 4)
     labels, atts, periods = mb.classify_lattice(states, lat, fmap, mb.default_settings(2))
     brute, _, brute_periods = mb.classify_lattice(states, lat, fmap, mb.Settings(), atts, use_cells=False,
                                                   discover=False)
@@ -335,13 +338,13 @@ def test_bad_options_are_rejected_with_a_message(table, message):
 
 def test_merge_attractors_identifies_tiles_attractors_and_orders_by_amplitude():
     scale = np.array([1.0, 1.0])
-    small = mb.Attractor(np.array([[0.01, 0.0]]), np.array([0.9]))
-    big = mb.Attractor(np.array([[0.2, 0.5]]), np.array([0.9]))
-    big_again = mb.Attractor(np.array([[0.2 + 1e-4, 0.5]]), np.array([0.9]))
-    two = mb.Attractor(np.array([[0.1, 0.1], [-0.1, -0.1]]), np.array([0.5]))
-    one_at_two_points = mb.Attractor(np.array([[0.1, 0.1]]), np.array([0.5]))
+    small = ma.Attractor(np.array([[0.01, 0.0]]), np.array([0.9]))
+    big = ma.Attractor(np.array([[0.2, 0.5]]), np.array([0.9]))
+    big_again = ma.Attractor(np.array([[0.2 + 1e-4, 0.5]]), np.array([0.9]))
+    two = ma.Attractor(np.array([[0.1, 0.1], [-0.1, -0.1]]), np.array([0.5]))
+    one_at_two_points = ma.Attractor(np.array([[0.1, 0.1]]), np.array([0.5]))
     tiles = [[(small, 0.01), (big, 0.07)], [(big_again, 0.07), (two, 0.03)], [(one_at_two_points, 0.02)], []]
-    merged, index = mb.merge_attractors(tiles, scale, 1e-3)
+    merged, index = ma.merge_attractors(tiles, scale, 1e-3)
     assert [a for _, a in merged] == [0.07, 0.03, 0.02, 0.01]
     assert merged[0][0] is big  # the first finder's points
     assert [list(i) for i in index] == [[3, 0], [0, 1], [2], []]
@@ -379,8 +382,8 @@ def test_a_full_state_cell_map_is_reported_and_changes_no_label(monkeypatch):
              "ic_y": {"start": -10.0, "stop": 10.0, "num": 3}, "tiles": 1, "steps": 64}
     options = BASINS.parse_options(table, GRID, MEMBRANE)
     roomy = BASINS.compute(POINT, options, 0)
-    assert 0 < roomy["tile_state_cells"] < mb.state_cell_limit()
-    monkeypatch.setattr(mb, "STATE_CELL_CAPACITY", 64)
+    assert 0 < roomy["tile_state_cells"] < mc.state_cell_limit()
+    monkeypatch.setattr(mc, "STATE_CELL_CAPACITY", 64)
     cramped = BASINS.compute(POINT, options, 0)
-    assert cramped["status"] == 0 and cramped["tile_state_cells"] == mb.state_cell_limit() == 48
+    assert cramped["status"] == 0 and cramped["tile_state_cells"] == mc.state_cell_limit() == 48
     assert np.array_equal(cramped["tile_label"], roomy["tile_label"])

@@ -13,7 +13,7 @@ Fig. 19), relabels the lattice and computes the integrity measures of
 With ``method = "fast"``, a ROM evaluated by quadrature (more than one mode) is rebuilt
 with the fewest radial points that leave its accelerations unchanged to 1e-10 on the states of the trajectories
 from the window's corners and edge midpoints (:func:`model.rom.lean_radial_points`,
-:func:`model.basins.window_states`); the result records them (``radial_points``).  The
+:func:`model.lattice.window_states`); the result records them (``radial_points``).  The
 accelerations are checked again on the attractors found: a tile where they differ by more
 than :data:`LEAN_RTOL` gets status not converged.  For
 modes (1..3, 0) on the Fig. 19a window: 32 points instead of 160, with accelerations within
@@ -39,7 +39,10 @@ from functools import partial
 
 import numpy as np
 
+from model import attractors as ma
+from model import basin_cells as mc
 from model import basins as mb
+from model import lattice as ml
 from model.forced import ForcedMap
 from model.integrity import global_integrity_measure, integrity_factor
 from model.params import Loading, Membrane
@@ -93,10 +96,10 @@ class BasinsOptions:
         """State dimension ``2K``."""
         return 2 * len(self.modes)
 
-    def lattice(self) -> mb.Lattice:
+    def lattice(self) -> ml.Lattice:
         """The lattice of initial conditions."""
         K = len(self.modes)
-        return mb.Lattice(np.linspace(*self.ic_x), np.linspace(*self.ic_y),
+        return ml.Lattice(np.linspace(*self.ic_x), np.linspace(*self.ic_y),
                           self.lattice_mode - 1, K + self.lattice_mode - 1)
 
 
@@ -210,14 +213,14 @@ class Basins(Analysis):
         if rom is not None and rom.tables.table_max == 0.0 and options.method == "fast":
             # (brute force, the reference, keeps the full rule)
             ps = opt.prestretch_for(point.membrane, options.prestretch)
-            points = lean_radial_points(ps, rom, mb.window_states(lattice, fmap), LEAN_RTOL)
+            points = lean_radial_points(ps, rom, ml.window_states(lattice, fmap), LEAN_RTOL)
             if points < rom.radial_points:
                 rom = build_rom(ps, options.modes, radial_points=points)
                 fmap = fmap.with_rom(rom)
         out["tile_rk4_steps"] = steps
         out["tile_radial_points"] = 0 if rom is None else rom.radial_points
         rows = options.tile_rows(subtask)
-        states = mb.lattice_states(lattice, rows, S)
+        states = ml.lattice_states(lattice, rows, S)
         cell_report: dict = {}
         labels, atts, periods = mb.classify_lattice(states, lattice, fmap, options.settings,
                                                     use_cells=options.method == "fast", report=cell_report)
@@ -259,7 +262,7 @@ class Basins(Analysis):
         nx, ny, A = options.ic_x[2], options.ic_y[2], options.max_attractors
         P, S = options.settings.max_period, options.n_state
         lattice = options.lattice()
-        scale = mb.lattice_scale(lattice, S)
+        scale = ml.lattice_scale(lattice, S)
         label = np.full((*gshape, nx, ny), NOT_COMPUTED, np.int32)
         points = np.full((*gshape, A, P, S), np.nan)
         period = np.zeros((*gshape, A), np.int32)
@@ -278,10 +281,10 @@ class Basins(Analysis):
         for g in np.ndindex(*gshape):
             if np.all(tl[g] == NOT_COMPUTED):
                 continue
-            tiles = [[(mb.Attractor(tp[g][t, a, :int(tper[g][t, a])], np.array([tmul[g][t, a]])),
+            tiles = [[(ma.Attractor(tp[g][t, a, :int(tper[g][t, a])], np.array([tmul[g][t, a]])),
                        tamp[g][t, a]) for a in range(A) if tper[g][t, a] > 0]
                      for t in range(tl[g].shape[0])]
-            merged, index = mb.merge_attractors(tiles, scale, options.settings.radius)
+            merged, index = ma.merge_attractors(tiles, scale, options.settings.radius)
             lab = np.full((nx, ny), -1, np.int32)
             for t, idx in enumerate(index):
                 rows = options.tile_rows(t)
@@ -340,7 +343,7 @@ class Basins(Analysis):
                 "units": "1", "long_name": "radial Gauss-Legendre points of the ROM (model.rom.lean_radial_points)"}),
             "state_cells": (G, raw["tile_state_cells"].transpose(*order).values.max(axis=-1).astype(np.int32), {
                 "units": "1", "long_name": "most cells in a tile's state-space cell map (several modes)",
-                "state_cell_limit": np.int32(mb.state_cell_limit()),
+                "state_cell_limit": np.int32(mc.state_cell_limit()),
                 "comment": "at state_cell_limit a map takes no new cells: its tile's last trajectories ran longer "
                            "(labels still from labelled cells, capture and Newton); a coarser cell_resolution "
                            "or more tiles keep it below"}),
@@ -385,8 +388,8 @@ def _warmup_map(options: BasinsOptions) -> ForcedMap:
 
 def _compile_classifier(options: BasinsOptions) -> None:
     # Basins.warmups: the lattice classifier's kernel
-    lattice = mb.Lattice(np.array([0.0, 0.01]), np.array([0.0, 0.1]), 0, len(options.modes))
-    mb.classify_lattice(mb.lattice_states(lattice, slice(None), options.n_state)[:1], lattice,
+    lattice = ml.Lattice(np.array([0.0, 0.01]), np.array([0.0, 0.1]), 0, len(options.modes))
+    mb.classify_lattice(ml.lattice_states(lattice, slice(None), options.n_state)[:1], lattice,
                         _warmup_map(options), mb.Settings(max_periods=2), use_cells=options.method == "fast")
 
 
@@ -394,4 +397,4 @@ def _compile_attractor_tools(options: BasinsOptions) -> None:
     # Basins.warmups: the Newton search and the amplitude of attractors
     fmap = _warmup_map(options)
     fmap.amplitude(np.zeros(options.n_state))
-    mb.find_periodic_orbit(np.zeros(options.n_state), 1, fmap, np.ones(options.n_state), 1e-8, max_iter=1)
+    ma.find_periodic_orbit(np.zeros(options.n_state), 1, fmap, np.ones(options.n_state), 1e-8, max_iter=1)
