@@ -168,6 +168,11 @@ class ForcedMap:
             forcing = self.forcing._replace(Omega=float(value))
         elif parameter == "P0":
             forcing = self.forcing._replace(P0=float(value))
+        elif parameter == "c" and (self.damping is None or isinstance(self.damping, Viscous)):
+            # a scalar rate: no terms to build (a fold curve in c varies it at every corrector step)
+            forcing = self.forcing._replace(damping_rate=self.rom.membrane.damping_rate(float(value)))
+            law = None if self.damping is None else self.damping.replaced("c", float(value))
+            return ForcedMap(self.rom, forcing, self.steps, law)
         elif parameter in self.parameters:
             return ForcedMap.build(self.rom, self.forcing.P0, self.forcing.Omega,
                                    (self.damping or Viscous()).replaced(parameter, float(value)), self.steps)
