@@ -46,15 +46,28 @@ def damping_terms(rom: Rom, damping: DampingLaw) -> tuple[float, np.ndarray]:
     return damping.terms(*linear_system(rom), m.Gamma * m.h, order=np.arange(rom.dof))
 
 
+#: The family damping terms already built, by (family, membrane, law): a continuation
+#: asks for them at every point of its branch.  Bounded; each entry keeps its family alive,
+#: so that the family's id in the key is not reused.
+_FAMILY_DAMPING: dict = {}
+_FAMILY_DAMPING_SIZE = 64
+
+
 def family_damping(fam: Family, membrane, damping: DampingLaw) -> tuple[float, np.ndarray]:
     """``(rate, matrix)`` of the law ``damping`` on the perturbations of family ``fam``
-    (:func:`model.families.family_linear_system`; per-mode constants by increasing frequency)."""
+    (:func:`model.families.family_linear_system`; per-mode constants by increasing frequency).
+    Built once per family, membrane and law."""
     if isinstance(damping, Viscous):
         return damping.terms(np.eye(1), np.eye(1), membrane.Gamma * membrane.h)
     if isinstance(getattr(damping, "zeta", None), tuple):
         raise ValueError(f"zeta = {list(damping.zeta)} is invalid for a family: one ratio for every mode (a list "
                          "follows the ROM's mode set, of which the family blocks are not part)")
-    return damping.terms(*family_linear_system(fam, membrane), membrane.Gamma * membrane.h)
+    key = (id(fam), membrane, damping)
+    if key not in _FAMILY_DAMPING:
+        if len(_FAMILY_DAMPING) >= _FAMILY_DAMPING_SIZE:
+            _FAMILY_DAMPING.pop(next(iter(_FAMILY_DAMPING)))
+        _FAMILY_DAMPING[key] = (fam, damping.terms(*family_linear_system(fam, membrane), membrane.Gamma * membrane.h))
+    return _FAMILY_DAMPING[key][1]
 
 
 def steps_per_period(rom: Rom, base: int) -> int:
