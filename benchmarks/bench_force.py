@@ -48,56 +48,55 @@ from model.rom import (axisymmetric_force, axisymmetric_force_jacobian, build_ro
 
 
 @nb.njit(cache=True)
-def _axisymmetric_force(Q, repeats, weight, rho2, r2, dr2, b_rho, G):
+def _axisymmetric_force(Q, repeats, law, weight, inv_rho2, hoop2, radial2, b_rho, G):
     a = np.empty(weight.size)
     for _ in range(repeats):
         for m in range(Q.shape[0]):
-            axisymmetric_force(Q[m], weight, rho2, r2, dr2, b_rho, G[m], a)
+            axisymmetric_force(Q[m], law, weight, inv_rho2, hoop2, radial2, b_rho, G[m], a)
 
 
 @nb.njit(cache=True)
-def _axisymmetric_force_jacobian(Q, repeats, weight, rho2, r2, dr2, b_rho, G, J):
+def _axisymmetric_force_jacobian(Q, repeats, law, weight, inv_rho2, hoop2, radial2, b_rho, G, J):
     work = np.empty((7, weight.size))
     for _ in range(repeats):
         for m in range(Q.shape[0]):
-            axisymmetric_force_jacobian(Q[m], weight, rho2, r2, dr2, b_rho, G[m], J[m], work)
+            axisymmetric_force_jacobian(Q[m], law, weight, inv_rho2, hoop2, radial2, b_rho, G[m], J[m], work)
 
 
 @nb.njit(cache=True)
-def _general_force(Q, repeats, weight, rho2, r2, dr2, b_rho, b_theta, G):
+def _general_force(Q, repeats, law, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, G):
     a = np.empty(weight.size)
     b = np.empty(weight.size)
     for _ in range(repeats):
         for m in range(Q.shape[0]):
-            general_force(Q[m], weight, rho2, r2, dr2, b_rho, b_theta, G[m], a, b)
+            general_force(Q[m], law, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, G[m], a, b)
 
 
 @nb.njit(cache=True)
-def _general_force_jacobian(Q, repeats, weight, rho2, r2, dr2, b_rho, b_theta, G, J):
+def _general_force_jacobian(Q, repeats, law, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, G, J):
     work = np.empty((7, weight.size))
     for _ in range(repeats):
         for m in range(Q.shape[0]):
-            general_force_jacobian(Q[m], weight, rho2, r2, dr2, b_rho, b_theta, G[m], J[m], work)
+            general_force_jacobian(Q[m], law, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, G[m], J[m], work)
 
 
 def _numpy_force_jacobian(q, t, axisymmetric):
     """Force and Jacobian, the formulas of ``benchmarks/c/force_jacobian.c`` on whole
-    arrays, without the ``w_theta`` terms for an axisymmetric set (as a user would write it)."""
+    arrays, without the ``w_theta`` terms for an axisymmetric set (as a user would write it:
+    the neo-Hookean law in the determinant ``delta`` of the in-plane metric)."""
     a = q @ t.b_rho
     if axisymmetric:
-        D = t.r2 * (t.dr2 + a * a)
-        s = t.rho2 / D**2
-        g = t.b_rho @ (2 * a * (1 - s * t.r2) * t.weight)
-        jac = (t.b_rho * ((2 - 2 * s * t.r2 + 8 * s / D * t.r2**2 * a**2) * t.weight)) @ t.b_rho.T
+        e = 1 / (t.hoop2 * (t.radial2 + a * a))
+        g = t.b_rho @ (2 * a * (1 - e**2 * t.hoop2) * t.weight)
+        jac = (t.b_rho * ((2 - 2 * e**2 * t.hoop2 + 8 * e**3 * t.hoop2**2 * a**2) * t.weight)) @ t.b_rho.T
         return g, jac
     b = q @ t.b_theta
-    D = t.dr2 * t.r2 + t.dr2 * b * b + t.r2 * a * a
-    s = t.rho2 / D**2
-    s3 = 8 * s / D
-    g = t.b_rho @ (2 * a * (1 - s * t.r2) * t.weight) + t.b_theta @ (2 * b * (1 / t.rho2 - s * t.dr2) * t.weight)
-    iaa = (2 - 2 * s * t.r2 + s3 * t.r2**2 * a * a) * t.weight
-    iab = s3 * t.r2 * t.dr2 * a * b * t.weight
-    ibb = (2 / t.rho2 - 2 * s * t.dr2 + s3 * t.dr2**2 * b * b) * t.weight
+    bt = b * t.inv_rho2
+    e = 1 / (t.hoop2 * (t.radial2 + a * a) + t.radial2 * b * bt)
+    g = t.b_rho @ (2 * a * (1 - e**2 * t.hoop2) * t.weight) + t.b_theta @ (2 * bt * (1 - e**2 * t.radial2) * t.weight)
+    iaa = (2 - 2 * e**2 * t.hoop2 + 8 * e**3 * t.hoop2**2 * a * a) * t.weight
+    iab = 8 * e**3 * t.hoop2 * t.radial2 * a * bt * t.weight
+    ibb = (2 * t.inv_rho2 * (1 - e**2 * t.radial2) + 8 * e**3 * t.radial2**2 * bt * bt) * t.weight
     cross = (t.b_rho * iab) @ t.b_theta.T
     jac = (t.b_rho * iaa) @ t.b_rho.T + cross + cross.T + (t.b_theta * ibb) @ t.b_theta.T
     return g, jac
@@ -116,12 +115,12 @@ def _case(title, tables, axisymmetric, states, repeats, rounds, unfolded=None):
     Q = np.column_stack([rng.uniform(-0.3, 0.3, states), rng.uniform(-0.03, 0.03, (states, K - 1))])
     # the C program takes the general kernels when the tables carry b_theta
     if axisymmetric:
-        arrays, force, fused = (t.weight, t.rho2, t.r2, t.dr2, t.b_rho), _axisymmetric_force, _axisymmetric_force_jacobian
+        arrays, force, fused = (t.weight, t.inv_rho2, t.hoop2, t.radial2, t.b_rho), _axisymmetric_force, _axisymmetric_force_jacobian
     else:
-        arrays, force, fused = (t.weight, t.rho2, t.r2, t.dr2, t.b_rho, t.b_theta), _general_force, _general_force_jacobian
+        arrays, force, fused = (t.weight, t.inv_rho2, t.hoop2, t.radial2, t.b_rho, t.b_theta), _general_force, _general_force_jacobian
     G, G2, Gu, J = np.empty((states, K)), np.empty((states, K)), np.empty((states, K)), np.empty((states, K, K))
-    force(Q[:1], 1, *arrays, G)
-    fused(Q[:1], 1, *arrays, G2, J)
+    force(Q[:1], 1, t.law, *arrays, G)
+    fused(Q[:1], 1, t.law, *arrays, G2, J)
     work = Path(tempfile.mkdtemp())
     exe = compile_reference("force_jacobian", work, ("-ffast-math",))
     np.concatenate([a.ravel() for a in arrays]).tofile(work / "tables.bin")
@@ -132,19 +131,19 @@ def _case(title, tables, axisymmetric, states, repeats, rounds, unfolded=None):
     times = {name: [] for name in names}
     if unfolded is not None:
         u = unfolded
-        u_arrays = (u.weight, u.rho2, u.r2, u.dr2, u.b_rho, u.b_theta)
-        force(Q[:1], 1, *u_arrays, Gu)
+        u_arrays = (u.weight, u.inv_rho2, u.hoop2, u.radial2, u.b_rho, u.b_theta)
+        force(Q[:1], 1, t.law, *u_arrays, Gu)
     calls = states * repeats
     for _ in range(rounds):
         t0 = time.perf_counter()
-        force(Q, repeats, *arrays, G)
+        force(Q, repeats, t.law, *arrays, G)
         times["numba force"].append((time.perf_counter() - t0) / calls * 1e9)
         t0 = time.perf_counter()
-        fused(Q, repeats, *arrays, G2, J)
+        fused(Q, repeats, t.law, *arrays, G2, J)
         times["numba force + Jacobian"].append((time.perf_counter() - t0) / calls * 1e9)
         if unfolded is not None:
             t0 = time.perf_counter()
-            force(Q, repeats, *u_arrays, Gu)
+            force(Q, repeats, t.law, *u_arrays, Gu)
             times["numba force, unfolded rule"].append((time.perf_counter() - t0) / calls * 1e9)
         t0 = time.perf_counter()
         numpy_out = [_numpy_force_jacobian(q, t, axisymmetric) for q in Q]

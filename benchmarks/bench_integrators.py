@@ -57,9 +57,9 @@ def numpy_rhs(rom):
     def f(time_, y):
         q, v = y[:K], y[K:]
         a, b = q @ t.b_rho, q @ t.b_theta
-        D = t.dr2 * t.r2 + t.dr2 * b * b + t.r2 * a * a
-        s = t.rho2 / D**2
-        g = t.b_rho @ (2 * a * (1 - s * t.r2) * t.weight) + t.b_theta @ (2 * b * (1 / t.rho2 - s * t.dr2) * t.weight)
+        delta = t.hoop2 * (t.radial2 + a * a) + t.radial2 * b * b * t.inv_rho2  # det of the metric
+        g = (t.b_rho @ (2 * a * (1 - t.hoop2 / delta**2) * t.weight)
+             + t.b_theta @ (2 * b * t.inv_rho2 * (1 - t.radial2 / delta**2) * t.weight))
         return np.concatenate([v, -c_damp * v - t.k_force * g + P0 * np.cos(OMEGA * time_) * t.load])
 
     return f
@@ -72,7 +72,7 @@ def c_inputs(rom, work: Path) -> list[str]:
     coef = dopri._COEF
     np.concatenate([coef.A.ravel(), coef.B, coef.C, coef.E3, coef.E5]).tofile(work / "coef.bin")
     pieces = t.stiffness_table.shape[0] if t.table_max > 0 else 0
-    np.concatenate([t.weight, t.rho2, t.r2, t.dr2, t.b_rho.ravel(), t.k_force, t.load,
+    np.concatenate([t.weight, t.inv_rho2, t.hoop2, t.radial2, t.b_rho.ravel(), t.k_force, t.load,
                     t.stiffness_table.ravel() if pieces else []]).tofile(work / "tables.bin")
     return [str(work / "coef.bin"), str(work / "tables.bin"), str(rom.dof), str(t.weight.size), str(pieces),
             _number(t.table_max)]

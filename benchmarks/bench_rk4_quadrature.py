@@ -72,13 +72,13 @@ def numpy_rk4(y, fmap, periods):
     def rhs(time_, z):
         a = z[:K] @ t.b_rho
         if t.axisymmetric:
-            D = t.r2 * (t.dr2 + a * a)
-            g = t.b_rho @ (2 * a * (1 - t.rho2 * t.r2 / D**2) * t.weight)
+            delta = t.hoop2 * (t.radial2 + a * a)  # det of the in-plane metric
+            g = t.b_rho @ (2 * a * (1 - t.hoop2 / delta**2) * t.weight)
         else:
             b = z[:K] @ t.b_theta
-            D = t.dr2 * t.r2 + t.dr2 * b * b + t.r2 * a * a
-            s = t.rho2 / D**2
-            g = t.b_rho @ (2 * a * (1 - s * t.r2) * t.weight) + t.b_theta @ (2 * b * (1 / t.rho2 - s * t.dr2) * t.weight)
+            delta = t.hoop2 * (t.radial2 + a * a) + t.radial2 * b * b * t.inv_rho2
+            g = (t.b_rho @ (2 * a * (1 - t.hoop2 / delta**2) * t.weight)
+                 + t.b_theta @ (2 * b * t.inv_rho2 * (1 - t.radial2 / delta**2) * t.weight))
         return np.concatenate([z[K:], -f.damping_rate * z[K:] - t.k_force * g
                                + f.P0 * np.cos(f.Omega * time_) * t.load])
 
@@ -104,8 +104,8 @@ def lockstep_rk4(states, fmap, periods):
         columns = np.zeros((states.shape[1], LOCKSTEP_WIDTH))
         columns[:, :block.shape[0]] = block.T
         for _ in range(periods):
-            rk4_quadrature_lockstep(columns, block.shape[0], 0.0, h, fmap.steps, t.weight, t.rho2, t.r2, t.dr2,
-                                    t.b_rho, t.b_theta, t.axisymmetric, t.k_force, t.load, f.damping_rate, f.P0,
+            rk4_quadrature_lockstep(columns, block.shape[0], 0.0, h, fmap.steps, t.weight, t.inv_rho2, t.hoop2, t.radial2,
+                                    t.b_rho, t.b_theta, t.axisymmetric, t.law, t.k_force, t.load, f.damping_rate, f.P0,
                                     f.Omega, matrix_or_none(f.damping_matrix))
         out[s:s + block.shape[0]] = columns[:, :block.shape[0]].T
     return out
@@ -149,7 +149,7 @@ def _case(title, rom, states, exe, fixed, work, periods, rounds) -> None:
     fmap = ForcedMap.from_loading(rom, Loading(33.5, 1.0, 0.05), steps)
     t, f = rom.tables, fmap.forcing
     K, P = rom.dof, t.weight.size
-    arrays = [t.weight, t.rho2, t.r2, t.dr2, t.b_rho.ravel(), t.k_force, t.load]
+    arrays = [t.weight, t.inv_rho2, t.hoop2, t.radial2, t.b_rho.ravel(), t.k_force, t.load]
     if not t.axisymmetric:
         arrays.append(t.b_theta.ravel())  # the C program takes the general branch
     np.concatenate(arrays).tofile(work / "tables.bin")

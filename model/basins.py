@@ -532,8 +532,8 @@ def _classify_kernel(states, labels, periods, cells, sc, known, crit, tab, coef_
                 for j in range(m, width):
                     for i in range(n):
                         columns[i, j] = 0.0
-                rk4_quadrature_lockstep(columns, width, 0.0, h, steps, tab.weight, tab.rho2, tab.r2, tab.dr2,
-                                        tab.b_rho, tab.b_theta, tab.axisymmetric, tab.k_force, tab.load,
+                rk4_quadrature_lockstep(columns, width, 0.0, h, steps, tab.weight, tab.inv_rho2, tab.hoop2, tab.radial2,
+                                        tab.b_rho, tab.b_theta, tab.axisymmetric, tab.law, tab.k_force, tab.load,
                                         forcing.damping_rate, forcing.P0, forcing.Omega, damping_matrix)
                 for j in range(m):
                     for i in range(n):

@@ -13,9 +13,13 @@ The block of family ``n`` follows from the Hessian of the transverse energy
 (:func:`model.rom.force_jacobian`) at ``w_theta = 0`` with the theta integrals done in
 closed form (``int cos^2 = int sin^2 = pi``)::
 
-    J_jl(q) = pi int rho [I_aa phi_j' phi_l' + n^2 I_bb phi_j phi_l] drho
-    I_aa = 2 - 2 rho^2 r^2 / D^2 + 8 rho^2 r^4 a^2 / D^3
-    I_bb = 2 / rho^2 - 2 rho^2 r'^2 / D^2,       D = r^2 (r'^2 + a^2),  a = w0_rho
+    J_jl(q) = pi int rho [W_aa phi_j' phi_l' + n^2 W_bb phi_j phi_l] drho
+
+with ``W_aa``, ``W_bb`` the second derivatives of ``W / C1`` in the slopes at ``a = w0_rho``,
+``b = 0`` (:func:`model.transverse.slope_hessian`); for the neo-Hookean law::
+
+    W_aa = 2 - 2 rho^2 r^2 / D^2 + 8 rho^2 r^4 a^2 / D^3
+    W_bb = 2 / rho^2 - 2 rho^2 r'^2 / D^2,       D = r^2 (r'^2 + a^2)
 
 and the perturbation obeys ``u'' + D u' + diag(C1 / (Gamma M_j)) J(q(t)) u = 0`` with
 ``M_j = pi int rho phi_j^2 drho`` and ``D`` the damping law's on the family's own linear
@@ -41,6 +45,7 @@ from .modes import bessel_roots, mode_shape
 from .prestretch import Prestretch
 from .integrate import rk4_one_mode
 from .rom import Rom, piecewise_chebyshev, rhs_unpacked, unpack
+from .transverse import slope_hessian
 
 
 class FamilyTables(NamedTuple):
@@ -49,11 +54,12 @@ class FamilyTables(NamedTuple):
     Attributes
     ----------
     weight : (P,) ``pi rho`` times the Gauss weight (m2)
-    rho2, r2, dr2 : (P,) ``rho^2`` (m2), ``r_o^2`` (m2), ``r_o'^2`` (1)
+    inv_rho2, hoop2, radial2 : (P,) ``1 / rho^2`` (m-2), ``(r_o / rho)^2`` (1), ``r_o'^2`` (1)
     axis_slope : (Ka, P) ``phi_k0'`` of the axisymmetric modes of the ROM (m-1)
     slope : (M, P) ``phi_jn'`` of the family's modes (m-1)
     hoop : (M, P) ``n phi_jn`` (1), the amplitude of the theta slope ``psi_theta``
     k_force : (M,) ``C1 / (Gamma M_j)`` (m2 s-2 per unit of ``J u``)
+    law : the membrane's material law (:mod:`model.materials`)
     table_max : float, ``|q|`` covered by the table of ``J`` (one-mode ROMs; 0: no table)
     jacobian_table : (M * M, pieces, degree + 1) piecewise Chebyshev coefficients of the
         entries of ``J`` (row-major) on ``[0, table_max]`` (``J`` is even in ``q``);
@@ -61,13 +67,14 @@ class FamilyTables(NamedTuple):
     """
 
     weight: np.ndarray
-    rho2: np.ndarray
-    r2: np.ndarray
-    dr2: np.ndarray
+    inv_rho2: np.ndarray
+    hoop2: np.ndarray
+    radial2: np.ndarray
     axis_slope: np.ndarray
     slope: np.ndarray
     hoop: np.ndarray
     k_force: np.ndarray
+    law: tuple
     table_max: float
     jacobian_table: np.ndarray
 
@@ -162,10 +169,10 @@ def build_family(prestretch: Prestretch, rom: Rom, n: int, radial, radial_points
     weight = np.pi * rho * wr
     mass = (phi**2 * weight).sum(axis=1)
     r, dr = prestretch.radius(rho), prestretch.slope(rho)
-    tables = FamilyTables(weight=weight, rho2=rho**2, r2=r**2, dr2=dr**2,
+    tables = FamilyTables(weight=weight, inv_rho2=1.0 / rho**2, hoop2=(r / rho)**2, radial2=dr**2,
                           axis_slope=np.ascontiguousarray(axis_slope), slope=np.ascontiguousarray(dphi),
                           hoop=np.ascontiguousarray(n * phi), k_force=m.C1 / (m.Gamma * mass),
-                          table_max=0.0, jacobian_table=np.zeros((0, 0, 1)))
+                          law=m.material, table_max=0.0, jacobian_table=np.zeros((0, 0, 1)))
     if rom.tables.table_max > 0.0 and jacobian_table:
         tables = tables._replace(table_max=rom.tables.table_max,
                                  jacobian_table=_jacobian_table(tables, rom.tables.table_max))
@@ -242,12 +249,9 @@ def _quadrature_jacobian(q, fam, iaa, ibb, out):
         a = 0.0
         for k in range(q.size):
             a += q[k] * fam.axis_slope[k, p]
-        r2 = fam.r2[p]
-        rho2 = fam.rho2[p]
-        D = r2 * (fam.dr2[p] + a * a)
-        s = rho2 / (D * D)
-        iaa[p] = (2.0 - 2.0 * s * r2 + 8.0 * s * r2 * r2 * a * a / D) * fam.weight[p]
-        ibb[p] = (2.0 / rho2 - 2.0 * s * fam.dr2[p]) * fam.weight[p]
+        _, _, waa, _, wbb = slope_hessian(fam.law, a, 0.0, fam.inv_rho2[p], fam.hoop2[p], fam.radial2[p])
+        iaa[p] = waa * fam.weight[p]
+        ibb[p] = wbb * fam.weight[p]
     M = out.shape[0]
     for j in range(M):
         for l in range(j, M):

@@ -28,6 +28,7 @@ import numpy as np
 
 from .damping_kernels import add_matrix_damping, add_matrix_damping_columns, matrix_or_none
 from .noalias import NoAliasCompiler
+from .transverse import slope_factors
 from .rom import (TABLE_DEGREE, axisymmetric_force, axisymmetric_force_jacobian, general_force,
                   general_force_jacobian, table_eval, table_eval_pair)
 
@@ -248,7 +249,7 @@ def quadrature_lockstep_pays(count):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy", pipeline_class=NoAliasCompiler)
-def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force,
+def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force,
                             load, c_damp, p_load, omega, damping_matrix):
     """Advance the trajectories ``y[:, :count]`` in place by ``steps`` RK4 steps of size ``h``
     (s) from ``t0``, all in lock-step, with the quadrature force (any mode set).
@@ -273,9 +274,9 @@ def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, rho2, r2, dr2, b_rho
         Start time and step (s).
     steps : int
         RK4 steps.
-    weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load
-        The arrays of :class:`model.rom.RomTables` (``b_theta`` unused when
-        ``axisymmetric``).
+    weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load
+        The arrays, flag and material law of :class:`model.rom.RomTables` (``b_theta``
+        unused when ``axisymmetric``).
     c_damp, p_load, omega : float
         Damping rate (s-1), ``P0`` (Pa), ``Omega`` (rad s-1).
     damping_matrix : (K, K) array or None
@@ -314,26 +315,23 @@ def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, rho2, r2, dr2, b_rho
                 for b in range(count):
                     acc[k, b] = 0.0
             if fused:
-                _add_axisymmetric_forces_unrolled(qs, basis, weight, rho2, r2, dr2, count, acc)
+                _add_axisymmetric_forces_unrolled(qs, basis, law, weight, inv_rho2, hoop2, radial2, count, acc)
             else:
                 for p in range(P):
                     _column_slopes(qs, b_rho, p, count, sa)
-                    w2 = 2.0 * weight[p]
+                    w = weight[p]
                     if axisymmetric:
-                        rr = rho2[p] * r2[p]
                         for b in range(count):
                             a = sa[b]
-                            D = r2[p] * (dr2[p] + a * a)
-                            sa[b] = w2 * a * (1.0 - rr / (D * D))
+                            sa[b] = w * a * slope_factors(law, a, 0.0, inv_rho2[p], hoop2[p], radial2[p])[0]
                     else:
                         _column_slopes(qs, b_theta, p, count, sb)
                         for b in range(count):
                             a = sa[b]
                             c = sb[b]
-                            D = dr2[p] * r2[p] + dr2[p] * c * c + r2[p] * a * a
-                            d = rho2[p] / (D * D)
-                            sa[b] = w2 * a * (1.0 - d * r2[p])
-                            sb[b] = w2 * c * (1.0 / rho2[p] - d * dr2[p])
+                            ca, cb = slope_factors(law, a, c, inv_rho2[p], hoop2[p], radial2[p])
+                            sa[b] = w * a * ca
+                            sb[b] = w * c * cb
                     _add_column_forces(sa, b_rho, p, count, acc)
                     if not axisymmetric:
                         _add_column_forces(sb, b_theta, p, count, acc)
@@ -356,7 +354,7 @@ def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, rho2, r2, dr2, b_rho
 
 
 @nb.njit(cache=True, inline="always")
-def _add_axisymmetric_forces_unrolled(qs, basis, weight, rho2, r2, dr2, count, acc):
+def _add_axisymmetric_forces_unrolled(qs, basis, law, weight, inv_rho2, hoop2, radial2, count, acc):
     # acc[k, b] += the axisymmetric quadrature force of column b, for UNROLLED_MODES (4)
     # modes written out (zero rows of basis beyond the ROM's): one loop over the columns
     # per quadrature point, slope, force and its shares in registers (inlined: compiled
@@ -366,14 +364,13 @@ def _add_axisymmetric_forces_unrolled(qs, basis, weight, rho2, r2, dr2, count, a
         c1 = basis[1, p]
         c2 = basis[2, p]
         c3 = basis[3, p]
-        w2 = 2.0 * weight[p]
-        rr = rho2[p] * r2[p]
-        r2p = r2[p]
-        d2 = dr2[p]
+        w = weight[p]
+        inv_rho2p = inv_rho2[p]
+        hoop2p = hoop2[p]
+        d2 = radial2[p]
         for b in range(count):
             a = qs[0, b] * c0 + qs[1, b] * c1 + qs[2, b] * c2 + qs[3, b] * c3
-            D = r2p * (d2 + a * a)
-            g = w2 * a * (1.0 - rr / (D * D))
+            g = w * a * slope_factors(law, a, 0.0, inv_rho2p, hoop2p, d2)[0]
             acc[0, b] += g * c0
             acc[1, b] += g * c1
             acc[2, b] += g * c2
@@ -394,13 +391,13 @@ def rk4_steps(y, t0, h, steps, tab, forcing, work):
         steps -= done
     if steps <= 0:
         return t0
-    return _rk4_quadrature(y, t0, h, steps, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta,
-                           tab.axisymmetric, tab.k_force, tab.load, forcing.damping_rate, forcing.P0,
+    return _rk4_quadrature(y, t0, h, steps, tab.weight, tab.inv_rho2, tab.hoop2, tab.radial2, tab.b_rho, tab.b_theta,
+                           tab.axisymmetric, tab.law, tab.k_force, tab.load, forcing.damping_rate, forcing.P0,
                            forcing.Omega, forcing.damping_matrix, work)
 
 
 @nb.njit(cache=True)
-def _rk4_quadrature(y, t0, h, steps, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load,
+def _rk4_quadrature(y, t0, h, steps, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load,
                     c_damp, p_load, omega, damping_matrix, work):
     # rk4_steps on the quadrature force (the right-hand side of model.rom.rhs, stage by
     # stage), the tables' arrays unpacked once: handing the RomTables record down to the
@@ -424,9 +421,9 @@ def _rk4_quadrature(y, t0, h, steps, weight, rho2, r2, dr2, b_rho, b_theta, axis
                 for i in range(n):
                     tmp[i] = y[i] + f * stages[s - 1, i]
             if axisymmetric:
-                axisymmetric_force(tmp[:K], weight, rho2, r2, dr2, b_rho, g, scratch[0])
+                axisymmetric_force(tmp[:K], law, weight, inv_rho2, hoop2, radial2, b_rho, g, scratch[0])
             else:
-                general_force(tmp[:K], weight, rho2, r2, dr2, b_rho, b_theta, g, scratch[0], scratch[1])
+                general_force(tmp[:K], law, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, g, scratch[0], scratch[1])
             pt = p_load * np.cos(omega * (t + f))
             for i in range(K):
                 stages[s, i] = tmp[K + i]
@@ -444,7 +441,7 @@ NO_PARAMETER, OMEGA, PRESSURE = 0, 1, 2
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy", _nrt=False)
-def _aug_rhs(t, z, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load, c_damp, p_load, omega,
+def _aug_rhs(t, z, n, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load, c_damp, p_load, omega,
              damping_matrix, which, g, jac, work, out):
     # z = (y, V) with V = [Phi | dy/dlambda] stored row-major (n rows, n + 1 columns; n
     # without a parameter);
@@ -459,9 +456,9 @@ def _aug_rhs(t, z, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_for
     K = n // 2
     w = n + 1 if which != NO_PARAMETER else n
     if axisymmetric:
-        axisymmetric_force_jacobian(z[:K], weight, rho2, r2, dr2, b_rho, g, jac, work)
+        axisymmetric_force_jacobian(z[:K], law, weight, inv_rho2, hoop2, radial2, b_rho, g, jac, work)
     else:
-        general_force_jacobian(z[:K], weight, rho2, r2, dr2, b_rho, b_theta, g, jac, work)
+        general_force_jacobian(z[:K], law, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, g, jac, work)
     pt = p_load * np.cos(omega * t)
     for k in range(K):
         out[k] = z[K + k]
@@ -662,7 +659,7 @@ def _monodromy_parameter_quadrature(y0, t0, period, steps, tab, forcing, which, 
     work = np.empty((7, tab.weight.size))
     h = period / steps
     t = t0
-    arrays = (tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta, tab.axisymmetric, tab.k_force, tab.load,
+    arrays = (tab.weight, tab.inv_rho2, tab.hoop2, tab.radial2, tab.b_rho, tab.b_theta, tab.axisymmetric, tab.law, tab.k_force, tab.load,
               forcing.damping_rate, forcing.P0, forcing.Omega, damping_matrix)
     _monodromy_quadrature(z, n, t, h, steps, *arrays, which, g, jac, work, k1, k2, k3, k4, tmp)
     # V row by row (no reshape: its error path alone costs seconds of compilation)
@@ -677,24 +674,24 @@ def _monodromy_parameter_quadrature(y0, t0, period, steps, tab, forcing, which, 
 
 
 @nb.njit(cache=True)
-def _monodromy_quadrature(z, n, t, h, steps, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load,
+def _monodromy_quadrature(z, n, t, h, steps, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load,
                           c_damp, p_load, omega, damping_matrix, which, g, jac, work, k1, k2, k3, k4, tmp):
     # The RK4 loop of monodromy_parameter on z = (y, V), the tables unpacked once.
     m = z.size
     for _ in range(steps):
-        _aug_rhs(t, z, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load, c_damp, p_load, omega,
+        _aug_rhs(t, z, n, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load, c_damp, p_load, omega,
                  damping_matrix, which, g, jac, work, k1)
         for i in range(m):
             tmp[i] = z[i] + 0.5 * h * k1[i]
-        _aug_rhs(t + 0.5 * h, tmp, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load, c_damp,
+        _aug_rhs(t + 0.5 * h, tmp, n, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load, c_damp,
                  p_load, omega, damping_matrix, which, g, jac, work, k2)
         for i in range(m):
             tmp[i] = z[i] + 0.5 * h * k2[i]
-        _aug_rhs(t + 0.5 * h, tmp, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load, c_damp,
+        _aug_rhs(t + 0.5 * h, tmp, n, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load, c_damp,
                  p_load, omega, damping_matrix, which, g, jac, work, k3)
         for i in range(m):
             tmp[i] = z[i] + h * k3[i]
-        _aug_rhs(t + h, tmp, n, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load, c_damp, p_load,
+        _aug_rhs(t + h, tmp, n, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load, c_damp, p_load,
                  omega, damping_matrix, which, g, jac, work, k4)
         for i in range(m):
             z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])

@@ -9,7 +9,9 @@ Three estimates of ``omega_mn`` (rad/s):
 * :func:`frequency_bound`: Eq. (29), the limit ``delta -> inf``.
 
 Linearising the exact transverse energy (docs/model.md, "Transverse energy") gives
-``1 + L1 = 1 - rho^2 / (r_o'^4 r_o^2)`` and ``1/rho^2 + L3 = 1/rho^2 - rho^2/(r_o'^2 r_o^4)``,
+the coefficients ``1 + L1`` and ``1/rho^2 + L3`` of the membrane's law at its pre-stretch
+(:func:`model.transverse.slope_factors` at zero slope; for the neo-Hookean law
+``1 + L1 = 1 - rho^2 / (r_o'^4 r_o^2)`` and ``1/rho^2 + L3 = 1/rho^2 - rho^2/(r_o'^2 r_o^4)``),
 so that ``omega^2 = (2 C1 / Gamma) lambda`` with ``lambda`` the generalised eigenvalues of
 ``K_kl = int rho [(1+L1) phi_k' phi_l' + n^2 (1/rho^2+L3) phi_k phi_l] drho`` and
 ``M_kl = int rho phi_k phi_l drho``.
@@ -23,9 +25,11 @@ import numpy as np
 from scipy.linalg import eigh
 from scipy.special import roots_legendre
 
+from .materials import is_neo_hookean
 from .modes import bessel_roots, mode_shape
 from .params import Membrane
 from .prestretch import Prestretch
+from .transverse import slope_factors
 
 #: Smallest basis of the adaptive Galerkin solve, and its cap.
 DEFAULT_BASIS = 32
@@ -48,12 +52,14 @@ def gauss_radial(membrane: Membrane, points: int):
 
 
 def stiffness_coefficients(prestretch: Prestretch, rho):
-    """``(1 + L1, 1/rho^2 + L3)`` of Eq. (25) at undeformed radii ``rho`` (m).
+    """``(1 + L1, 1/rho^2 + L3)`` of Eq. (25) at undeformed radii ``rho`` (m), for the
+    membrane's law: half the :func:`model.transverse.slope_factors` at zero slope.
 
     Returns the dimensionless radial coefficient and the circumferential one (m-2).
     """
     r, dr = prestretch.radius(rho), prestretch.slope(rho)
-    return 1.0 - rho**2 / (dr**4 * r**2), 1.0 / rho**2 - rho**2 / (dr**2 * r**4)
+    ca, cb = slope_factors(prestretch.membrane.material, 0.0, 0.0, 1.0 / rho**2, (r / rho)**2, dr**2)
+    return 0.5 * ca, 0.5 * cb
 
 
 def galerkin_frequencies(prestretch: Prestretch, n: int, count: int,
@@ -128,12 +134,19 @@ def _galerkin(prestretch, n, count, basis, quad_points):
 
 
 def approximate_frequency(prestretch: Prestretch, alpha: float):
-    """Eq. (28) as printed: ``sqrt(2 alpha^2 C1 / (Re^2 Gamma) (1 - 1/(delta^2 r_o'(Re)^4)))``."""
+    """Eq. (28): ``sqrt(2 alpha^2 C1 / (Re^2 Gamma) (1 + L1)(Re))`` (rad/s), the radial
+    coefficient of Eq. (25) taken at the outer edge; for the neo-Hookean law ``1 + L1 = 1 -
+    1/(delta^2 r_o'(Re)^4)`` there, Eq. (28) as printed."""
     m = prestretch.membrane
-    drf = float(prestretch.slope(m.Re))
-    return np.sqrt(m.wave_speed2 * alpha**2 / m.Re**2 * (1.0 - 1.0 / (m.delta**2 * drf**4)))
+    a1 = float(stiffness_coefficients(prestretch, m.Re)[0])
+    return np.sqrt(m.wave_speed2 * alpha**2 / m.Re**2 * a1)
 
 
 def frequency_bound(membrane: Membrane, alpha: float):
-    """Eq. (29): the upper bound ``sqrt(2 alpha^2 C1 / (Re^2 Gamma))`` (rad/s)."""
+    """Eq. (29): the upper bound ``sqrt(2 alpha^2 C1 / (Re^2 Gamma))`` (rad/s) that the
+    neo-Hookean frequencies approach as ``delta -> inf``; NaN for the other laws, whose
+    frequencies have no such bound (Mooney-Rivlin's ``C2`` term grows with the stretch,
+    Gent's stretch is limited)."""
+    if not is_neo_hookean(membrane.material):
+        return np.nan
     return np.sqrt(membrane.wave_speed2) * alpha / membrane.Re

@@ -1,7 +1,8 @@
 """Physical parameters of the membrane and of its loading.
 
 Symbols follow the paper (Goncalves, Soares and Pamplona, IJSS 2011, sections 2-3):
-``C1`` neo-Hookean constant (Eq. 1), ``h`` thickness, ``Gamma`` mass density, ``Re`` outer
+``C1`` neo-Hookean constant (Eq. 1; the first constant of every material law,
+:mod:`model.materials`, with ``C2`` of Mooney-Rivlin and ``Jm`` of Gent), ``h`` thickness, ``Gamma`` mass density, ``Re`` outer
 radius, ``delta = Rf/Re`` radial stretch ratio and ``delta_o = Ro/Re`` inner radius ratio
 (Eq. 20).  SI units throughout (docs/model.md, "Geometry, material and parameters").
 
@@ -14,6 +15,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, fields
+
+from .materials import LAW_CONSTANTS, LAWS, kernel_law
 
 
 class ParameterError(ValueError):
@@ -30,14 +33,19 @@ class ParameterError(ValueError):
 
 
 def _parameter(default: float, units: str, long_name: str, low: float, *, low_open: bool,
-               high: float | None = None) -> float:
-    """A dataclass field with its units, long name and range ``(low, high)`` in metadata."""
-    return field(default=default, metadata={"units": units, "long_name": long_name,
-                                            "low": low, "low_open": low_open, "high": high})
+               high: float | None = None, infinite: bool = False) -> float:
+    """A dataclass field with its units, long name and range ``(low, high)`` in metadata
+    (``infinite``: ``+inf`` allowed too)."""
+    return field(default=default, metadata={"units": units, "long_name": long_name, "low": low,
+                                            "low_open": low_open, "high": high, "infinite": infinite})
 
 
 def _allowed(meta) -> str:
-    if meta["high"] is not None:
+    if "choices" in meta:
+        return "one of " + ", ".join(f'"{c}"' for c in meta["choices"])
+    if meta["infinite"]:
+        text = f"a number {'>' if meta['low_open'] else '>='} {meta['low']:g} or inf"
+    elif meta["high"] is not None:
         text = f"a finite number in the open interval ({meta['low']:g}, {meta['high']:g})"
     else:
         text = f"a finite number {'>' if meta['low_open'] else '>='} {meta['low']:g}"
@@ -48,11 +56,15 @@ def _validate(record) -> None:
     """Convert integers to floats and check every field against its metadata range."""
     for f in fields(record):
         v = getattr(record, f.name)
+        meta = f.metadata
+        if "choices" in meta:
+            if v not in meta["choices"]:
+                raise ParameterError(f.name, v, _allowed(meta))
+            continue
         if isinstance(v, int) and not isinstance(v, bool):
             v = float(v)
             object.__setattr__(record, f.name, v)
-        meta = f.metadata
-        ok = isinstance(v, float) and math.isfinite(v) and (
+        ok = isinstance(v, float) and (math.isfinite(v) or (meta["infinite"] and v == math.inf)) and (
             v > meta["low"] if meta["low_open"] else v >= meta["low"]) and (
             meta["high"] is None or v < meta["high"])
         if not ok:
@@ -61,7 +73,8 @@ def _validate(record) -> None:
 
 @dataclass(frozen=True)
 class Membrane:
-    """A pre-stretched neo-Hookean annular membrane.
+    """A pre-stretched hyperelastic annular membrane (neo-Hookean unless ``law`` says
+    otherwise).
 
     Parameters
     ----------
@@ -70,13 +83,21 @@ class Membrane:
     delta_o : float
         Inner radius ratio ``Ro/Re`` (1), in (0, 1).
     C1 : float
-        Neo-Hookean constant (Pa), Eq. (1).
+        Neo-Hookean constant (Pa), Eq. (1): the first constant of every ``law``.
     h : float
         Undeformed thickness (m).
     Gamma : float
         Mass density (kg m-3); the mass per unit undeformed area is ``Gamma*h``.
     Re : float
         Undeformed outer radius (m).
+    law : str
+        Strain-energy law, a key of :data:`model.materials.LAWS`: ``"neo-hookean"`` (the
+        paper's, default), ``"mooney-rivlin"`` or ``"gent"``.
+    C2 : float
+        Mooney-Rivlin constant (Pa), >= 0; only with ``law = "mooney-rivlin"`` (else 0).
+    Jm : float
+        Gent's limit of ``I1 - 3`` (1), > 0; only with ``law = "gent"`` (else inf; inf is
+        the neo-Hookean limit).
     """
 
     delta: float = _parameter(1.1, "1", "radial stretch ratio Rf/Re", 1.0, low_open=True)
@@ -85,9 +106,24 @@ class Membrane:
     h: float = _parameter(1e-3, "m", "undeformed thickness", 0.0, low_open=True)
     Gamma: float = _parameter(2200.0, "kg m-3", "mass density", 0.0, low_open=True)
     Re: float = _parameter(1.0, "m", "undeformed outer radius", 0.0, low_open=True)
+    law: str = field(default="neo-hookean", metadata={"units": "", "long_name": "strain-energy law",
+                                                      "choices": tuple(LAWS)})
+    C2: float = _parameter(0.0, "Pa", "Mooney-Rivlin constant", 0.0, low_open=False)
+    Jm: float = _parameter(math.inf, "1", "Gent limit of I1 - 3", 0.0, low_open=True, infinite=True)
 
     def __post_init__(self):
         _validate(self)
+        for name, unused in (("C2", 0.0), ("Jm", math.inf)):
+            if name not in LAW_CONSTANTS[self.law] and getattr(self, name) != unused:
+                raise ParameterError(name, getattr(self, name),
+                                     f"{unused:g} with law = {self.law!r} (a constant of "
+                                     + " / ".join(f'"{k}"' for k, v in LAW_CONSTANTS.items() if name in v) + ")")
+
+    @property
+    def material(self):
+        """The law with this membrane's constants, as the kernels take it
+        (:func:`model.materials.kernel_law`)."""
+        return kernel_law(self.law, self.C1, self.C2, self.Jm)
 
     @property
     def Ro(self) -> float:

@@ -1,11 +1,12 @@
 """Axisymmetric pre-stretch of the annular membrane (paper, section 3).
 
 Three variants of the deformed radius ``r_o(rho)`` share one interface
-(:class:`Prestretch`): ``analytic`` (linearised solution, Eq. 21), ``numeric`` (Chebyshev
-collocation of the nonlinear equilibrium Eq. 15, with the corrected first-order form of
-docs/model.md, "Corrected first-order form"; shooting only seeds it where Eq. 21 does not) and
-``fit`` (least-squares fit Eq. 18 of the numeric solution, used by the paper's
-Appendix A).  Radii are in metres; internally the problem is scaled by ``Re`` (Eq. 20).
+(:class:`Prestretch`): ``analytic`` (linearised solution, Eq. 21, the same for every law:
+the small-strain displacement of an incompressible disc under edge displacements),
+``numeric`` (Chebyshev collocation of the nonlinear equilibrium of the membrane's law,
+Eq. 15 for the neo-Hookean law; shooting only seeds it where Eq. 21 does not) and ``fit``
+(least-squares fit Eq. 18 of the numeric solution, used by the paper's Appendix A).  Radii
+are in metres; internally the problem is scaled by ``Re`` (Eq. 20).
 """
 
 from __future__ import annotations
@@ -17,36 +18,46 @@ from numpy.polynomial import chebyshev as C
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from .materials import stretch_derivatives
 from .params import Membrane
 
 KINDS = ("analytic", "numeric", "fit")
 
 #: Relative and absolute tolerance of the shooting integration (scaled variables).
 _SHOOT_TOL = 1e-13
+#: Imaginary step of the complex-step derivatives of the collocation's Jacobian.
+_COMPLEX_STEP = 1e-30
 
 
-def _equilibrium_rhs(rho, state):
-    """First-order form of Eq. (15) in scaled variables (docs/model.md, "Corrected first-order form").
+def equilibrium_residual(law, rho, r, dr, d2r):
+    """Residual of the radial equilibrium of the axisymmetric planar state, any law.
 
-    ``state = (r, y)`` with ``y = dr/drho``; returns ``(y, dy/drho)``.
-    """
-    r, y = state
-    num = r**4 * y**4 - 3 * rho**4 * y**2 - rho * r**3 * y**5 + 3 * rho**3 * r * y
-    den = rho**2 * r * (3 * rho**2 + r**2 * y**4)
-    return np.array([y, num / den])
-
-
-def equilibrium_residual(rho, r, dr, d2r):
-    """Residual of the radial equilibrium equation, Eq. (15), as printed.
+    ``d/drho (rho W_1) - W_2 = 0`` (the paper's Eq. 15 for the neo-Hookean law, up to a
+    factor), with ``W_i = dW/dlambda_i / C1`` at ``lambda_1 = r'``, ``lambda_2 = r/rho``
+    (:func:`model.materials.stretch_derivatives`), written out as
+    ``rho W_11 r'' + W_12 (r' - r/rho) + W_1 - W_2``.
 
     Parameters
     ----------
+    law : NamedTuple
+        A law record of :mod:`model.materials` (``Membrane.material``).
     rho, r, dr, d2r : array_like
-        Undeformed radius, deformed radius and its first two derivatives (any consistent
-        length unit; the residual is dimensionless).
+        Undeformed radius, deformed radius and its first two derivatives (scaled by
+        ``Re``, or any consistent length unit; the residual is dimensionless).  Complex
+        values are allowed (the collocation's complex-step derivatives).
     """
-    return (r / rho - 3 * rho**3 / (r**3 * dr**2) - dr + 3 * rho**2 / (r**2 * dr**3)
-            - (3 * rho**3 / (r**2 * dr**4) + rho) * d2r)
+    l2 = r / rho
+    w1, w2, w11, w12, _ = stretch_derivatives(law, dr, l2)
+    return rho * w11 * d2r + w12 * (dr - l2) + w1 - w2
+
+
+def _equilibrium_rhs(law, rho, state):
+    """First-order form of the equilibrium (:func:`equilibrium_residual` solved for
+    ``r''``): ``state = (r, y)`` with ``y = dr/drho``; returns ``(y, dy/drho)``."""
+    r, y = state
+    l2 = r / rho
+    w1, w2, w11, w12, _ = stretch_derivatives(law, y, l2)
+    return np.array([y, (w2 - w1 - w12 * (y - l2)) / (rho * w11)])
 
 
 @dataclass(frozen=True)
@@ -93,20 +104,23 @@ class Prestretch:
         return dr, r / rho, rho / (r * dr)
 
     def stresses(self, rho):
-        """Cauchy principal stresses ``(sigma_1, sigma_2)`` (Pa), Eq. (22).
+        """Cauchy principal stresses ``(sigma_1, sigma_2)`` (Pa), Eq. (22) for any law.
 
-        ``sigma_i = 2 C1 (lambda_i^2 - lambda_3^2)`` for the incompressible neo-Hookean
-        membrane in plane stress.
+        ``sigma_i = lambda_i dW/dlambda_i`` for the incompressible membrane in plane
+        stress (:func:`model.materials.stretch_derivatives`); for the neo-Hookean law
+        ``2 C1 (lambda_i^2 - lambda_3^2)``, Eq. (22).
         """
-        l1, l2, l3 = self.stretches(rho)
+        l1, l2, _ = self.stretches(rho)
+        w1, w2, *_ = stretch_derivatives(self.membrane.material, l1, l2)
         c1 = self.membrane.C1
-        return 2 * c1 * (l1**2 - l3**2), 2 * c1 * (l2**2 - l3**2)
+        return c1 * l1 * w1, c1 * l2 * w2
 
     def traction(self) -> float:
-        """Edge traction ``f`` (N m-1 of undeformed edge) that holds the stretch, Eq. (16)."""
+        """Edge traction ``f = h dW/dlambda_1`` (N m-1 of undeformed edge) that holds the
+        stretch at ``rho = Re``, Eq. (16)."""
         m = self.membrane
-        r, dr = m.Rf, float(self.slope(m.Re))
-        return 2 * m.h * m.C1 / (m.Re * r**2 * dr**3) * (r**2 * dr**4 * m.Re - m.Re**3)
+        l1, l2 = float(self.slope(m.Re)), m.Rf / m.Re
+        return m.h * m.C1 * float(stretch_derivatives(m.material, l1, l2)[0])
 
 
 def _analytic_coef(delta, delta_o):
@@ -115,8 +129,8 @@ def _analytic_coef(delta, delta_o):
     return ((delta - d2) / (1 - d2), d2 * (1 - delta) / (1 - d2))
 
 
-def _shoot(slope0, delta_o, dense=False):
-    sol = solve_ivp(_equilibrium_rhs, (delta_o, 1.0), [delta_o, slope0], method="DOP853",
+def _shoot(law, slope0, delta_o, dense=False):
+    sol = solve_ivp(lambda s, y: _equilibrium_rhs(law, s, y), (delta_o, 1.0), [delta_o, slope0], method="DOP853",
                     rtol=_SHOOT_TOL, atol=_SHOOT_TOL, dense_output=dense)
     return sol
 
@@ -134,26 +148,30 @@ def _cheb_lobatto(n, dom):
     return 0.5 * (dom[0] + dom[1]) + half * t, d / half
 
 
-def _polish(s, r, d):
-    """Newton on the first-order Chebyshev collocation of Eq. (15), ends held fixed;
+def _polish(law, s, r, d):
+    """Newton on the first-order Chebyshev collocation of the equilibrium
+    (:func:`equilibrium_residual`), ends held fixed;
     ``(r, r')`` at the points once a step falls below 1e-12 (relative; Newton converges
     quadratically, so the iterate is then at round-off), after at most 30 steps, or None
     when the last step is still above 1e-10 or ``r'`` left ``(0, inf)``.
 
     Unknowns are ``r`` and ``y = r'`` at the Lobatto points; the equations are
-    ``D r = y`` everywhere and Eq. (15) with ``r'' = D y`` at the interior points.  The
-    first-order form keeps the round-off amplification of the second derivative at
-    ``O(n^2)`` instead of ``O(n^4)``.
+    ``D r = y`` everywhere and the equilibrium with ``r'' = D y`` at the interior points.
+    The first-order form keeps the round-off amplification of the second derivative at
+    ``O(n^2)`` instead of ``O(n^4)``.  The residual at a point depends on ``(r, y, r'')``
+    there only; its three partial derivatives are complex-step derivatives (exact to
+    rounding, for any law).
     """
     n1 = s.size
     y = d @ r
     eye = np.eye(n1)
+    ih = 1j * _COMPLEX_STEP
     for _ in range(30):
         z = d @ y
-        f = equilibrium_residual(s, r, y, z)
-        f_r = 1 / s + 9 * s**3 / (r**4 * y**2) - 6 * s**2 / (r**3 * y**3) + 6 * s**3 * z / (r**3 * y**4)
-        f_y = 6 * s**3 / (r**3 * y**3) - 1 - 9 * s**2 / (r**2 * y**4) + 12 * s**3 * z / (r**2 * y**5)
-        f_z = -(3 * s**3 / (r**2 * y**4) + s)
+        f = equilibrium_residual(law, s, r, y, z)
+        f_r = equilibrium_residual(law, s, r + ih, y, z).imag / _COMPLEX_STEP
+        f_y = equilibrium_residual(law, s, r, y + ih, z).imag / _COMPLEX_STEP
+        f_z = equilibrium_residual(law, s, r, y, z + ih).imag / _COMPLEX_STEP
         jac = np.block([[d, -eye], [np.diag(f_r), np.diag(f_y) + f_z[:, None] * d]])
         res = np.concatenate([d @ r - y, f])
         for row in (n1, 2 * n1 - 1):  # boundary rows: the end values stay fixed
@@ -170,10 +188,11 @@ def _polish(s, r, d):
     return (r, y) if np.abs(step).max() < 1e-10 * (1 + np.abs(y).max()) else None
 
 
-def _numeric_coef(delta, delta_o):
-    """Solve Eq. (15) with ``r(delta_o) = delta_o``, ``r(1) = delta`` (scaled variables).
+def _numeric_coef(law, delta, delta_o):
+    """Solve the equilibrium of ``law`` (Eq. 15 for the neo-Hookean law) with
+    ``r(delta_o) = delta_o``, ``r(1) = delta`` (scaled variables).
 
-    Newton on the Chebyshev collocation of Eq. (15) itself (:func:`_collocate`), seeded by
+    Newton on the Chebyshev collocation of the equilibrium itself (:func:`_collocate`), seeded by
     the Eq. (21) approximation; where that seed does not converge, by shooting (the
     paper's method: the slope at the inner edge bracketed around the Eq. (21) value and
     found by Brent's method so that the DOP853 integration of the first-order form hits
@@ -182,13 +201,13 @@ def _numeric_coef(delta, delta_o):
     """
     dom = (delta_o, 1.0)
     a, b = _analytic_coef(delta, delta_o)
-    seeded = _collocate(lambda s: a * s + b / s, delta, delta_o, dom)
+    seeded = _collocate(law, lambda s: a * s + b / s, delta, delta_o, dom)
     if seeded is not None:
         return seeded
     guess = a - b / delta_o**2
 
     def miss(s):
-        sol = _shoot(s, delta_o)
+        sol = _shoot(law, s, delta_o)
         if sol.status != 0 or not np.all(np.isfinite(sol.y)):
             return np.inf
         return sol.y[0, -1] - delta
@@ -203,15 +222,15 @@ def _numeric_coef(delta, delta_o):
         if miss(hi) > 0:
             break
     s0 = brentq(miss, lo, hi, xtol=1e-15, rtol=1e-15, maxiter=200)
-    sol = _shoot(s0, delta_o, dense=True)
-    coef = _collocate(lambda s: sol.sol(s)[0], delta, delta_o, dom)
+    sol = _shoot(law, s0, delta_o, dense=True)
+    coef = _collocate(law, lambda s: sol.sol(s)[0], delta, delta_o, dom)
     if coef is None:
         raise ArithmeticError(f"pre-stretch collocation did not converge at delta = {delta}, delta_o = {delta_o}")
     return coef
 
 
-def _collocate(guess, delta, delta_o, dom):
-    """Chebyshev series of the solution of Eq. (15) by Newton on the collocation
+def _collocate(law, guess, delta, delta_o, dom):
+    """Chebyshev series of the solution of the equilibrium by Newton on the collocation
     (:func:`_polish`) from the radius ``guess(rho)``; the degree is doubled from 32 until the
     series' tail is below 1e-14.  None when Newton does not converge or ``r'`` leaves
     ``(0, inf)``."""
@@ -220,7 +239,7 @@ def _collocate(guess, delta, delta_o, dom):
         s, d = _cheb_lobatto(n, dom)
         r = guess(s)
         r[0], r[-1] = delta, delta_o  # Lobatto points run from rho = Re down to Ro
-        polished = _polish(s, r, d)
+        polished = _polish(law, s, r, d)
         if polished is None:
             return None
         r, y = polished
@@ -234,7 +253,7 @@ def _collocate(guess, delta, delta_o, dom):
 
 def _fit_coef(delta, delta_o, numeric_coef):
     """Least-squares coefficients ``A1..A5`` of Eq. (18) on 401 equispaced radii."""
-    ref = Prestretch("numeric", Membrane(delta=delta, delta_o=delta_o), numeric_coef)
+    ref = Prestretch("numeric", Membrane(delta=delta, delta_o=delta_o), numeric_coef)  # radius(): geometry only
     s = np.linspace(delta_o, 1.0, 401)
     ls = np.log(s)
     basis = np.column_stack([ls, s**2 * ls, s**2, s, np.ones_like(s)])
@@ -251,7 +270,7 @@ def solve_prestretch(membrane: Membrane, kind: str = "numeric") -> Prestretch:
         Geometry and material; only ``delta``, ``delta_o``, ``Re`` (and ``C1``, ``h`` for
         stresses and traction) matter.
     kind : {"analytic", "numeric", "fit"}
-        Eq. (21), Chebyshev collocation of Eq. (15), or the Eq. (18) fit of the collocation
+        Eq. (21), Chebyshev collocation of the equilibrium (Eq. 15), or the Eq. (18) fit of the collocation
         solution.
 
     Returns
@@ -264,7 +283,7 @@ def solve_prestretch(membrane: Membrane, kind: str = "numeric") -> Prestretch:
     if kind == "analytic":
         coef = _analytic_coef(d, do)
     elif kind == "numeric":
-        coef = _numeric_coef(d, do)
+        coef = _numeric_coef(membrane.material, d, do)
     else:
-        coef = _fit_coef(d, do, _numeric_coef(d, do))
+        coef = _fit_coef(d, do, _numeric_coef(membrane.material, d, do))
     return Prestretch(kind, membrane, coef)

@@ -5,14 +5,15 @@ of (m, n) modes with the paper's normalisation (:mod:`model.modes`); a negative 
 the sine companion ``phi_{m|n|}(rho) sin(|n| theta)`` of mode (m, |n|), so that motions that
 break the reflection symmetry theta -> -theta (travelling waves, rotated standing waves) can
 be represented.  With the exact
-neo-Hookean transverse energy (no Taylor truncation; docs/model.md, "Transverse energy")::
+transverse energy of the membrane's law (no Taylor truncation; docs/model.md, "Transverse
+energy"; for the neo-Hookean law ``W / C1 = I1 - 3``)::
 
     D  = r'^2 r^2 + r'^2 w_theta^2 + r^2 w_rho^2
     I1 = r'^2 + w_rho^2 + (r^2 + w_theta^2)/rho^2 + rho^2 / D
     Gamma h M q'' + c M q' + C1 h g(q) = P0 cos(Omega t) f
 
-with ``g_k = dU/dq_k = int int rho (I1_a psi_k,rho + I1_b psi_k,theta) dtheta drho``
-(``a = w_rho``, ``b = w_theta``), ``M`` the (diagonal) modal mass, ``c`` the viscous
+with ``g_k = dU/dq_k = int int rho (W_a psi_k,rho + W_b psi_k,theta) / C1 dtheta drho``
+(``a = w_rho``, ``b = w_theta``; the pointwise terms of :mod:`model.transverse`), ``M`` the (diagonal) modal mass, ``c`` the viscous
 damping per unit undeformed area and ``f_k = int int psi_k r r' dtheta drho`` the
 pressure load on the projected stretched area.
 
@@ -36,6 +37,7 @@ from .damping import NO_MATRIX
 from .damping_kernels import add_matrix_damping
 from .params import Membrane
 from .prestretch import Prestretch
+from .transverse import energy_density, slope_factors, slope_hessian
 
 
 class RomTables(NamedTuple):
@@ -44,15 +46,17 @@ class RomTables(NamedTuple):
     Attributes
     ----------
     weight : (P,) quadrature weight times ``rho`` (m2)
-    rho2 : (P,) ``rho^2`` (m2)
-    r2 : (P,) ``r_o^2`` (m2)
-    dr2 : (P,) ``r_o'^2`` (1)
+    inv_rho2 : (P,) ``1 / rho^2`` (m-2)
+    hoop2 : (P,) ``(r_o / rho)^2``, the squared hoop stretch of the pre-stretch (1)
+    radial2 : (P,) ``r_o'^2``, the squared radial stretch (1)
     b_rho : (K, P) ``psi_k,rho`` (m-1)
     b_theta : (K, P) ``psi_k,theta`` (1)
     k_force : (K,) ``C1 / (Gamma M_k)`` (m2 s-2 per unit of ``g``)
     load : (K,) ``f_k / (Gamma h M_k)``: modal acceleration per Pa of pressure
     probe : (K,) ``phi_k(rho_probe)`` so that ``w(rho_probe, 0) = probe @ q``
     axisymmetric : bool, every mode has ``n = 0`` (``b_theta`` is zero and skipped)
+    law : the membrane's material law (:mod:`model.materials`): the kernels compile one
+        specialisation per law type
     table_max : float, ``|q|`` covered by the one-mode force table (0: no table)
     stiffness_table, slope_table : (pieces, degree + 1) piecewise Chebyshev coefficients
         of ``g(q)/q`` and ``dg/dq`` on ``[0, table_max]`` (one-mode ROMs, see
@@ -60,15 +64,16 @@ class RomTables(NamedTuple):
     """
 
     weight: np.ndarray
-    rho2: np.ndarray
-    r2: np.ndarray
-    dr2: np.ndarray
+    inv_rho2: np.ndarray
+    hoop2: np.ndarray
+    radial2: np.ndarray
     b_rho: np.ndarray
     b_theta: np.ndarray
     k_force: np.ndarray
     load: np.ndarray
     probe: np.ndarray
     axisymmetric: bool
+    law: tuple
     table_max: float
     stiffness_table: np.ndarray
     slope_table: np.ndarray
@@ -298,10 +303,10 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
     probe = np.array([mode_shape(probe_rho, a, abs(n), m.Re, m.delta_o)[0] * _angular(n, 0.0)
                       for a, (_, n) in zip(alpha, modes)])
     tables = RomTables(
-        weight=wq * rr, rho2=rr**2, r2=r**2, dr2=dr**2,
+        weight=wq * rr, inv_rho2=1.0 / rr**2, hoop2=(r / rr)**2, radial2=dr**2,
         b_rho=np.ascontiguousarray(b_rho), b_theta=np.ascontiguousarray(b_theta),
         k_force=m.C1 / (m.Gamma * mass), load=forcing / (m.Gamma * m.h * mass), probe=probe,
-        axisymmetric=nt == 0, table_max=0.0, stiffness_table=np.zeros((0, 1)), slope_table=np.zeros((0, 1)))
+        axisymmetric=nt == 0, law=m.material, table_max=0.0, stiffness_table=np.zeros((0, 1)), slope_table=np.zeros((0, 1)))
     if K == 1 and nt == 0 and force_table:
         tables = tables._replace(**_force_table(tables, TABLE_MAX_W * m.Re / np.abs(psi).max()))
     return Rom(m, modes, alpha, mass, forcing, probe_rho, nr, nt, tables)
@@ -332,23 +337,21 @@ def _stiffness_and_slope(qs, tab: RomTables) -> np.ndarray:
     """``(g(q) / q, dg/dq)`` of a one-mode axisymmetric ROM by its quadrature at every ``q``
     of ``qs``, shape ``(N, 2)``: the values :func:`_force_table` interpolates.
 
-    The formulas of :func:`axisymmetric_force_jacobian` for ``K = 1``, with ``w_rho = q b``
-    (``b = psi_rho``): ``g / q = sum_p 2 (1 - s r2) w b^2`` and ``dg/dq = sum_p (2 - 2 s r2
-    + 8 s / D r2^2 w_rho^2) w b^2``, ``s = rho2 / D^2``, in numpy on blocks of ``q``: a
-    table takes a few hundred values, about a millisecond here, where a compiled kernel
-    cost 0.8 s of compilation in a cold start and 0.15 s of loading from the cache.
+    The sums of :func:`axisymmetric_force_jacobian` for ``K = 1``, with ``w_rho = q b``
+    (``b = psi_rho``): ``g / q = sum_p c_a w b^2`` and ``dg/dq = sum_p W_aa w b^2``
+    (:func:`model.transverse.slope_hessian`), in numpy on blocks of ``q``: a table takes a
+    few hundred values, about a millisecond here, where a compiled kernel cost 0.8 s of
+    compilation in a cold start and 0.15 s of loading from the cache.
     """
     b = tab.b_rho[0]
     wb2 = tab.weight * b * b
-    r2, dr2, rho2 = tab.r2, tab.dr2, tab.rho2
+    hoop2, radial2, inv_rho2 = tab.hoop2, tab.radial2, tab.inv_rho2
     out = np.empty((qs.size, 2))
     block = 4096
     for i in range(0, qs.size, block):
-        a = qs[i:i + block, None] * b
-        D = r2 * (dr2 + a * a)
-        s = rho2 / (D * D)
-        out[i:i + block, 0] = (2.0 * (1.0 - s * r2)) @ wb2
-        out[i:i + block, 1] = (2.0 - 2.0 * s * r2 + 8.0 * s / D * r2 * r2 * a * a) @ wb2
+        ca, _, waa, _, _ = slope_hessian(tab.law, qs[i:i + block, None] * b, 0.0, inv_rho2, hoop2, radial2)
+        out[i:i + block, 0] = ca @ wb2
+        out[i:i + block, 1] = waa @ wb2
     return out
 
 
@@ -433,28 +436,28 @@ def force_work(tab: RomTables) -> np.ndarray:
 
 @nb.njit(cache=True, fastmath=True)
 def elastic_force(q, tab, out, work):
-    """``out[k] = g_k(q) = dU/dq_k`` (m2 per unit q), the exact neo-Hookean force.
+    """``out[k] = g_k(q) = dU/dq_k`` (m2 per unit q), the exact elastic force of the law.
 
-    ``U = int int (I1 - 3) rho dtheta drho``; the physical generalised force is
-    ``C1 h g``.  ``tab`` is a :class:`RomTables`, ``work`` a :func:`force_work` array
+    ``U = int int W / C1 rho dtheta drho`` (``I1 - 3`` for the neo-Hookean law); the
+    physical generalised force is ``C1 h g``.  ``tab`` is a :class:`RomTables`, ``work`` a :func:`force_work` array
     (the caller's, so that hot loops allocate nothing).  One-mode ROMs read the force
     table (:func:`_force_table`) within its range, every other case the quadrature
     (:func:`axisymmetric_force`, :func:`general_force`).
     """
-    _force(q, tab.table_max, tab.stiffness_table, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta,
-           tab.axisymmetric, out, work)
+    _force(q, tab.table_max, tab.stiffness_table, tab.weight, tab.inv_rho2, tab.hoop2, tab.radial2, tab.b_rho, tab.b_theta,
+           tab.axisymmetric, tab.law, out, work)
 
 
 @nb.njit(cache=True, inline="always")
-def _force(q, table_max, stiffness_table, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, out, work):
+def _force(q, table_max, stiffness_table, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, out, work):
     # The force from the tables' arrays: the one-mode table within its range, else the
     # quadrature kernel of the case (inlined into elastic_force and rhs_unpacked).
     if table_max > 0.0 and abs(q[0]) < table_max:
         out[0] = q[0] * table_eval(stiffness_table, table_max, abs(q[0]))
     elif axisymmetric:
-        axisymmetric_force(q, weight, rho2, r2, dr2, b_rho, out, work[0])
+        axisymmetric_force(q, law, weight, inv_rho2, hoop2, radial2, b_rho, out, work[0])
     else:
-        general_force(q, weight, rho2, r2, dr2, b_rho, b_theta, out, work[0], work[1])
+        general_force(q, law, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, out, work[0], work[1])
 
 
 # The quadrature kernels run over the quadrature points innermost so that the loops
@@ -476,26 +479,25 @@ def _project(q, basis, out):
 
 
 @nb.njit(cache=True, inline="always")
-def _point_3(q, b_rho, r2, dr2, p):
-    # The three basis values at quadrature point p, the slope w_rho there and
-    # D = r2 (dr2 + w_rho^2), for the written-out three-mode kernels below.
+def _point_3(q, b_rho, p):
+    # The three basis values at quadrature point p and the slope w_rho there, for the
+    # written-out three-mode kernels below.
     c0 = b_rho[0, p]
     c1 = b_rho[1, p]
     c2 = b_rho[2, p]
-    a = q[0] * c0 + q[1] * c1 + q[2] * c2
-    return c0, c1, c2, a, r2[p] * (dr2[p] + a * a)
+    return c0, c1, c2, q[0] * c0 + q[1] * c1 + q[2] * c2
 
 
 @nb.njit(cache=True, inline="always")
-def _axisymmetric_force_3(q, weight, rho2, r2, dr2, b_rho, out):
+def _axisymmetric_force_3(q, law, weight, inv_rho2, hoop2, radial2, b_rho, out):
     # axisymmetric_force for three modes written out: one pass over the quadrature points,
     # the slope, the force and its three shares in registers (vectorised over the points;
     # inlined: compiled with the caller's flags).  Four modes written out with rows that
     # are not constants (zero-padded) vectorised worse: 1.3-1.8x slower than this.
     g0 = g1 = g2 = 0.0
     for p in range(weight.size):
-        c0, c1, c2, a, D = _point_3(q, b_rho, r2, dr2, p)
-        f = 2.0 * a * (1.0 - rho2[p] * r2[p] / (D * D)) * weight[p]
+        c0, c1, c2, a = _point_3(q, b_rho, p)
+        f = a * slope_factors(law, a, 0.0, inv_rho2[p], hoop2[p], radial2[p])[0] * weight[p]
         g0 += f * c0
         g1 += f * c1
         g2 += f * c2
@@ -503,21 +505,20 @@ def _axisymmetric_force_3(q, weight, rho2, r2, dr2, b_rho, out):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy", _nrt=False)
-def axisymmetric_force(q, weight, rho2, r2, dr2, b_rho, out, a):
+def axisymmetric_force(q, law, weight, inv_rho2, hoop2, radial2, b_rho, out, a):
     """:func:`elastic_force` by quadrature for a set of axisymmetric modes (every n = 0: no
-    ``w_theta`` terms), from the arrays of :class:`RomTables`; ``a`` is a ``(P,)`` work
-    array.  For kernels that unpack the tables once and call it at every stage.  Three
-    modes are written out: one pass over the quadrature points."""
+    ``w_theta`` terms), from the law and the arrays of :class:`RomTables`; ``a`` is a
+    ``(P,)`` work array.  For kernels that unpack the tables once and call it at every
+    stage.  Three modes are written out: one pass over the quadrature points."""
     K = q.size
     P = weight.size
     if K == 3:
-        _axisymmetric_force_3(q, weight, rho2, r2, dr2, b_rho, out)
+        _axisymmetric_force_3(q, law, weight, inv_rho2, hoop2, radial2, b_rho, out)
         return
     _project(q, b_rho, a)
     for p in range(P):
         ap = a[p]
-        D = r2[p] * (dr2[p] + ap * ap)
-        a[p] = 2.0 * ap * (1.0 - rho2[p] * r2[p] / (D * D)) * weight[p]
+        a[p] = ap * slope_factors(law, ap, 0.0, inv_rho2[p], hoop2[p], radial2[p])[0] * weight[p]
     for k in range(K):
         acc = 0.0
         for p in range(P):
@@ -526,8 +527,8 @@ def axisymmetric_force(q, weight, rho2, r2, dr2, b_rho, out, a):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def general_force(q, weight, rho2, r2, dr2, b_rho, b_theta, out, a, b):
-    """:func:`elastic_force` by quadrature for any mode set, from the arrays of
+def general_force(q, law, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, out, a, b):
+    """:func:`elastic_force` by quadrature for any mode set, from the law and the arrays of
     :class:`RomTables`; ``a``, ``b`` are ``(P,)`` work arrays."""
     K = q.size
     P = weight.size
@@ -536,11 +537,9 @@ def general_force(q, weight, rho2, r2, dr2, b_rho, b_theta, out, a, b):
     for p in range(P):
         ap = a[p]
         bp = b[p]
-        D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap
-        u = 1.0 / (rho2[p] * D * D)  # the one division: s = rho2 / D^2 = rho2^2 u, 1 / rho2 = D^2 u
-        s = rho2[p] * rho2[p] * u
-        a[p] = 2.0 * ap * (1.0 - s * r2[p]) * weight[p]
-        b[p] = 2.0 * bp * (D * D * u - s * dr2[p]) * weight[p]
+        ca, cb = slope_factors(law, ap, bp, inv_rho2[p], hoop2[p], radial2[p])
+        a[p] = ap * ca * weight[p]
+        b[p] = bp * cb * weight[p]
     for k in range(K):
         acc = 0.0
         for p in range(P):
@@ -580,23 +579,24 @@ def force_and_jacobian(q, tab, g, jac, work):
         g[0] = q[0] * table_eval(tab.stiffness_table, tab.table_max, x)
         jac[0, 0] = table_eval(tab.slope_table, tab.table_max, x)
     elif tab.axisymmetric:
-        axisymmetric_force_jacobian(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, g, jac, work)
+        axisymmetric_force_jacobian(q, tab.law, tab.weight, tab.inv_rho2, tab.hoop2, tab.radial2, tab.b_rho, g, jac, work)
     else:
-        general_force_jacobian(q, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta, g, jac, work)
+        general_force_jacobian(q, tab.law, tab.weight, tab.inv_rho2, tab.hoop2, tab.radial2, tab.b_rho, tab.b_theta, g, jac,
+                               work)
 
 
 @nb.njit(cache=True, inline="always")
-def _axisymmetric_force_jacobian_3(q, weight, rho2, r2, dr2, b_rho, g, jac):
+def _axisymmetric_force_jacobian_3(q, law, weight, inv_rho2, hoop2, radial2, b_rho, g, jac):
     # axisymmetric_force_jacobian for three modes written out, as _axisymmetric_force_3:
     # one pass over the quadrature points, the force and the six distinct entries of the
     # Jacobian accumulated in registers (inlined: compiled with the caller's flags)
     f0 = f1 = f2 = j00 = j01 = j02 = j11 = j12 = j22 = 0.0
     for p in range(weight.size):
-        c0, c1, c2, a, D = _point_3(q, b_rho, r2, dr2, p)
-        s = rho2[p] / (D * D)
+        c0, c1, c2, a = _point_3(q, b_rho, p)
+        ca, _, waa, _, _ = slope_hessian(law, a, 0.0, inv_rho2[p], hoop2[p], radial2[p])
         w = weight[p]
-        fa = 2.0 * a * (1.0 - s * r2[p]) * w
-        iaa = (2.0 - 2.0 * s * r2[p] + 8.0 * s / D * r2[p] * r2[p] * a * a) * w
+        fa = a * ca * w
+        iaa = waa * w
         f0 += fa * c0
         f1 += fa * c1
         f2 += fa * c2
@@ -614,24 +614,23 @@ def _axisymmetric_force_jacobian_3(q, weight, rho2, r2, dr2, b_rho, g, jac):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy", _nrt=False)
-def axisymmetric_force_jacobian(q, weight, rho2, r2, dr2, b_rho, g, jac, work):
+def axisymmetric_force_jacobian(q, law, weight, inv_rho2, hoop2, radial2, b_rho, g, jac, work):
     """:func:`axisymmetric_force` into ``g`` and its Jacobian into ``jac`` in one pass,
-    sharing the slopes and ``D``; ``work`` is a ``(7, P)`` array.  Three modes are written
-    out, as in :func:`axisymmetric_force`."""
+    sharing the slopes and the metric; ``work`` is a ``(7, P)`` array.  Three modes are
+    written out, as in :func:`axisymmetric_force`."""
     K = q.size
     P = weight.size
     if K == 3:
-        _axisymmetric_force_jacobian_3(q, weight, rho2, r2, dr2, b_rho, g, jac)
+        _axisymmetric_force_jacobian_3(q, law, weight, inv_rho2, hoop2, radial2, b_rho, g, jac)
         return
     a, fa, iaa = work[0], work[2], work[4]
     _project(q, b_rho, a)
     for p in range(P):
         ap = a[p]
-        D = r2[p] * (dr2[p] + ap * ap)
-        s = rho2[p] / (D * D)
+        ca, _, waa, _, _ = slope_hessian(law, ap, 0.0, inv_rho2[p], hoop2[p], radial2[p])
         w = weight[p]
-        fa[p] = 2.0 * ap * (1.0 - s * r2[p]) * w
-        iaa[p] = (2.0 - 2.0 * s * r2[p] + 8.0 * s / D * r2[p] * r2[p] * ap * ap) * w
+        fa[p] = ap * ca * w
+        iaa[p] = waa * w
     for k in range(K):
         acc = 0.0
         for p in range(P):
@@ -646,9 +645,9 @@ def axisymmetric_force_jacobian(q, weight, rho2, r2, dr2, b_rho, g, jac, work):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def general_force_jacobian(q, weight, rho2, r2, dr2, b_rho, b_theta, g, jac, work):
+def general_force_jacobian(q, law, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, g, jac, work):
     """:func:`general_force` into ``g`` and its Jacobian into ``jac`` in one pass, sharing
-    the slopes and ``D``; ``work`` is a ``(7, P)`` array."""
+    the slopes and the metric; ``work`` is a ``(7, P)`` array."""
     K = q.size
     P = weight.size
     a, b, fa, fb, iaa, iab, ibb = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
@@ -657,18 +656,13 @@ def general_force_jacobian(q, weight, rho2, r2, dr2, b_rho, b_theta, g, jac, wor
     for p in range(P):
         ap = a[p]
         bp = b[p]
-        D = dr2[p] * r2[p] + dr2[p] * bp * bp + r2[p] * ap * ap
-        # the one division: s = rho2 / D^2 = rho2^2 D u, 8 s / D = 8 rho2^2 u, 1 / rho2 = D^3 u
-        u = 1.0 / (rho2[p] * D * D * D)
-        s = rho2[p] * rho2[p] * D * u
-        s3 = 8.0 * rho2[p] * rho2[p] * u
-        inv_rho2 = D * D * D * u
+        ca, cb, waa, wab, wbb = slope_hessian(law, ap, bp, inv_rho2[p], hoop2[p], radial2[p])
         w = weight[p]
-        fa[p] = 2.0 * ap * (1.0 - s * r2[p]) * w
-        fb[p] = 2.0 * bp * (inv_rho2 - s * dr2[p]) * w
-        iaa[p] = (2.0 - 2.0 * s * r2[p] + s3 * r2[p] * r2[p] * ap * ap) * w
-        iab[p] = s3 * r2[p] * dr2[p] * ap * bp * w
-        ibb[p] = (2.0 * inv_rho2 - 2.0 * s * dr2[p] + s3 * dr2[p] * dr2[p] * bp * bp) * w
+        fa[p] = ap * ca * w
+        fb[p] = bp * cb * w
+        iaa[p] = waa * w
+        iab[p] = wab * w
+        ibb[p] = wbb * w
     for k in range(K):
         acc = 0.0
         for p in range(P):
@@ -688,15 +682,15 @@ def general_force_jacobian(q, weight, rho2, r2, dr2, b_rho, b_theta, g, jac, wor
 
 @nb.njit(cache=True)
 def strain_energy(q, tab):
-    """``U(q) - U(0) = int int (I1(q) - I1(0)) rho dtheta drho`` (m2); times ``C1 h`` in J."""
+    """``U(q) - U(0) = int int (W(q) - W(0)) / C1 rho dtheta drho`` (m2); times ``C1 h`` in J
+    (``W / C1 = I1 - 3`` for the neo-Hookean law)."""
     P = tab.weight.size
     e = 0.0
     for p in range(P):
         a, b = _slopes(q, tab, p)
-        r2 = tab.r2[p]
-        dr2 = tab.dr2[p]
-        D = dr2 * r2 + dr2 * b * b + r2 * a * a
-        e += (a * a + b * b / tab.rho2[p] + tab.rho2[p] / D - tab.rho2[p] / (dr2 * r2)) * tab.weight[p]
+        inv_rho2, hoop2, radial2 = tab.inv_rho2[p], tab.hoop2[p], tab.radial2[p]
+        e += (energy_density(tab.law, a, b, inv_rho2, hoop2, radial2)
+              - energy_density(tab.law, 0.0, 0.0, inv_rho2, hoop2, radial2)) * tab.weight[p]
     return e
 
 
@@ -726,10 +720,10 @@ def rhs(t, y, tab, forcing, g, work, out):
 @nb.njit(cache=True)
 def unpack(tab, forcing):
     """The arrays of ``tab`` and the numbers of ``forcing`` as the plain tuple
-    :func:`rhs_unpacked` takes: ``(table_max, stiffness_table, weight, rho2, r2, dr2, b_rho,
-    b_theta, axisymmetric, k_force, load, damping_rate, P0, Omega, damping_matrix)``."""
-    return (tab.table_max, tab.stiffness_table, tab.weight, tab.rho2, tab.r2, tab.dr2, tab.b_rho, tab.b_theta,
-            tab.axisymmetric, tab.k_force, tab.load, forcing.damping_rate, forcing.P0, forcing.Omega,
+    :func:`rhs_unpacked` takes: ``(table_max, stiffness_table, weight, inv_rho2, hoop2, radial2, b_rho,
+    b_theta, axisymmetric, law, k_force, load, damping_rate, P0, Omega, damping_matrix)``."""
+    return (tab.table_max, tab.stiffness_table, tab.weight, tab.inv_rho2, tab.hoop2, tab.radial2, tab.b_rho, tab.b_theta,
+            tab.axisymmetric, tab.law, tab.k_force, tab.load, forcing.damping_rate, forcing.P0, forcing.Omega,
             forcing.damping_matrix)
 
 
@@ -752,10 +746,10 @@ def rhs_unpacked(t, y, model, g, work, out):
     stage: made once per integration, it spares handing the records down at every call.
     Inline it into a helper compiled with ``_nrt=False`` (see the note above): inlined into
     a function that counts references, it pays one count per array per call."""
-    (table_max, stiffness_table, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, k_force, load,
+    (table_max, stiffness_table, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load,
      c_damp, p_load, omega, damping_matrix) = model
     K = g.size
-    _force(y[:K], table_max, stiffness_table, weight, rho2, r2, dr2, b_rho, b_theta, axisymmetric, g, work)
+    _force(y[:K], table_max, stiffness_table, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, g, work)
     pt = p_load * np.cos(omega * t)
     for k in range(K):
         out[k] = y[K + k]

@@ -16,15 +16,18 @@ import re
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from model.damping import LAWS, DampingLaw, Viscous
+from model.materials import LAW_CONSTANTS
 from model.params import Loading, Membrane, ParameterError
 from sweep import analyses, models
-from sweep.analyses.base import (DAMPING_KEYS, DEFAULT_MODEL, GEOMETRY_KEYS, GRID_KEYS, MEMBRANE_KEYS, MISSING, Analysis,
+from sweep.analyses.base import (DAMPING_KEYS, DEFAULT_MODEL, GEOMETRY_KEYS, GRID_KEYS, MATERIAL_KEYS, MEMBRANE_KEYS,
+                                 MISSING, Analysis,
                                  DampingSpec, JobContext, JobError, JobErrors, ModelSpec, Point, check_keys,
                                  parameter_record)
 from sweep.analyses.mode_sets import ModeSetSweep, is_mode_set_list
@@ -186,6 +189,8 @@ def parse_job(text: str, source: str = "<job>") -> Job:
     required_ok = False
     if grid is not None:
         cases = checked(lambda: _cases(grid_table["cases"], grid) if "cases" in grid_table else (), default=())
+        if membrane is not None:
+            checked(_material_grid, membrane, _table(doc, "membrane", required=False), grid)
         if damping is not None and model is not None:
             checked(_damping_grid, damping, grid)
             required_ok = checked(_required_grid, analysis, analysis_name, grid, damping, model, default=False)
@@ -249,9 +254,29 @@ def _record_value(key: str, name: str, value: Any, record: type) -> float:
 
 
 def _membrane(table: Mapping) -> Membrane:
+    """``[membrane]``: the law (neo-Hookean by default), its constants and the rest of the
+    :class:`~model.params.Membrane` fields but the geometry's grid keys, validated as one
+    record (a constant is checked against the table's law)."""
     check_keys(table, "membrane", MEMBRANE_KEYS)
-    return Membrane(**{key: _record_value(f"membrane.{key}", key, value, Membrane)
-                       for key, value in table.items()})
+    try:
+        return Membrane(**table)
+    except ParameterError as exc:
+        raise JobError(f"membrane.{exc.name}", exc.value, exc.allowed) from None
+
+
+def _material_grid(membrane: Membrane, table: Mapping, grid: Mapping[str, np.ndarray]) -> None:
+    """Material constants on the grid: once (not in ``[membrane]`` too) and of the job's
+    law (their values are checked by :func:`_axis`)."""
+    for key in grid:
+        if key not in MATERIAL_KEYS:
+            continue
+        if key != "C1" and key not in LAW_CONSTANTS[membrane.law]:
+            raise JobError(f"grid.{key}", grid[key].tolist(),
+                           f"a constant of another material law; this job's law is {membrane.law!r} "
+                           "([membrane] law), whose constants are "
+                           + ", ".join(("C1", *LAW_CONSTANTS[membrane.law])))
+        if key in table:
+            raise JobError(f"grid.{key}", grid[key].tolist(), f"set in [membrane] already (one place for {key})")
 
 
 def _damping(table: Mapping) -> DampingSpec:
@@ -350,6 +375,9 @@ def _axis(key: str, spec: Any) -> np.ndarray:
     """Values of one grid key from a number, a list or ``{start, stop, num[, scale]}``
     (``scale = "linear"``, the default, or ``"log"``: geometric spacing, start and stop > 0)."""
     record = parameter_record(key)[0]
+    if key in MATERIAL_KEYS:  # checked as a constant of the law that has it
+        record = partial(Membrane, law=next((law for law, keys in LAW_CONSTANTS.items() if key in keys),
+                                            "neo-hookean"))
 
     def value(subkey: str, v: Any) -> float:
         return _record_value(subkey, key, v, record)

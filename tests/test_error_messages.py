@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from model import prestretch as pre
+from model.materials import NeoHookean
 from model.backbone import linear_mode
 from model.codim2 import continue_curve
 from model.forced import ForcedMap
@@ -47,7 +48,7 @@ def test_a_pre_stretch_whose_collocation_does_not_converge(monkeypatch):
     monkeypatch.setattr(pre, "_collocate", lambda *args: None)
     with pytest.raises(ArithmeticError, match=re.escape(
             "pre-stretch collocation did not converge at delta = 1.1, delta_o = 0.2")):
-        pre._numeric_coef(1.1, 0.2)
+        pre._numeric_coef(NeoHookean(), 1.1, 0.2)
 
 
 def test_a_backbone_of_a_mode_that_vanishes_at_the_probe(ps):

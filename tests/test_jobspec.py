@@ -77,7 +77,7 @@ def test_registry_lists_the_analyses_without_importing_them():
                            "continuation", "basins"}
     # the contract, the parameter records and the mode-set wrapper (numpy only), no analysis
     # module and no kernel
-    assert imported == ["model", "model.damping", "model.params", "sweep.analyses.base",
+    assert imported == ["model", "model.damping", "model.materials", "model.params", "sweep.analyses.base",
                         "sweep.analyses.mode_sets"]
 
 

@@ -48,9 +48,9 @@ def _plain_rhs(rom):
     def f(_, y):
         q = y[:K]
         a, b = q @ t.b_rho, q @ t.b_theta
-        D = t.dr2 * t.r2 + t.dr2 * b * b + t.r2 * a * a
-        s = t.rho2 / D**2
-        g = t.b_rho @ (2 * a * (1 - s * t.r2) * t.weight) + t.b_theta @ (2 * b * (1 / t.rho2 - s * t.dr2) * t.weight)
+        delta = t.hoop2 * (t.radial2 + a * a) + t.radial2 * b * b * t.inv_rho2  # det of the metric
+        g = (t.b_rho @ (2 * a * (1 - t.hoop2 / delta**2) * t.weight)
+             + t.b_theta @ (2 * b * t.inv_rho2 * (1 - t.radial2 / delta**2) * t.weight))
         return np.concatenate([y[K:], -t.k_force * g])
 
     return f
@@ -99,9 +99,9 @@ def _force_scale(rom, q):
     ~1e-16 of this sum are noise whatever the rule."""
     t = rom.tables
     a, b = q @ t.b_rho, q @ t.b_theta
-    D = t.dr2 * t.r2 + t.dr2 * b * b + t.r2 * a * a
-    ia = np.abs(2 * a * (1 - t.rho2 * t.r2 / D**2)) * t.weight
-    ib = np.abs(2 * b * (1 / t.rho2 - t.rho2 * t.dr2 / D**2)) * t.weight
+    delta = t.hoop2 * (t.radial2 + a * a) + t.radial2 * b * b * t.inv_rho2
+    ia = np.abs(2 * a * (1 - t.hoop2 / delta**2)) * t.weight
+    ib = np.abs(2 * b * t.inv_rho2 * (1 - t.radial2 / delta**2)) * t.weight
     return float((np.abs(t.b_rho) @ ia + np.abs(t.b_theta) @ ib).max())
 
 
@@ -197,8 +197,8 @@ def test_lockstep_quadrature_is_the_scalar_loop(prestretch, roms, kind, law):
     y0[17:] = np.nan
     columns = np.ascontiguousarray(y0.T)
     t0 = 0.37
-    rk4_quadrature_lockstep(columns, 17, t0, h, 64, t.weight, t.rho2, t.r2, t.dr2, t.b_rho, t.b_theta,
-                            t.axisymmetric, t.k_force, t.load, forcing.damping_rate, forcing.P0, forcing.Omega,
+    rk4_quadrature_lockstep(columns, 17, t0, h, 64, t.weight, t.inv_rho2, t.hoop2, t.radial2, t.b_rho, t.b_theta,
+                            t.axisymmetric, t.law, t.k_force, t.load, forcing.damping_rate, forcing.P0, forcing.Omega,
                             matrix_or_none(forcing.damping_matrix))
     work = np.empty((6, 2 * K))
     for b in range(17):

@@ -11,7 +11,7 @@
  * force of axisymmetric_force.h.  One trajectory at a time.
  * Usage: dop853 COEF TABLES K P PIECES Q_MAX STATES T_END RTOL ATOL C_DAMP P0 OMEGA OUT
  * COEF: A (12 x 12), B (12), C (12), E3 (13), E5 (13), float64.
- * TABLES: weight, rho2, r2, dr2 (P each), B (K x P), k_force (K), load (K), then the
+ * TABLES: weight, inv_rho2, hoop2, radial2 (P each), B (K x P), k_force (K), load (K), then the
  * force table (PIECES x 8) when PIECES > 0, float64.
  * STATES: (M, 2K) float64 initial states; OUT receives the final states (NaN for a
  * trajectory that ran out of MAX_STEPS attempted steps).
@@ -50,7 +50,7 @@ static void rhs(double t, const double *y, const Model *m, double *out) {
     if (m->pieces > 0 && fabs(y[0]) < m->q_max)
         m->g[0] = y[0] * table_row(m->table, m->pieces, m->q_max, fabs(y[0]));
     else
-        force(y, K, m->P, m->tab.w, m->tab.rho2, m->tab.r2, m->tab.dr2, m->tab.B, m->a, m->g);
+        force(y, K, m->P, m->tab.w, m->tab.inv_rho2, m->tab.hoop2, m->tab.radial2, m->tab.B, m->a, m->g);
     double pt = m->p_load * cos(m->omega * t);
     for (int k = 0; k < K; k++) {
         out[k] = y[K + k];

@@ -3,12 +3,12 @@
  * the freedom the numba kernels' fastmath has).
  *
  * Same algorithm as the numba kernels: y = (q, q'), four stages per step, at each stage the
- * slope a_p = sum_k q_k B_kp at every quadrature point, D = r2 (dr2 + a^2),
- * g_k = sum_p 2 a (1 - rho2 r2 / D^2) w B_kp for axisymmetric mode sets; with w_theta
- * terms (tables with T = b_theta) the slopes b_p = sum_k q_k T_kp too,
- * D = dr2 r2 + dr2 b^2 + r2 a^2 and g_k = sum_p 2 a (1 - s r2) w B_kp + 2 b (1 / rho2 -
- * s dr2) w T_kp, s = rho2 / D^2 (model.rom.general_force and the general branch of the
- * lock-step kernel); and
+ * slope a_p = sum_k q_k B_kp at every quadrature point, the determinant of the in-plane
+ * metric delta = hoop2 (radial2 + a^2), g_k = sum_p 2 a (1 - hoop2 / delta^2) w B_kp for
+ * axisymmetric mode sets (the neo-Hookean law); with w_theta terms (tables with T = b_theta)
+ * the slopes b_p = sum_k q_k T_kp too, delta = hoop2 (radial2 + a^2) + radial2 b^2 inv_rho2
+ * and g_k = sum_p 2 a (1 - hoop2 / delta^2) w B_kp + 2 b inv_rho2 (1 - radial2 / delta^2)
+ * w T_kp (model.rom.general_force and the general branch of the lock-step kernel); and
  *   q'' = -c q' - k_force g + P0 cos(Omega t) load.
  *   mode 0, "scalar":   one trajectory at a time (model.integrate._rk4_quadrature with
  *                       model.rom.axisymmetric_force or general_force: the force
@@ -19,7 +19,7 @@
  * point with the K modes unrolled (slope, force and its K shares in registers): the same
  * arithmetic for one mode count only, a bound on what the loops of mode 1 can reach.
  * Usage: rk4_quadrature MODE WIDTH TABLES K P STATES STEPS PERIODS H C_DAMP P0 OMEGA OUT
- * TABLES: weight, rho2, r2, dr2 (P each), B (K x P), k_force (K), load (K), and for the
+ * TABLES: weight, inv_rho2, hoop2, radial2 (P each), B (K x P), k_force (K), load (K), and for the
  * general kernels T (K x P), float64 (the file's size says which; not with FIXED_K).
  * STATES: (M, 2K) float64 initial states; OUT receives the final states.
  * Prints the time per step and trajectory in ns.
@@ -55,9 +55,9 @@ static void scalar(double *y, const Model *m, int steps, double *a, double *b, d
             double f = s == 0 ? 0.0 : (s == 3 ? m->h : 0.5 * m->h);
             for (int i = 0; i < n; i++) tmp[i] = s == 0 ? y[i] : y[i] + f * stages[(s - 1) * n + i];
             if (m->T)
-                general_force(tmp, K, m->P, m->tab.w, m->tab.rho2, m->tab.r2, m->tab.dr2, m->tab.B, m->T, a, b, g);
+                general_force(tmp, K, m->P, m->tab.w, m->tab.inv_rho2, m->tab.hoop2, m->tab.radial2, m->tab.B, m->T, a, b, g);
             else
-                force(tmp, K, m->P, m->tab.w, m->tab.rho2, m->tab.r2, m->tab.dr2, m->tab.B, a, g);
+                force(tmp, K, m->P, m->tab.w, m->tab.inv_rho2, m->tab.hoop2, m->tab.radial2, m->tab.B, a, g);
             double pt = m->p_load * cos(m->omega * (t + f));
             for (int i = 0; i < K; i++) {
                 stages[s * n + i] = tmp[K + i];
@@ -89,12 +89,12 @@ static void general_forces(const double *restrict ys, int W, const Model *m, dou
                 sb[b] += ys[k * W + b] * tk;
             }
         }
-        double w2 = 2.0 * m->tab.w[p], r2 = m->tab.r2[p], dr2 = m->tab.dr2[p], rho2 = m->tab.rho2[p];
-        double inv_rho2 = 1.0 / rho2;
+        double w2 = 2.0 * m->tab.w[p], hoop2 = m->tab.hoop2[p], radial2 = m->tab.radial2[p];
+        double inv_rho2 = m->tab.inv_rho2[p];
         for (int b = 0; b < W; b++) {
-            double a = sa[b], c = sb[b], D = dr2 * r2 + dr2 * c * c + r2 * a * a, d = rho2 / (D * D);
-            sa[b] = w2 * a * (1.0 - d * r2);
-            sb[b] = w2 * c * (inv_rho2 - d * dr2);
+            double a = sa[b], c = sb[b], ct = c * inv_rho2, e = 1.0 / (hoop2 * (radial2 + a * a) + radial2 * c * ct);
+            sa[b] = w2 * a * (1.0 - e * e * hoop2);
+            sb[b] = w2 * ct * (1.0 - e * e * radial2);
         }
         for (int k = 0; k < K; k++) {
             double bk = B[(long)k * P + p], tk = T[(long)k * P + p];
@@ -134,12 +134,11 @@ static void lockstep(double *restrict y, int W, const Model *m, int steps, doubl
             for (int p = 0; p < P; p++) {
                 double bk[FIXED_K];
                 for (int k = 0; k < FIXED_K; k++) bk[k] = B[(long)k * P + p];
-                double w2 = 2.0 * m->tab.w[p], r2 = m->tab.r2[p], dr2 = m->tab.dr2[p];
-                double rr = m->tab.rho2[p] * r2;
+                double w2 = 2.0 * m->tab.w[p], hoop2 = m->tab.hoop2[p], radial2 = m->tab.radial2[p];
                 for (int b = 0; b < W; b++) {
                     double a = 0.0;
                     for (int k = 0; k < FIXED_K; k++) a += ys[k * W + b] * bk[k];
-                    double D = r2 * (dr2 + a * a), g = w2 * a * (1.0 - rr / (D * D));
+                    double e = 1.0 / (hoop2 * (radial2 + a * a)), g = w2 * a * (1.0 - e * e * hoop2);
                     for (int k = 0; k < FIXED_K; k++) acc[k * W + b] += g * bk[k];
                 }
             }
@@ -151,11 +150,10 @@ static void lockstep(double *restrict y, int W, const Model *m, int steps, doubl
                     double bk = B[(long)k * P + p];
                     for (int b = 0; b < W; b++) sa[b] += ys[k * W + b] * bk;
                 }
-                double w2 = 2.0 * m->tab.w[p], r2 = m->tab.r2[p], dr2 = m->tab.dr2[p];
-                double rr = m->tab.rho2[p] * r2;
+                double w2 = 2.0 * m->tab.w[p], hoop2 = m->tab.hoop2[p], radial2 = m->tab.radial2[p];
                 for (int b = 0; b < W; b++) {
-                    double a = sa[b], D = r2 * (dr2 + a * a);
-                    sa[b] = w2 * a * (1.0 - rr / (D * D));
+                    double a = sa[b], e = 1.0 / (hoop2 * (radial2 + a * a));
+                    sa[b] = w2 * a * (1.0 - e * e * hoop2);
                 }
                 for (int k = 0; k < K; k++) {
                     double bk = B[(long)k * P + p];

@@ -25,6 +25,7 @@ import numpy as np
 
 from model import damping as damping_laws
 from model.damping import DampingLaw, Viscous
+from model.materials import LAW_CONSTANTS
 from model.params import Loading, Membrane, parameter_info
 # the job-file errors are names of the analysis contract too (analyses raise them)
 from sweep.job_errors import MISSING, JobError, JobErrors, check_keys  # noqa: F401
@@ -49,17 +50,30 @@ def parameter_record(name: str) -> tuple[type, str, str]:
 
 #: The constants of the damping laws (:mod:`model.damping`), by name.
 DAMPING_KEYS = tuple(dict.fromkeys(p for law in damping_laws.LAWS.values() for p in law.parameters()))
+#: The constants of the material laws (:mod:`model.materials`): ``C1`` and each law's own.
+MATERIAL_KEYS = tuple(dict.fromkeys(("C1", *(k for ks in LAW_CONSTANTS.values() for k in ks))))
 #: Grid keys a job may sweep, in canonical order, with the units and long names of the
 #: parameter records (:mod:`model.params`, :mod:`model.damping`).
 GRID_KEYS: dict[str, tuple[str, str]] = {
-    key: parameter_record(key)[1:] for key in ("delta", "delta_o", "Omega", "P0", *DAMPING_KEYS)}
+    key: parameter_record(key)[1:] for key in ("delta", "delta_o", "Omega", "P0", *DAMPING_KEYS, *MATERIAL_KEYS)}
 #: The grid keys of the membrane's geometry.
 GEOMETRY_KEYS = ("delta", "delta_o")
 #: The grid keys of the forcing and the damping.
-LOADING_KEYS = tuple(k for k in GRID_KEYS if k not in GEOMETRY_KEYS)
-#: The keys of the ``[membrane]`` table: the :class:`~model.params.Membrane` fields that
-#: are not grid keys.
-MEMBRANE_KEYS = tuple(f.name for f in dataclass_fields(Membrane) if f.name not in GRID_KEYS)
+LOADING_KEYS = tuple(k for k in GRID_KEYS if k not in GEOMETRY_KEYS and k not in MATERIAL_KEYS)
+#: The keys of the ``[membrane]`` table: the :class:`~model.params.Membrane` fields but the
+#: geometry's grid keys (the material constants may be in either place, not in both).
+MEMBRANE_KEYS = tuple(f.name for f in dataclass_fields(Membrane) if f.name not in GEOMETRY_KEYS)
+
+
+def membrane_attributes(membrane: Membrane, grid_keys=()) -> dict[str, Any]:
+    """The result files' ``membrane_<key>`` attributes: the law and, of the ``[membrane]``
+    keys that are not grid keys, those the law reads (``C2`` only for Mooney-Rivlin, ``Jm``
+    only for Gent), with ``membrane_<key>_units`` for the material constants."""
+    keys = [k for k in MEMBRANE_KEYS if k not in grid_keys
+            and (k not in MATERIAL_KEYS or k == "C1" or k in LAW_CONSTANTS[membrane.law])]
+    out = {f"membrane_{k}": getattr(membrane, k) for k in keys}
+    out.update({f"membrane_{k}_units": GRID_KEYS[k][0] for k in keys if k in MATERIAL_KEYS})
+    return out
 
 
 @dataclass(frozen=True)

@@ -56,7 +56,8 @@ class LinearAnalysis(Analysis):
         return [
             Variable("omega", ("mode",), (k,), "f8", "rad s-1", "natural frequency, Galerkin solution of Eq. 25"),
             Variable("omega_approx", ("mode",), (k,), "f8", "rad s-1", "approximate natural frequency, Eq. 28"),
-            Variable("omega_bound", ("mode",), (k,), "f8", "rad s-1", "upper bound of the natural frequency, Eq. 29"),
+            Variable("omega_bound", ("mode",), (k,), "f8", "rad s-1",
+                     "upper bound of the natural frequency, Eq. 29 (neo-Hookean law; NaN for the others)"),
         ]
 
     def coords(self, options):
@@ -81,8 +82,10 @@ class LinearAnalysis(Analysis):
             out["omega"][k] = by_n[n][0][mm - 1]
             out["omega_approx"][k] = approximate_frequency(ps, alpha)
             out["omega_bound"][k] = frequency_bound(m, alpha)
-            # Eq. 29 bounds every frequency from above (the limit delta -> infinity).
-            if not (np.isfinite(out["omega"][k]) and 0.0 < out["omega"][k] < out["omega_bound"][k]):
+            # Eq. 29 bounds every neo-Hookean frequency from above (the limit delta -> infinity);
+            # the other laws have no bound (NaN)
+            bound = out["omega_bound"][k] if np.isfinite(out["omega_bound"][k]) else np.inf
+            if not (np.isfinite(out["omega"][k]) and 0.0 < out["omega"][k] < bound):
                 problems.append(f"mode ({mm}, {signed_n}): omega = {out['omega'][k]:.6g} rad/s is not in "
                                 f"(0, Eq. 29 bound = {out['omega_bound'][k]:.6g})")
         out["status"] = STATUS_FAILED if problems else STATUS_OK

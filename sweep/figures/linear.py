@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from sweep.analyses.base import LOADING_KEYS, MEMBRANE_KEYS
+from sweep.analyses.base import GEOMETRY_KEYS, GRID_KEYS, MEMBRANE_KEYS
 from sweep.figures.output import pyplot, save_figure
 from sweep.figures.panels import grid_points, point_label
 
@@ -47,7 +47,7 @@ def _fig06(ds, outdir, k) -> Path:
 
     plt = pyplot()
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(9.5, 4))
-    other = {d: ds[d].values[0] for d in LOADING_KEYS if d in ds.dims}
+    other = {d: ds[d].values[0] for d in GRID_KEYS if d not in GEOMETRY_KEYS and d in ds.dims}
     for do in ds.delta_o.values:
         sel = dict(other, delta_o=do)
         if "delta" in ds.dims and ds.sizes["delta"] >= 2:
@@ -57,8 +57,7 @@ def _fig06(ds, outdir, k) -> Path:
     if ax.lines:
         ax.legend()
 
-    mem = Membrane(**{key: float(ds.attrs[f"membrane_{key}"]) for key in MEMBRANE_KEYS
-                      if f"membrane_{key}" in ds.attrs})
+    mem = Membrane(**{key: ds.attrs[f"membrane_{key}"] for key in MEMBRANE_KEYS if f"membrane_{key}" in ds.attrs})
     fine = np.linspace(0.05, 0.9, 60)
     bx.plot(fine, [frequency_bound(mem, bessel_roots(0, d, 1)[0]) for d in fine], "k-", lw=1.2, label="Eq. 29")
     bound = ds.omega_bound.isel(mode=k)
@@ -76,7 +75,7 @@ def _spectrum(ds, outdir, modes) -> Path:
     nearest 1.1 and 2.0, solid and dashed) and the first delta_o (0.2 if present)."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    sel = {d: ds[d].values[0] for d in LOADING_KEYS if d in ds.dims}
+    sel = {d: ds[d].values[0] for d in GRID_KEYS if d not in GEOMETRY_KEYS and d in ds.dims}
     if "delta_o" in ds.dims:
         values = ds.delta_o.values
         sel["delta_o"] = values[np.argmin(np.abs(values - 0.2))]

@@ -15,7 +15,7 @@ import numpy as np
 import xarray as xr
 
 from sweep import partlog, provenance
-from sweep.analyses.base import GRID_KEYS, MEMBRANE_KEYS, STATUS_FAILED, STATUS_OK, STATUS_SKIPPED, parameter_record
+from sweep.analyses.base import GRID_KEYS, STATUS_FAILED, STATUS_OK, STATUS_SKIPPED, membrane_attributes, parameter_record
 from sweep.errors import RunError
 from sweep.jobspec import Job, parse_job
 from sweep.storage.files import file_error, replace_atomically
@@ -362,7 +362,7 @@ def _attributes(job: Job, parts: Path) -> tuple[dict, dict]:
         "software": "membrane-sweep",
         "software_version": last["package_version"],
         "source_sha256": last["source_sha256"],
-        **{f"membrane_{k}": getattr(job.membrane, k) for k in MEMBRANE_KEYS},
+        **membrane_attributes(job.membrane, job.layout.dims),
         "model": job.model.kind,
         "damping_law": job.damping.law.name,
         **damping_attributes(job.damping),
