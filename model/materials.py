@@ -78,6 +78,13 @@ LAWS = {"neo-hookean": NeoHookean, "mooney-rivlin": MooneyRivlin, "gent": Gent}
 LAW_CONSTANTS = {"neo-hookean": (), "mooney-rivlin": ("C2",), "gent": ("Jm",)}
 
 
+def extensibility(law, i1, i2):
+    """How far the invariants are from the law's limit of extensibility: ``1 - (I1 - 3)/Jm``
+    for Gent (0 at chain locking, where ``W`` becomes infinite), 1 for the laws without a
+    limit.  A continuous margin, for the events of an integration."""
+    return 1.0 - (i1 - 3.0) * law.inv_jm if isinstance(law, Gent) else 1.0 + 0.0 * i1
+
+
 def invariant_derivatives(law, i1, i2):
     """``(W_1, W_2, W_11, W_12, W_22)`` of ``W / C1`` at the invariants ``(i1, i2)``."""
     return type(law).derivatives(law, i1, i2)

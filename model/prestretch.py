@@ -18,7 +18,7 @@ from numpy.polynomial import chebyshev as C
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from .materials import stretch_derivatives
+from .materials import Gent, extensibility, stretch_derivatives
 from .params import Membrane
 
 KINDS = ("analytic", "numeric", "fit")
@@ -130,9 +130,16 @@ def _analytic_coef(delta, delta_o):
 
 
 def _shoot(law, slope0, delta_o, dense=False):
-    sol = solve_ivp(lambda s, y: _equilibrium_rhs(law, s, y), (delta_o, 1.0), [delta_o, slope0], method="DOP853",
-                    rtol=_SHOOT_TOL, atol=_SHOOT_TOL, dense_output=dense)
-    return sol
+    # stops where the state reaches the law's limit of extensibility (Gent: W infinite);
+    # None when the inner edge is beyond it
+    def limit(s, y):
+        l1, l2 = y[1], y[0] / s
+        return extensibility(law, l1 * l1 + l2 * l2 + 1.0 / (l1 * l2) ** 2, 0.0)
+    limit.terminal = True
+    if limit(delta_o, (delta_o, slope0)) <= 0.0:
+        return None  # beyond the limit at the inner edge already
+    return solve_ivp(lambda s, y: _equilibrium_rhs(law, s, y), (delta_o, 1.0), [delta_o, slope0], method="DOP853",
+                     rtol=_SHOOT_TOL, atol=_SHOOT_TOL, dense_output=dense, events=limit)
 
 
 def _cheb_lobatto(n, dom):
@@ -208,8 +215,8 @@ def _numeric_coef(law, delta, delta_o):
 
     def miss(s):
         sol = _shoot(law, s, delta_o)
-        if sol.status != 0 or not np.all(np.isfinite(sol.y)):
-            return np.inf
+        if sol is None or sol.status != 0 or not np.all(np.isfinite(sol.y)):
+            return np.inf  # stopped short (an event at the limit of extensibility, or a failure): too steep
         return sol.y[0, -1] - delta
 
     lo, hi = guess, guess
@@ -221,6 +228,10 @@ def _numeric_coef(law, delta, delta_o):
         hi = 1.0 + (hi - 1.0) * 1.5
         if miss(hi) > 0:
             break
+    if not miss(lo) < 0 < miss(hi):
+        raise ArithmeticError(f"pre-stretch equilibrium not found at delta = {delta}, delta_o = {delta_o}: no "
+                              "slope at the inner edge reaches r(Re) = Rf"
+                              + (" within the law's limit of extensibility" if isinstance(law, Gent) else ""))
     s0 = brentq(miss, lo, hi, xtol=1e-15, rtol=1e-15, maxiter=200)
     sol = _shoot(law, s0, delta_o, dense=True)
     coef = _collocate(law, lambda s: sol.sol(s)[0], delta, delta_o, dom)

@@ -1,5 +1,5 @@
 """Write the reference of the options, ``docs/options.md``: the analyses' ``OPTIONS``, the
-models' and the damping laws' constants.
+models', the material laws' and the damping laws' constants.
 
 Usage (from the repository root)::
 
@@ -17,6 +17,8 @@ from pathlib import Path
 from dataclasses import fields
 
 from model.damping import LAWS
+from model.materials import LAW_CONSTANTS
+from model.params import Membrane
 from sweep import models
 from sweep.analyses import BUILTIN
 from sweep.models import BUILTIN as MODELS
@@ -28,8 +30,8 @@ def render() -> str:
              "The table `[<analysis>]` of a job file takes these keys (anything else is refused with the",
              "list of the allowed ones). Generated from the analyses' `OPTIONS` by",
              "`python -m sweep.options_doc`; do not edit by hand. Grid keys, `[grid] cases` and the",
-             "`[job]` and `[membrane]` tables are described in `docs/running.md`; the `[model]` and",
-             "`[damping]` tables come last.", ""]
+             "`[job]` and `[membrane]` tables are described in `docs/running.md`; the `[model]` table,",
+             "the material laws of `[membrane]` and the `[damping]` table come last.", ""]
     for name, target in BUILTIN.items():
         module, _, attribute = target.partition(":")
         analysis = getattr(importlib.import_module(module), attribute)
@@ -46,6 +48,15 @@ def render() -> str:
         keys = ", ".join(f"`{k}`: {t}" for k, t in model.OPTIONS.items()) or "none (the ROM's `modes`, "\
             "`prestretch` and `steps` are the analysis' options)"
         lines.append(f"| `{name}` | {keys} | {', '.join(f'`{k}`' for k in model.required_grid) or 'none'} |")
+    lines += ["", "## `[membrane]` law", "",
+              "`law` chooses the strain-energy law (default `\"neo-hookean\"`); its constants may be given in",
+              "`[membrane]` or as grid keys (not both), and a constant of another law is refused.",
+              "`docs/model.md` (\"Material laws\") states each law; the other `[membrane]` keys are in",
+              "`docs/running.md`.", "", "| law | constant | units | meaning |", "|---|---|---|---|"]
+    meta = {f.name: f.metadata for f in fields(Membrane)}
+    for name, constants in LAW_CONSTANTS.items():
+        for key in ("C1", *constants):
+            lines.append(f"| `{name}` | `{key}` | {meta[key]['units']} | {meta[key]['long_name']} |")
     lines += ["", "## `[damping]`", "",
               "`law` chooses the damping law (default `\"viscous\"`); its constants may be given here or as",
               "grid keys (not both). `docs/model.md` (\"Damping laws\") states each law.", "",

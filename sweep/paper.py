@@ -25,7 +25,7 @@ from .launch import find_mpiexec
 
 #: Job files (``jobs/<name>.toml``) that reproduce the paper's tables and figures.
 PAPER_JOBS = (
-    "table1", "table1-app1", "table1-app2", "table2",
+    "table1", "table1-app1", "table1-app2", "table1-mooney-rivlin", "table1-gent", "table2",
     "fig02-03-static", "fig04-06-frequencies",
     "fig09-modes", "fig10-11-backbone", "fig12-inner-radius",
     "fig13-resonance", "fig14-bifurcation-omega", "fig15-bifurcation-p0", "fig15-bruteforce",

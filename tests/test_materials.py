@@ -182,6 +182,18 @@ def test_the_neo_hookean_limits_are_the_neo_hookean_law(fields):
     np.testing.assert_allclose(yb.advance(y0, 2), ya.advance(y0, 2), rtol=1e-12, atol=1e-15)
 
 
+def test_mooney_rivlin_frequencies_scale_with_the_small_strain_shear_modulus():
+    """At small pre-strain the membrane's tension is proportional to the shear modulus
+    ``2 (C1 + C2)`` (linear elasticity), so the frequency ratio to neo-Hookean tends to
+    ``sqrt(1 + C2/C1)`` as ``delta -> 1``; the deviation is first order in the strain."""
+    ratios = []
+    for d in (1.01, 1.001):
+        w = [galerkin_frequencies(solve_prestretch(Membrane(delta=d, **kw), "numeric"), 0, 1)[0][0]
+             for kw in ({}, dict(law="mooney-rivlin", C2=0.1 * 0.17e6))]
+        ratios.append(w[1] / w[0] / np.sqrt(1.1) - 1)
+    assert abs(ratios[1]) < 1e-4 and 8 < ratios[0] / ratios[1] < 12  # strain 1e-3; ten times the strain, ten times
+
+
 def test_gent_approaches_neo_hookean_as_jm_grows():
     nh = galerkin_frequencies(solve_prestretch(Membrane(delta=2.0), "numeric"), 0, 1)[0][0]
     diffs = [abs(galerkin_frequencies(solve_prestretch(Membrane(delta=2.0, law="gent", Jm=jm), "numeric"),
