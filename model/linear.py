@@ -138,8 +138,9 @@ def approximate_frequency(prestretch: Prestretch, alpha: float):
     coefficient of Eq. (25) taken at the outer edge; for the neo-Hookean law ``1 + L1 = 1 -
     1/(delta^2 r_o'(Re)^4)`` there, Eq. (28) as printed."""
     m = prestretch.membrane
-    a1 = float(stiffness_coefficients(prestretch, m.Re)[0])
-    return np.sqrt(m.wave_speed2 * alpha**2 / m.Re**2 * a1)
+    # the outer edge's stretches: delta exactly (the boundary condition) and r_o'(Re)
+    ca, _ = slope_factors(m.material, 0.0, 0.0, 1.0 / m.Re**2, m.delta**2, float(prestretch.slope(m.Re)) ** 2)
+    return np.sqrt(m.wave_speed2 * alpha**2 / m.Re**2 * 0.5 * ca)
 
 
 def frequency_bound(membrane: Membrane, alpha: float):

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from numba.extending import overload
 
-from .materials import invariant_derivatives, metric_derivatives, metric_energy, strain_energy
+from .materials import invariant_derivatives, metric_derivatives, metric_energy, invariant_energy
 
 
 @overload(invariant_derivatives, inline="always")
@@ -20,7 +20,7 @@ def _invariant_derivatives(law, i1, i2):
     return law.instance_class.derivatives
 
 
-@overload(strain_energy, inline="always")
+@overload(invariant_energy, inline="always")
 def _strain_energy(law, i1, i2):
     return law.instance_class.energy
 

@@ -78,8 +78,8 @@ LAWS = {"neo-hookean": NeoHookean, "mooney-rivlin": MooneyRivlin, "gent": Gent}
 LAW_CONSTANTS = {"neo-hookean": (), "mooney-rivlin": ("C2",), "gent": ("Jm",)}
 
 
-def extensibility(law, i1, i2):
-    """How far the invariants are from the law's limit of extensibility: ``1 - (I1 - 3)/Jm``
+def extensibility(law, i1):
+    """How far the invariant ``I1`` is from the law's limit of extensibility: ``1 - (I1 - 3)/Jm``
     for Gent (0 at chain locking, where ``W`` becomes infinite), 1 for the laws without a
     limit.  A continuous margin, for the events of an integration."""
     return 1.0 - (i1 - 3.0) * law.inv_jm if isinstance(law, Gent) else 1.0 + 0.0 * i1
@@ -90,7 +90,7 @@ def invariant_derivatives(law, i1, i2):
     return type(law).derivatives(law, i1, i2)
 
 
-def strain_energy(law, i1, i2):
+def invariant_energy(law, i1, i2):
     """``W / C1`` at the invariants ``(i1, i2)`` (scalars or arrays)."""
     return type(law).energy(law, i1, i2)
 
@@ -128,7 +128,13 @@ def metric_derivatives(law, T, delta, inv_delta):
 
 def metric_energy(law, T, delta, inv_delta):
     """``W / C1`` as a function of the in-plane metric's trace and determinant."""
-    return strain_energy(law, T + inv_delta, delta + T * inv_delta)
+    return invariant_energy(law, T + inv_delta, delta + T * inv_delta)
+
+
+def invariants(l1, l2):
+    """``(I1, I2)`` of the incompressible planar state of principal stretches ``l1``, ``l2``."""
+    a, b = l1 * l1, l2 * l2
+    return a + b + 1.0 / (a * b), a * b + 1.0 / a + 1.0 / b
 
 
 def stretch_derivatives(law, l1, l2):

@@ -113,11 +113,12 @@ class Membrane:
 
     def __post_init__(self):
         _validate(self)
-        for name, unused in (("C2", 0.0), ("Jm", math.inf)):
-            if name not in LAW_CONSTANTS[self.law] and getattr(self, name) != unused:
-                raise ParameterError(name, getattr(self, name),
-                                     f"{unused:g} with law = {self.law!r} (a constant of "
-                                     + " / ".join(f'"{k}"' for k, v in LAW_CONSTANTS.items() if name in v) + ")")
+        for f in fields(self):
+            owners = [law for law, constants in LAW_CONSTANTS.items() if f.name in constants]
+            if owners and self.law not in owners and getattr(self, f.name) != f.default:
+                raise ParameterError(f.name, getattr(self, f.name),
+                                     f"left at {f.default:g} with law = {self.law!r} ({f.name} is a constant of "
+                                     + " / ".join(f'"{k}"' for k in owners) + ")")
 
     @property
     def material(self):

@@ -18,7 +18,7 @@ from numpy.polynomial import chebyshev as C
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from .materials import Gent, extensibility, stretch_derivatives
+from .materials import Gent, extensibility, invariants, stretch_derivatives
 from .params import Membrane
 
 KINDS = ("analytic", "numeric", "fit")
@@ -134,7 +134,7 @@ def _shoot(law, slope0, delta_o, dense=False):
     # None when the inner edge is beyond it
     def limit(s, y):
         l1, l2 = y[1], y[0] / s
-        return extensibility(law, l1 * l1 + l2 * l2 + 1.0 / (l1 * l2) ** 2, 0.0)
+        return extensibility(law, invariants(l1, l2)[0])
     limit.terminal = True
     if limit(delta_o, (delta_o, slope0)) <= 0.0:
         return None  # beyond the limit at the inner edge already
@@ -233,6 +233,9 @@ def _numeric_coef(law, delta, delta_o):
                               "slope at the inner edge reaches r(Re) = Rf"
                               + (" within the law's limit of extensibility" if isinstance(law, Gent) else ""))
     s0 = brentq(miss, lo, hi, xtol=1e-15, rtol=1e-15, maxiter=200)
+    if not abs(miss(s0)) < 1e-8:  # brentq closed on the jump of a shot that stopped at the limit
+        raise ArithmeticError(f"pre-stretch equilibrium not found at delta = {delta}, delta_o = {delta_o}: the "
+                              "shots that reach r(Re) stop at the law's limit of extensibility")
     sol = _shoot(law, s0, delta_o, dense=True)
     coef = _collocate(law, lambda s: sol.sol(s)[0], delta, delta_o, dom)
     if coef is None:
@@ -278,8 +281,8 @@ def solve_prestretch(membrane: Membrane, kind: str = "numeric") -> Prestretch:
     Parameters
     ----------
     membrane : Membrane
-        Geometry and material; only ``delta``, ``delta_o``, ``Re`` (and ``C1``, ``h`` for
-        stresses and traction) matter.
+        Geometry and material; only ``delta``, ``delta_o``, ``Re`` and the law with its
+        constants (and ``C1``, ``h`` for stresses and traction) matter.
     kind : {"analytic", "numeric", "fit"}
         Eq. (21), Chebyshev collocation of the equilibrium (Eq. 15), or the Eq. (18) fit of the collocation
         solution.
@@ -291,6 +294,10 @@ def solve_prestretch(membrane: Membrane, kind: str = "numeric") -> Prestretch:
     if kind not in KINDS:
         raise ValueError(f"prestretch = {kind!r} is invalid: must be one of {', '.join(KINDS)}")
     d, do = membrane.delta, membrane.delta_o
+    if membrane.law == "gent" and d * d + 2.0 / d - 3.0 >= membrane.Jm:
+        raise ValueError(f"Jm = {membrane.Jm!r} is invalid at delta = {d!r}: must exceed delta^2 + 2/delta - 3 = "
+                         f"{d * d + 2.0 / d - 3.0:.6g}, the least I1 - 3 at the outer edge (no state within the "
+                         "Gent law's limit of extensibility)")
     if kind == "analytic":
         coef = _analytic_coef(d, do)
     elif kind == "numeric":

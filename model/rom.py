@@ -37,7 +37,8 @@ from .damping import NO_MATRIX
 from .damping_kernels import add_matrix_damping
 from .params import Membrane
 from .prestretch import Prestretch
-from .transverse import energy_density, slope_factors, slope_hessian
+from .materials import extensibility
+from .transverse import energy_density, first_invariant, slope_factors, slope_hessian
 
 
 class RomTables(NamedTuple):
@@ -308,7 +309,7 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
         k_force=m.C1 / (m.Gamma * mass), load=forcing / (m.Gamma * m.h * mass), probe=probe,
         axisymmetric=nt == 0, law=m.material, table_max=0.0, stiffness_table=np.zeros((0, 1)), slope_table=np.zeros((0, 1)))
     if K == 1 and nt == 0 and force_table:
-        tables = tables._replace(**_force_table(tables, TABLE_MAX_W * m.Re / np.abs(psi).max()))
+        tables = tables._replace(**_force_table(tables, _table_reach(tables, TABLE_MAX_W * m.Re / np.abs(psi).max())))
     return Rom(m, modes, alpha, mass, forcing, probe_rho, nr, nt, tables)
 
 
@@ -317,6 +318,22 @@ TABLE_MAX_W = 4.0
 TABLE_DEGREE = 7
 #: Relative accuracy of the table against the quadrature it replaces.
 TABLE_TOL = 1e-13
+
+
+#: A law with a limit of extensibility (Gent) is tabulated only where its margin
+#: (:func:`model.materials.extensibility`) stays above this at every point: ``W_1 <= 4``.
+TABLE_MIN_EXTENSIBILITY = 0.25
+
+
+def _table_reach(tab: RomTables, q_max: float) -> float:
+    """``q_max``, or less for a law with a limit of extensibility: the largest ``|q|`` of
+    4096 steps up to ``q_max`` below which the margin stays above
+    :data:`TABLE_MIN_EXTENSIBILITY` at every quadrature point (the force grows without bound
+    towards the limit; the kernels use the quadrature beyond the table)."""
+    qs = np.linspace(0.0, q_max, 4097)
+    i1 = first_invariant(qs[:, None] * tab.b_rho[0], 0.0, tab.inv_rho2, tab.hoop2, tab.radial2)
+    ok = extensibility(tab.law, i1).min(axis=1) >= TABLE_MIN_EXTENSIBILITY
+    return float(qs[-1] if ok.all() else qs[max(int(np.argmin(ok)) - 1, 0)])
 
 
 def _force_table(tab: RomTables, q_max: float) -> dict:

@@ -38,6 +38,12 @@ def _metric_overload(a, b, inv_rho2, hoop2, radial2):
     return _metric
 
 
+def first_invariant(a, b, inv_rho2, hoop2, radial2):
+    """``I1 = T + 1/Delta`` (1) at the slopes ``a``, ``b`` of a point (arrays broadcast)."""
+    T, _, inv_delta = _metric(a, b, inv_rho2, hoop2, radial2)
+    return T + inv_delta
+
+
 def energy_density(law, a, b, inv_rho2, hoop2, radial2):
     """``W / C1`` (1) at slopes ``a = w_rho`` (1), ``b = w_theta`` (m) of a point with
     ``1 / rho^2`` (m-2), ``(r_o / rho)^2`` and ``r_o'^2`` (1)."""

@@ -266,7 +266,8 @@ def _membrane(table: Mapping) -> Membrane:
 
 def _material_grid(membrane: Membrane, table: Mapping, grid: Mapping[str, np.ndarray]) -> None:
     """Material constants on the grid: once (not in ``[membrane]`` too) and of the job's
-    law (their values are checked by :func:`_axis`)."""
+    law (their values are checked by :func:`_axis`); the law's own constants given in one
+    of the two places (a law without them would silently be neo-Hookean)."""
     for key in grid:
         if key not in MATERIAL_KEYS:
             continue
@@ -277,6 +278,10 @@ def _material_grid(membrane: Membrane, table: Mapping, grid: Mapping[str, np.nda
                            + ", ".join(("C1", *LAW_CONSTANTS[membrane.law])))
         if key in table:
             raise JobError(f"grid.{key}", grid[key].tolist(), f"set in [membrane] already (one place for {key})")
+    for key in LAW_CONSTANTS[membrane.law]:
+        if key not in table and key not in grid:
+            raise JobError(f"membrane.{key}", MISSING, f"law = {membrane.law!r} needs its constant {key} "
+                           f"({GRID_KEYS[key][0]}) in [membrane] or [grid]")
 
 
 def _damping(table: Mapping) -> DampingSpec:

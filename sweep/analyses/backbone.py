@@ -90,7 +90,8 @@ class BackboneAnalysis(Analysis):
             Variable("omega_linear", (), (), "f8", "rad s-1",
                      "small-amplitude limit of the backbone (linearised ROM)"),
             Variable("omega_bound", (), (), "f8", "rad s-1",
-                     "upper bound of the frequency of the backbone's mode, Eq. 29"),
+                     "upper bound of the frequency of the backbone's mode, Eq. 29 (neo-Hookean law; NaN for "
+                     "the others)"),
         ]
 
     def coords(self, options):

@@ -58,8 +58,6 @@ GRID_KEYS: dict[str, tuple[str, str]] = {
     key: parameter_record(key)[1:] for key in ("delta", "delta_o", "Omega", "P0", *DAMPING_KEYS, *MATERIAL_KEYS)}
 #: The grid keys of the membrane's geometry.
 GEOMETRY_KEYS = ("delta", "delta_o")
-#: The grid keys of the forcing and the damping.
-LOADING_KEYS = tuple(k for k in GRID_KEYS if k not in GEOMETRY_KEYS and k not in MATERIAL_KEYS)
 #: The keys of the ``[membrane]`` table: the :class:`~model.params.Membrane` fields but the
 #: geometry's grid keys (the material constants may be in either place, not in both).
 MEMBRANE_KEYS = tuple(f.name for f in dataclass_fields(Membrane) if f.name not in GEOMETRY_KEYS)
@@ -159,7 +157,8 @@ class Point:
     Parameters
     ----------
     membrane : Membrane
-        The ``[membrane]`` table and the grid's ``delta``, ``delta_o``.
+        The ``[membrane]`` table and the grid's ``delta``, ``delta_o`` and material
+        constants (``C1``, ``C2``, ``Jm``).
     loading : Loading
         The grid's ``Omega``, ``P0``, ``c`` (the record's defaults for keys that are not
         grid keys: an analysis that varies ``Omega`` or ``P0`` itself replaces them).
