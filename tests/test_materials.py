@@ -336,3 +336,31 @@ def test_gent_beyond_its_limit_of_extensibility_is_refused_or_not_finite():
     inside, beyond = _force(rom, [0.9 * rom.tables.table_max]), _force(rom, [5.0 * rom.tables.table_max])
     assert np.all(np.isfinite(inside)) and not np.any(np.isfinite(beyond))
     assert rom.tables.table_max < build_rom(solve_prestretch(Membrane(delta=1.1), "numeric"), [(1, 0)]).tables.table_max
+
+
+_WARMUP_LAW = """
+import sys, numba
+from sweep.jobspec import parse_job
+job = parse_job(sys.stdin.read())
+for call in job.analysis.warmups(job.options):
+    call()
+print(any("MooneyRivlin" in str(sig) for name, module in list(sys.modules.items()) if name.startswith("model.")
+          for f in vars(module).values() if isinstance(f, numba.core.registry.CPUDispatcher) for sig in f.signatures))
+"""
+
+
+@pytest.mark.parametrize("analysis", ["backbone", "response", "continuation", "basins"])
+def test_the_warmups_compile_the_kernels_of_the_jobs_law(analysis):
+    """The runner compiles an analysis' kernels once per node before the tasks
+    (Analysis.warmups); for a Mooney-Rivlin job they must be its own specialisations, or every
+    rank would compile them at its first task, concurrently.  In a fresh process, so that no
+    other test's kernels count."""
+    import subprocess
+    import sys
+
+    text = (f'[job]\nname = "law"\nanalysis = "{analysis}"\n[membrane]\nlaw = "mooney-rivlin"\nC2 = 1000.0\n'
+            f'{ANALYSIS_JOBS[analysis]}')
+    proc = subprocess.run([sys.executable, "-c", _WARMUP_LAW], input=text, capture_output=True, text=True,
+                          timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split()[-1] == "True"

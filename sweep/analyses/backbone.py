@@ -21,6 +21,7 @@ Options: :attr:`BackboneAnalysis.OPTIONS` (``docs/options.md``).  The status is 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
@@ -41,6 +42,8 @@ class BackboneOptions:
     prestretch: str
     amplitude: tuple[float, float, int]
     peak_damping: float
+    #: the job's material law (``[membrane] law``): the warmups compile its kernels
+    material: str = "neo-hookean"
 
     @property
     def targets(self) -> np.ndarray:
@@ -74,7 +77,8 @@ class BackboneAnalysis(Analysis):
             prestretch=opt.prestretch(table, self.name),
             amplitude=opt.linspace(table, self.name, "amplitude", DEFAULT_AMPLITUDE, low=0.0,
                                    low_open=True, max_num=10_000),
-            peak_damping=opt.number(table, self.name, "peak_damping", 0.05, low=0.0, low_open=True))
+            peak_damping=opt.number(table, self.name, "peak_damping", 0.05, low=0.0, low_open=True),
+            material=membrane.law)
 
     def variables(self, options):
         P, K = options.amplitude[2], len(options.modes)
@@ -100,7 +104,7 @@ class BackboneAnalysis(Analysis):
                 **opt.mode_coords(options.modes)}
 
     def warmups(self, options):
-        return [_compile_backbone]
+        return [partial(_compile_backbone, options.material)]
 
     def compute(self, point, options, subtask):
         rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
@@ -122,8 +126,8 @@ class BackboneAnalysis(Analysis):
 BACKBONE = BackboneAnalysis()
 
 
-def _compile_backbone() -> None:
+def _compile_backbone(material: str) -> None:
     # Backbone.warmups: the free-orbit continuation and the peak-to-peak integration
-    rom = opt.rom_for(Membrane(), "analytic", ((1, 0),))
+    rom = opt.rom_for(Membrane(law=material), "analytic", ((1, 0),))
     continue_free_orbits(rom, [1e-3], steps=8)
     peak_to_peak(rom, [1e-3], cycles=2)

@@ -76,6 +76,8 @@ class BasinsOptions:
     steps: int | None
     settings: mb.Settings
     max_attractors: int
+    #: the job's material law (``[membrane] law``): the warmups compile its kernels
+    material: str = "neo-hookean"
 
     @property
     def rows(self) -> int:
@@ -165,7 +167,8 @@ class Basins(Analysis):
             steps=opt.steps(table, _SECTION, mb.DEFAULT_STEPS, low=8, high=None),
             settings=settings,
             max_attractors=opt.number(table, _SECTION, "max_attractors", 6, low=1, high=1000,
-                                      integer=True))
+                                      integer=True),
+            material=membrane.law)
 
     def n_subtasks(self, options: BasinsOptions) -> int:
         return options.tiles
@@ -382,7 +385,7 @@ BASINS = Basins()
 
 def _warmup_map(options: BasinsOptions) -> ForcedMap:
     # The stroboscopic map of the job's ROM at a Fig. 19a point, for the warmup calls
-    rom = opt.rom_for(Membrane(), options.prestretch, options.modes)
+    rom = opt.rom_for(Membrane(law=options.material), options.prestretch, options.modes)
     return ForcedMap.from_loading(rom, Loading(33.5, 1.0, 0.05), options.steps or mb.DEFAULT_STEPS)
 
 

@@ -126,6 +126,8 @@ class ContinuationOptions:
     switch_points: int = 0
     switch_family: int = 0
     check: tuple[tuple[float, ...], int, int] | None = None
+    #: the job's material law (``[membrane] law``): the warmups compile its kernels
+    material: str = "neo-hookean"
 
 
 #: Length of the ``cusp`` dimension (cusps of the fold curve, NaN padded).
@@ -277,7 +279,7 @@ class ContinuationAnalysis(Analysis):
             opt.steps(table, s, DEFAULT_STEPS, low=16),
             _second_parameter(table, s, parameter, context.damping), families,
             _curves_option(table, s, parameter, grid, context.damping), *_switching(table, s, families),
-            _family_check(table, s))
+            _family_check(table, s), membrane.law)
 
     def variables(self, options):
         n, k, p = options.max_points, 2 * len(options.modes), options.parameter
@@ -648,7 +650,7 @@ class ContinuationAnalysis(Analysis):
     def warmups(self, options):
         axisymmetric, _ = symmetry_blocks(options.modes)
         modes = tuple(options.modes[i] for i in axisymmetric) if _by_symmetry(options) else options.modes
-        return [partial(_compile_shooting, modes)]
+        return [partial(_compile_shooting, modes, options.material)]
 
     def attributes(self, options):
         return {"continued_parameter": options.parameter}
@@ -713,7 +715,7 @@ def _full_layout(br, K, axisymmetric, blocks):
 CONTINUATION = ContinuationAnalysis()
 
 
-def _compile_shooting(modes) -> None:
-    # Continuation.warmups: the shooting Newton iteration of a ROM of these modes
-    rom = opt.rom_for(Membrane(), "analytic", modes)
+def _compile_shooting(modes, material: str) -> None:
+    # Continuation.warmups: the shooting Newton iteration of a ROM of these modes and this law
+    rom = opt.rom_for(Membrane(law=material), "analytic", modes)
     shoot(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 0.05), steps=16), np.zeros(2 * rom.dof))

@@ -39,6 +39,8 @@ class ResponseOptions:
     consecutive: int
     max_periods: int
     refine_jumps: bool
+    #: the job's material law (``[membrane] law``): the warmups compile its kernels
+    material: str = "neo-hookean"
 
     @property
     def swept_values(self) -> np.ndarray:
@@ -81,7 +83,7 @@ class ResponseAnalysis(Analysis):
             opt.number(table, s, "tol", 1e-6, low=0.0, low_open=True, high=1e-2),
             opt.number(table, s, "consecutive", 20, low=1, high=10_000, integer=True),
             opt.number(table, s, "max_periods", 30_000, low=1, high=10_000_000, integer=True),
-            opt.flag(table, s, "refine_jumps", False))
+            opt.flag(table, s, "refine_jumps", False), membrane.law)
 
     def variables(self, options):
         dims = (options.parameter, "direction")
@@ -136,7 +138,7 @@ class ResponseAnalysis(Analysis):
         return out
 
     def warmups(self, options):
-        return [partial(_compile_stepped_sweep, options.modes)]
+        return [partial(_compile_stepped_sweep, options.modes, options.material)]
 
     def attributes(self, options):
         return {"swept_parameter": options.parameter}
@@ -145,8 +147,8 @@ class ResponseAnalysis(Analysis):
 RESPONSE = ResponseAnalysis()
 
 
-def _compile_stepped_sweep(modes) -> None:
-    # Response.warmups: the stepped sweep of a ROM of these modes
-    rom = opt.rom_for(Membrane(), "analytic", modes)
+def _compile_stepped_sweep(modes, material: str) -> None:
+    # Response.warmups: the stepped sweep of a ROM of these modes and this material law
+    rom = opt.rom_for(Membrane(law=material), "analytic", modes)
     stepped_sweep(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 1.0), steps=16), "P0", [0.1],
                   max_periods=2, min_periods=1)
