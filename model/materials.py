@@ -37,6 +37,13 @@ import numpy as np
 class NeoHookean(NamedTuple):
     """``W / C1 = I1 - 3`` (the paper's law, no further constant)."""
 
+    @classmethod
+    def from_constants(cls, C1, C2, Jm):
+        return cls()
+
+    def neo_hookean(law):
+        return True
+
     def energy(law, i1, i2):
         return i1 - 3.0
 
@@ -49,6 +56,13 @@ class MooneyRivlin(NamedTuple):
 
     c2: float
 
+    @classmethod
+    def from_constants(cls, C1, C2, Jm):
+        return cls(C2 / C1)
+
+    def neo_hookean(law):
+        return law.c2 == 0.0
+
     def energy(law, i1, i2):
         return i1 - 3.0 + law.c2 * (i2 - 3.0)
 
@@ -60,6 +74,16 @@ class Gent(NamedTuple):
     """``W / C1 = -Jm ln(1 - (I1 - 3)/Jm)``, stored as ``inv_jm = 1/Jm`` (0: neo-Hookean)."""
 
     inv_jm: float
+
+    @classmethod
+    def from_constants(cls, C1, C2, Jm):
+        return cls(1.0 / Jm)
+
+    def neo_hookean(law):
+        return law.inv_jm == 0.0
+
+    def extensibility(law, i1):
+        return 1.0 - (i1 - 3.0) * law.inv_jm
 
     def energy(law, i1, i2):
         x = (i1 - 3.0) * law.inv_jm
@@ -78,11 +102,22 @@ LAWS = {"neo-hookean": NeoHookean, "mooney-rivlin": MooneyRivlin, "gent": Gent}
 LAW_CONSTANTS = {"neo-hookean": (), "mooney-rivlin": ("C2",), "gent": ("Jm",)}
 
 
+def is_neo_hookean(law) -> bool:
+    """Whether the law record ``law`` is the neo-Hookean law (Mooney-Rivlin with ``C2 = 0``,
+    Gent with ``Jm = inf`` included)."""
+    return type(law).neo_hookean(law)
+
+
+def has_limit(law) -> bool:
+    """Whether the law has a limit of extensibility (Gent with a finite ``Jm``)."""
+    return hasattr(type(law), "extensibility") and not is_neo_hookean(law)
+
+
 def extensibility(law, i1):
     """How far the invariant ``I1`` is from the law's limit of extensibility: ``1 - (I1 - 3)/Jm``
     for Gent (0 at chain locking, where ``W`` becomes infinite), 1 for the laws without a
     limit.  A continuous margin, for the events of an integration."""
-    return 1.0 - (i1 - 3.0) * law.inv_jm if isinstance(law, Gent) else 1.0 + 0.0 * i1
+    return type(law).extensibility(law, i1) if has_limit(law) else 1.0 + 0.0 * i1
 
 
 def invariant_derivatives(law, i1, i2):
@@ -157,17 +192,6 @@ def stretch_derivatives(law, l1, l2):
             2.0 * s2 + 4.0 * b * (w_tt + 2.0 * w_td * a + w_dd * a * a))
 
 
-def is_neo_hookean(law) -> bool:
-    """Whether the law record ``law`` is the neo-Hookean law (Mooney-Rivlin with ``C2 = 0``,
-    Gent with ``Jm = inf`` included)."""
-    return isinstance(law, NeoHookean) or (isinstance(law, MooneyRivlin) and law.c2 == 0.0) or (
-        isinstance(law, Gent) and law.inv_jm == 0.0)
-
-
 def kernel_law(name: str, C1: float, C2: float = 0.0, Jm: float = np.inf):
     """The law record ``name`` (a key of :data:`LAWS`) for the constants of a membrane."""
-    if name == "mooney-rivlin":
-        return MooneyRivlin(C2 / C1)
-    if name == "gent":
-        return Gent(1.0 / Jm)
-    return NeoHookean()
+    return LAWS[name].from_constants(C1, C2, Jm)

@@ -18,7 +18,7 @@ from numpy.polynomial import chebyshev as C
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from .materials import Gent, extensibility, invariants, stretch_derivatives
+from .materials import extensibility, has_limit, invariants, stretch_derivatives
 from .params import Membrane
 
 KINDS = ("analytic", "numeric", "fit")
@@ -136,10 +136,10 @@ def _shoot(law, slope0, delta_o, dense=False):
         l1, l2 = y[1], y[0] / s
         return extensibility(law, invariants(l1, l2)[0])
     limit.terminal = True
-    if limit(delta_o, (delta_o, slope0)) <= 0.0:
+    if has_limit(law) and limit(delta_o, (delta_o, slope0)) <= 0.0:
         return None  # beyond the limit at the inner edge already
     return solve_ivp(lambda s, y: _equilibrium_rhs(law, s, y), (delta_o, 1.0), [delta_o, slope0], method="DOP853",
-                     rtol=_SHOOT_TOL, atol=_SHOOT_TOL, dense_output=dense, events=limit)
+                     rtol=_SHOOT_TOL, atol=_SHOOT_TOL, dense_output=dense, events=limit if has_limit(law) else None)
 
 
 def _cheb_lobatto(n, dom):
@@ -231,7 +231,7 @@ def _numeric_coef(law, delta, delta_o):
     if not miss(lo) < 0 < miss(hi):
         raise ArithmeticError(f"pre-stretch equilibrium not found at delta = {delta}, delta_o = {delta_o}: no "
                               "slope at the inner edge reaches r(Re) = Rf"
-                              + (" within the law's limit of extensibility" if isinstance(law, Gent) else ""))
+                              + (" within the law's limit of extensibility" if has_limit(law) else ""))
     s0 = brentq(miss, lo, hi, xtol=1e-15, rtol=1e-15, maxiter=200)
     if not abs(miss(s0)) < 1e-8:  # brentq closed on the jump of a shot that stopped at the limit
         raise ArithmeticError(f"pre-stretch equilibrium not found at delta = {delta}, delta_o = {delta_o}: the "
@@ -294,7 +294,7 @@ def solve_prestretch(membrane: Membrane, kind: str = "numeric") -> Prestretch:
     if kind not in KINDS:
         raise ValueError(f"prestretch = {kind!r} is invalid: must be one of {', '.join(KINDS)}")
     d, do = membrane.delta, membrane.delta_o
-    if membrane.law == "gent" and d * d + 2.0 / d - 3.0 >= membrane.Jm:
+    if extensibility(membrane.material, d * d + 2.0 / d) <= 0.0:  # the least I1 of the outer edge
         raise ValueError(f"Jm = {membrane.Jm!r} is invalid at delta = {d!r}: must exceed delta^2 + 2/delta - 3 = "
                          f"{d * d + 2.0 / d - 3.0:.6g}, the least I1 - 3 at the outer edge (no state within the "
                          "Gent law's limit of extensibility)")

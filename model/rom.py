@@ -37,7 +37,7 @@ from .damping import NO_MATRIX
 from .damping_kernels import add_matrix_damping
 from .params import Membrane
 from .prestretch import Prestretch
-from .materials import extensibility
+from .materials import extensibility, has_limit
 from .transverse import energy_density, first_invariant, slope_factors, slope_hessian
 
 
@@ -330,6 +330,8 @@ def _table_reach(tab: RomTables, q_max: float) -> float:
     4096 steps up to ``q_max`` below which the margin stays above
     :data:`TABLE_MIN_EXTENSIBILITY` at every quadrature point (the force grows without bound
     towards the limit; the kernels use the quadrature beyond the table)."""
+    if not has_limit(tab.law):
+        return q_max
     qs = np.linspace(0.0, q_max, 4097)
     i1 = first_invariant(qs[:, None] * tab.b_rho[0], 0.0, tab.inv_rho2, tab.hoop2, tab.radial2)
     ok = extensibility(tab.law, i1).min(axis=1) >= TABLE_MIN_EXTENSIBILITY
