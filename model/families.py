@@ -387,7 +387,8 @@ def family_linear_system(fam: Family, membrane) -> tuple[np.ndarray, np.ndarray]
 
 
 def perturbation_growth(fmap, state, asymmetric, periods: int = 100, settle: int = 20,
-                        size: float = 1e-9, limit: float = 1e-5, saturate: int = 0) -> tuple[float, float]:
+                        size: float = 1e-9, limit: float = 1e-5,
+                        saturate: int = 0) -> tuple[float, tuple[float, float]]:
     """Growth per period of a small asymmetric perturbation, by integrating the nonlinear ROM.
 
     The independent check of :func:`family_monodromy`: ``fmap`` is the map of a mixed ROM
@@ -399,16 +400,18 @@ def perturbation_growth(fmap, state, asymmetric, periods: int = 100, settle: int
     displacement exceeds ``limit`` (m; the perturbation must stay linear), and the rate is
     the least-squares slope of its logarithm.  The fit averages the beats of complex pairs
     (a single ratio of norms does not: the Floquet vectors are not orthogonal).  With
-    ``saturate > 0`` the integration goes on for that many periods more and the largest
+    ``saturate > 0`` the integration goes on for that many periods more and the range of the
     asymmetric displacement at the probe over the stroboscopic samples of the last tenth is
-    reported: where the perturbation grows, the size of the state it saturates at.
+    reported: where the perturbation grows, the size of the state it saturates at, and
+    whether that state is periodic (a period-one orbit gives a range of zero width).
 
     Returns
     -------
     growth : float
         The largest multiplier modulus of the family as seen by the integration.
-    saturated : float
-        ``max |w_asym(rho_probe, 0)|`` (m) at the end, NaN without ``saturate``.
+    saturated : tuple of float
+        ``(min, max)`` of ``w_asym(rho_probe, 0)`` (m) over the last tenth of the
+        ``saturate`` periods, NaN without ``saturate``.
     """
     K = fmap.dof
     Ka = state.size // 2
@@ -427,13 +430,13 @@ def perturbation_growth(fmap, state, asymmetric, periods: int = 100, settle: int
         raise ValueError(f"limit = {limit} is invalid here: reached after {len(norms) - 1} periods; "
                          "start smaller or raise it")
     slope = np.polyfit(np.arange(len(norms)), np.log(norms), 1)[0]
-    saturated = np.nan
+    saturated = (np.nan, np.nan)
     if saturate > 0:
         probe = fmap.rom.tables.probe[list(asymmetric)]
         z = fmap.advance(z, saturate - max(saturate // 10, 1))
         samples = []
         for _ in range(max(saturate // 10, 1)):
             z = fmap.advance(z)
-            samples.append(abs(probe @ z[list(asymmetric)]))
-        saturated = float(max(samples))
+            samples.append(probe @ z[list(asymmetric)])
+        saturated = (float(min(samples)), float(max(samples)))
     return float(np.exp(slope)), saturated

@@ -6,8 +6,10 @@ Usage (from the repository root)::
 
 Each job file of :data:`PAPER_JOBS` (``jobs/<name>.toml``, at the paper's parameters and
 full resolution) runs as ``mpiexec -n RANKS python -m mpi4py -m sweep run``, its figures
-go to ``RESULTS_DIR/figures/<name>/`` and, at the end, ``docs/validation.md`` is
-regenerated from the results.  ``--quick`` caps every ``num`` of a job file (grid ranges,
+go to ``RESULTS_DIR/figures/<name>/``; then the jobs of :data:`VALIDATION_JOBS`
+(``jobs/validation/*.toml``: convergence studies and cross-checks, results in
+``RESULTS_DIR/validation/``) run the same way, and at the end ``docs/validation.md`` is
+regenerated from the result files alone.  ``--quick`` caps every ``num`` of a job file (grid ranges,
 lattices, amplitude targets) at :data:`QUICK_NUM` for a laptop run; the full resolution
 is meant for a cluster.  Runs resume: an interrupted ``python -m sweep.paper`` started
 again computes only what is missing.
@@ -33,6 +35,12 @@ PAPER_JOBS = (
     "fig14-families", "stability-map-fig14a", "fig14a-bifurcation-curves",
     "fig19-basins", "fig19a-basins-modes", "erosion-profile",
 )
+#: Job files (``jobs/validation/<name>.toml``) of the checks in ``docs/validation.md`` beyond
+#: the paper: convergence in the basis, the modes and the RK4 steps, and brute-force checks.
+VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
+    "linear-basis", "forced-modes-omega", "forced-modes-omega-fine", "forced-modes-p0", "forced-modes-p0-fine",
+    "families-radial-4", "families-radial-6", "families-radial-8", "family-check", "fig19a-basins-brute",
+))
 QUICK_NUM = 41
 
 
@@ -48,15 +56,16 @@ def _mpiexec() -> str:
     return found
 
 
-def run_job(job: Path, out: Path, ranks: int) -> int:
-    """Run one job under ``mpiexec`` with resume, then draw its figures; returns the exit code."""
+def run_job(job: Path, out: Path, ranks: int, figures: Path | None) -> int:
+    """Run one job under ``mpiexec`` with resume, then draw its figures into ``figures``
+    (None: none); returns the exit code."""
+    out.parent.mkdir(parents=True, exist_ok=True)
     cmd = [_mpiexec(), "-n", str(ranks), sys.executable, "-m", "mpi4py", "-m", "sweep", "run",
            str(job), "-o", str(out), "--resume"]
     print("+", " ".join(cmd), flush=True)
     code = subprocess.call(cmd)
-    if code == 0:
-        code = subprocess.call([sys.executable, "-m", "sweep", "figures", str(out),
-                                "-o", str(out.parent / "figures" / out.stem)])
+    if code == 0 and figures is not None:
+        code = subprocess.call([sys.executable, "-m", "sweep", "figures", str(out), "-o", str(figures)])
     return code
 
 
@@ -65,20 +74,21 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true", help=f"cap every num at {QUICK_NUM}")
     parser.add_argument("-n", "--ranks", type=int, default=2, help="MPI ranks (default 2)")
     parser.add_argument("-o", "--output", type=Path, default=Path("results"), help="results directory")
-    parser.add_argument("--only", nargs="+", choices=PAPER_JOBS, metavar="NAME",
-                        help="run only these jobs: " + ", ".join(PAPER_JOBS))
+    parser.add_argument("--only", nargs="+", choices=PAPER_JOBS + VALIDATION_JOBS, metavar="NAME",
+                        help="run only these jobs: " + ", ".join(PAPER_JOBS + VALIDATION_JOBS))
     parser.add_argument("--report", type=Path, default=Path("docs/validation.md"), help="validation report path")
     args = parser.parse_args(argv)
     args.output.mkdir(parents=True, exist_ok=True)
     failed = []
-    for name in args.only or PAPER_JOBS:
+    for name in args.only or PAPER_JOBS + VALIDATION_JOBS:
         job = Path("jobs") / f"{name}.toml"
         if args.quick:
-            quick = args.output / "jobs" / job.name
+            quick = args.output / "jobs" / f"{name}.toml"
             quick.parent.mkdir(parents=True, exist_ok=True)
             quick.write_text(quick_text(job.read_text()))
             job = quick
-        if run_job(job, args.output / f"{name}.nc", args.ranks) != 0:
+        figures = args.output / "figures" / name if name in PAPER_JOBS else None
+        if run_job(job, args.output / f"{name}.nc", args.ranks, figures) != 0:
             failed.append(name)
     subprocess.call([sys.executable, "-m", "sweep.validation", str(args.output), "-o", str(args.report)])
     if failed:

@@ -321,8 +321,34 @@ def test_assemble_merges_tiles_whatever_their_order(tmp_path):
     assert len(paths) == 1 and paths[0].exists()
 
 
+def test_a_brute_force_sample_labels_its_points_as_the_whole_lattice_does():
+    # sample = 25 of a 12 x 10 lattice, brute force, 3 tiles: the sampled points carry the
+    # labels of a brute-force run of the whole lattice (the attractors merged across tiles
+    # and numbered the same way), the others -2; the fractions are over the sample and the
+    # integrity factor, which needs the whole lattice, is NaN.
+    table = {"ic_x": {"start": -0.2, "stop": 0.2, "num": 12},
+             "ic_y": {"start": -6.7, "stop": 6.7, "num": 10}, "tiles": 3, "method": "brute"}
+    whole = BASINS.assemble(_raw(BASINS.parse_options(table, GRID, MEMBRANE), [0, 1, 2]),
+                            BASINS.parse_options(table, GRID, MEMBRANE)).squeeze()
+    options = BASINS.parse_options({**table, "sample": 25}, GRID, MEMBRANE)
+    part = BASINS.assemble(_raw(options, [0, 1, 2]), options).squeeze()
+    lab, ref = part.label.values, whole.label.values
+    chosen = lab != -2
+    assert chosen.sum() == 25 and (lab[chosen] >= 0).all()
+    np.testing.assert_array_equal(lab[chosen], ref[chosen])
+    assert len(set(lab[chosen])) == 2  # both attractors are in the sample
+    frac = part.basin_fraction.values[:2]
+    assert frac.sum() == pytest.approx(1.0) and frac[0] == pytest.approx(np.mean(lab[chosen] == 0))
+    assert np.isnan(part.integrity_factor.values).all()
+    # the same points whatever the tiling
+    one = BASINS.parse_options({**table, "sample": 25, "tiles": 1}, GRID, MEMBRANE)
+    np.testing.assert_array_equal(BASINS.assemble(_raw(one, [0]), one).squeeze().label.values != -2, chosen)
+
+
 @pytest.mark.parametrize("table, message", [
     ({"method": "slow"}, "basins.method = 'slow' is invalid: must be one of fast, brute"),
+    ({"sample": 10}, 'basins.sample = 10 is invalid: needs method = "brute"'),
+    ({"sample": 10_001, "method": "brute"}, "basins.sample = 10001 is invalid: must be <= 10000"),
     ({"ic_x": {"start": 1.0, "stop": 0.0, "num": 5}}, "basins.ic_x = {'start': 1.0, "
      "'stop': 0.0, 'num': 5} is invalid: needs stop > start and num >= 2"),
     ({"ic_y": {"start": 0.0, "stop": 1.0, "num": 1}}, "needs stop > start and num >= 2"),

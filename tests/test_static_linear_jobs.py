@@ -80,6 +80,9 @@ def test_frequency_figures(tmp_path):
     ("[linear]\nmodes = [[1, 0], [1, 0]]\n", "linear.modes = [[1, 0], [1, 0]] is invalid: modes must be distinct"),
     ("[linear]\nprestretch = 'exact'\n", "linear.prestretch = 'exact' is invalid: must be one of analytic, numeric, fit"),
     ("[linear]\nbasis = 2\nmodes = [[3, 0]]\n", "linear.basis = 2 is invalid: must be >= the largest m in linear.modes (3)"),
+    ("[linear]\nbasis = [8, 2]\nmodes = [[3, 0]]\n", "linear.basis = [8, 2] is invalid: must be >= the largest m in linear.modes (3)"),
+    ("[linear]\nbasis = []\n", "linear.basis = [] is invalid: a basis size or a non-empty list of sizes"),
+    ("[linear]\nbasis = [8, 'x']\n", "linear.basis = 'x' is invalid"),
     ("[linear]\nspeed = 1\n", "linear.speed = 1 is invalid: unknown key; the keys of [linear] are modes, prestretch, basis"),
     ("[linear]\nmodes = [{n = 0, radial = 2, sine = true}]\n", "n = 0 has no sine companions"),
     ("[linear]\nmodes = [{n = 1}]\n", "a family shorthand is a table {n = N, radial = M} (optionally sine = true)"),
@@ -90,6 +93,29 @@ def test_linear_option_errors(tmp_path, capsys, table, message):
     job.write_text("[job]\nname = 'bad'\nanalysis = 'linear'\n[grid]\ndelta = [1.1]\ndelta_o = [0.2]\n" + table)
     assert cli.main(["run", str(job), "-o", str(tmp_path / "bad.nc")]) == 2
     assert message in capsys.readouterr().err
+
+
+def test_basis_list_is_a_convergence_study(tmp_path):
+    # basis = [4, 8, 16, 32]: one Galerkin solution per size along a dimension basis.  The bases
+    # are nested (the first b Bessel functions), so by the min-max principle each frequency can
+    # only fall as the basis grows (Rayleigh-Ritz upper bounds), here to rounding (1e-12), and
+    # the 32-function solution is the converged one of the default adaptive basis to 1e-5.
+    job = tmp_path / "basis.toml"
+    head = "[job]\nname = 'basis'\nanalysis = 'linear'\n[grid]\ndelta = [1.1]\ndelta_o = [0.2]\n"
+    job.write_text(head + "[linear]\nmodes = [[1, 0], [3, 0], [1, 2]]\nbasis = [4, 8, 16, 32]\n")
+    assert cli.main(["run", str(job), "-o", str(tmp_path / "basis.nc")]) == 0
+    ds = xr.load_dataset(tmp_path / "basis.nc").squeeze()
+    assert ds.omega.dims == ("basis", "mode") and list(ds.basis.values) == [4, 8, 16, 32]
+    assert ds.omega_approx.dims == ("mode",) and int(ds.status) == 0
+    omega = ds.omega.values
+    assert (omega[1:] <= omega[:-1] * (1 + 1e-12)).all()
+    assert omega[0, 1] > omega[-1, 1] * (1 + 1e-6)  # the coarse basis is not yet converged
+    job.write_text(head + "[linear]\nmodes = [[1, 0], [3, 0], [1, 2]]\n")
+    assert cli.main(["run", str(job), "-o", str(tmp_path / "adaptive.nc")]) == 0
+    adaptive = xr.load_dataset(tmp_path / "adaptive.nc").squeeze()
+    np.testing.assert_allclose(omega[-1], adaptive.omega.values, rtol=1e-5)
+    names = [p.name for p in cli_figures(tmp_path / "basis.nc", tmp_path / "fig")]
+    assert "fig04_spectrum.png" in names
 
 
 def test_family_shorthand_and_sine_companions(tmp_path):

@@ -1,15 +1,51 @@
-"""The validation report generator: missing result files."""
+"""The validation report generator: missing result files, and the jobs it reads."""
 
-from sweep import validation
+import ast
+from pathlib import Path
+
+import pytest
+
+from sweep import paper, validation
+from sweep.jobspec import load_job
+
+JOBS = Path(__file__).resolve().parents[1] / "jobs"
 
 
 def test_missing_results_name_the_jobs(tmp_path):
     lines = (validation.section_backbone_modes(tmp_path) + validation.section_continuation_bruteforce(tmp_path)
              + validation.section_basins(tmp_path) + validation.section_backbone_limits(tmp_path)
-             + validation.section_cusp(tmp_path) + validation.section_basins_modes(tmp_path))
+             + validation.section_cusp(tmp_path) + validation.section_basins_modes(tmp_path)
+             + validation.section_linear_convergence(tmp_path) + validation.section_forced_modes(tmp_path)
+             + validation._family_convergence(tmp_path) + validation._family_check(tmp_path))
     text = "\n".join(lines)
     for job in ("fig09-modes", "fig15-bifurcation-p0", "fig15-bruteforce", "fig19-basins",
                 "fig10-11-backbone", "fig12-inner-radius", "fig17-cusp", "fig16-17-damping",
-                "fig19a-basins-modes"):
+                "fig19a-basins-modes",  # (its brute-force check is read only when it is there)
+                *(name for name in paper.VALIDATION_JOBS if name != "validation/fig19a-basins-brute")):
         assert f"`jobs/{job}.toml`" in text
     assert validation.section_provenance(tmp_path)[-2] == "|---|---|---|---|"
+
+
+def test_the_report_computes_nothing_from_the_model():
+    # every number of docs/validation.md comes from a result file: of the model the report
+    # imports only functions of arrays (branch bookkeeping, the attractor matching of the
+    # brute-force check), no model, map or solver
+    tree = ast.parse(Path(validation.__file__).read_text())
+    imported = {(node.module, alias.name) for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)
+                and (node.module or "").startswith("model") for alias in node.names}
+    imported |= {(alias.name, "") for node in ast.walk(tree) if isinstance(node, ast.Import)
+                 for alias in node.names if alias.name.startswith("model")}
+    assert imported <= {("model.continuation", "KIND_LABELS"), ("model.continuation", "resonant_end"),
+                        ("model.continuation", "stable_amplitudes_at"), ("model.continuation", "unstable_intervals"),
+                        ("model", "attractors"), ("model", "lattice"), ("model.basins", "default_settings")}
+
+
+@pytest.mark.parametrize("name", paper.PAPER_JOBS + paper.VALIDATION_JOBS)
+def test_every_job_of_the_paper_runner_is_valid(name):
+    job = load_job(JOBS / f"{name}.toml")
+    assert job.name == Path(name).name
+
+
+def test_the_paper_runner_runs_every_validation_job():
+    found = {f"validation/{p.stem}" for p in (JOBS / "validation").glob("*.toml")}
+    assert found == set(paper.VALIDATION_JOBS)

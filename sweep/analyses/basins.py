@@ -25,9 +25,15 @@ Options: :attr:`Basins.OPTIONS` (``docs/options.md``).
 Grid points outside the job's ``[grid] cases`` (Fig. 19 pairs delta with Omega) are not
 computed: label -2 and NaN measures.
 
+A spot check of a fast run: ``method = "brute"`` with ``sample = N`` classifies only ``N``
+initial conditions of the lattice, drawn at random (:data:`SAMPLE_SEED`; the same ones
+whatever the tiles and ranks), the others are not computed (label -2); the fractions
+(``basin_fraction``, ``unclassified_fraction``) are then over the sample and the
+``integrity_factor``, which needs the whole lattice, is NaN.
+
 Labels: ``0..n-1`` attractor index, ``-1`` unclassified (no periodic attractor of period
 ``<= max_period`` reached within ``max_periods``: a non-periodic attractor or a very long
-transient), ``-2`` not computed (outside ``cases``).
+transient), ``-2`` not computed (outside ``cases``, or not in the ``sample``).
 """
 
 from __future__ import annotations
@@ -60,6 +66,8 @@ MAX_TILE_POINTS = 65_536
 #: Tolerance of the lean quadrature (model.rom.lean_radial_points), on the window's states
 #: and again on the attractors found: far below the RK4 error of a period.
 LEAN_RTOL = 1e-10
+#: Seed of the random ``sample`` of the lattice.
+SAMPLE_SEED = 19
 
 
 @dataclass(frozen=True)
@@ -76,6 +84,8 @@ class BasinsOptions:
     steps: int | None
     settings: mb.Settings
     max_attractors: int
+    #: initial conditions classified, drawn at random from the lattice (None: all of them)
+    sample: int | None = None
     #: the job's material law (``[membrane] law``): the warmups compile its kernels
     material: str = "neo-hookean"
 
@@ -92,6 +102,16 @@ class BasinsOptions:
         cell map learns the whole plane.
         """
         return np.arange(tile, self.ic_x[2], self.tiles)
+
+    def sampled(self, rows: np.ndarray) -> np.ndarray:
+        """Which initial conditions of lattice rows ``rows`` are classified (row-major, as
+        :func:`model.lattice.lattice_states`): all of them, or those of the ``sample``."""
+        nx, ny = self.ic_x[2], self.ic_y[2]
+        if self.sample is None:
+            return np.ones(rows.size * ny, bool)
+        chosen = np.zeros(nx * ny, bool)
+        chosen[np.random.default_rng(SAMPLE_SEED).choice(nx * ny, size=self.sample, replace=False)] = True
+        return chosen.reshape(nx, ny)[rows].ravel()
 
     @property
     def n_state(self) -> int:
@@ -118,6 +138,9 @@ class Basins(Analysis):
         "ic_y": "{start, stop, num}: initial velocity dq_j/dt (m/s; default -10 to 10, 100; num <= 4096)",
         "method": "fast (cells and proximity, default; more modes: cells of the whole state space) | brute "
                   "(proximity only: the reference)",
+        "sample": "N: with method = \"brute\", classify only N initial conditions drawn at random from the "
+                  "lattice (label -2 elsewhere; fractions over the sample, integrity_factor NaN), a spot check "
+                  "of a fast run on the same lattice (default: the whole lattice)",
         "tiles": "tiles of interleaved ic_x rows, one task each (default 8, at most ic_x.num, raised to "
                  "keep 65,536 initial conditions or fewer per tile)",
         "steps": opt.steps_help(mb.DEFAULT_STEPS),
@@ -149,6 +172,12 @@ class Basins(Analysis):
                 raise JobError(f"{_SECTION}.{key}", table.get(key),
                                "needs stop > start and num >= 2")
         method = opt.choice(table, _SECTION, "method", ("fast", "brute"), "fast")
+        sample = None
+        if "sample" in table:
+            sample = opt.number(table, _SECTION, "sample", low=1, high=ic_x[2] * ic_y[2], integer=True)
+            if method != "brute":
+                raise JobError(f"{_SECTION}.sample", sample, 'needs method = "brute" (the fast method '
+                               "classifies whole lattice rows)")
         d = mb.default_settings(len(modes))
         settings = mb.Settings(
             max_periods=opt.number(table, _SECTION, "max_periods", d.max_periods, low=1, integer=True),
@@ -168,7 +197,7 @@ class Basins(Analysis):
             settings=settings,
             max_attractors=opt.number(table, _SECTION, "max_attractors", 6, low=1, high=1000,
                                       integer=True),
-            material=membrane.law)
+            sample=sample, material=membrane.law)
 
     def n_subtasks(self, options: BasinsOptions) -> int:
         return options.tiles
@@ -223,15 +252,19 @@ class Basins(Analysis):
         out["tile_rk4_steps"] = steps
         out["tile_radial_points"] = 0 if rom is None else rom.radial_points
         rows = options.tile_rows(subtask)
-        states = ml.lattice_states(lattice, rows, S)
+        chosen = options.sampled(rows)
+        states = ml.lattice_states(lattice, rows, S)[chosen]
         cell_report: dict = {}
         labels, atts, periods = mb.classify_lattice(states, lattice, fmap, options.settings,
                                                     use_cells=options.method == "fast", report=cell_report)
         out["tile_state_cells"] = cell_report["state_cells"]
-        labels = np.where(labels >= A, -1, labels)
         n = rows.size
-        out["tile_label"][:n] = labels.reshape(n, ny)
-        out["tile_periods"][:n] = periods.reshape(n, ny)
+        tile_label = np.full(n * ny, NOT_COMPUTED, np.int32)
+        tile_label[chosen] = np.where(labels >= A, -1, labels)
+        tile_periods = np.zeros(n * ny, np.int32)
+        tile_periods[chosen] = periods
+        out["tile_label"][:n] = tile_label.reshape(n, ny)
+        out["tile_periods"][:n] = tile_periods.reshape(n, ny)
         for a, att in enumerate(atts[:A]):
             out["tile_attractor_point"][a, :att.period] = att.points
             out["tile_attractor_period"][a] = att.period
@@ -297,19 +330,22 @@ class Basins(Analysis):
                     continue
                 lut = np.full(A + 1, -1, np.int32)
                 lut[:idx.size] = np.where(idx < A, idx, -1)
-                lab[rows] = np.where(tile >= 0, lut[np.clip(tile, 0, A)], -1)
+                unlabelled = np.where(tile == NOT_COMPUTED, NOT_COMPUTED, -1)  # not in the sample, or unclassified
+                lab[rows] = np.where(tile >= 0, lut[np.clip(tile, 0, A)], unlabelled)
             label[g] = lab
             n_att[g] = min(len(merged), A)
-            uncl[g] = float(np.mean(lab == -1))
+            computed = lab[lab != NOT_COMPUTED]
+            uncl[g] = float(np.mean(computed == -1))
             for r, (att, a_amp) in enumerate(merged[:A]):
                 k = att.period
                 points[g][r, :k] = att.points
                 period[g][r] = k
                 amp[g][r] = a_amp
                 mult[g][r] = att.multipliers[0]
-                frac[g][r] = global_integrity_measure(lab, r)
-                proj = att.points[:, [lattice.ix, lattice.iy]]
-                intf[g][r] = integrity_factor(lab, lattice.x, lattice.y, proj, r)
+                frac[g][r] = global_integrity_measure(computed, r)
+                if options.sample is None:
+                    proj = att.points[:, [lattice.ix, lattice.iy]]
+                    intf[g][r] = integrity_factor(lab, lattice.x, lattice.y, proj, r)
         status = None
         if "status" in raw:  # a missing tile makes the point missing, else the worst tile's status
             st = raw["status"]

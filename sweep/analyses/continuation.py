@@ -57,7 +57,8 @@ saddle-node) nearest each value, each family's mixed ROM (axisymmetric modes plu
 family's, 2-D quadrature) is integrated from the orbit plus 1e-9 m in the family's
 coordinates (:func:`model.families.perturbation_growth`): ``check_growth`` (``check``,
 ``family``), the growth per period, against ``check_floquet_modulus``; with ``saturate``
-the asymmetric amplitude reached, ``check_asymmetric_amplitude``.
+the asymmetric amplitude reached, ``check_asymmetric_amplitude``, and the width of the range
+of its stroboscopic samples, ``check_asymmetric_spread`` (zero for a period-one state).
 
 Curves of bifurcation points (``bifurcation_curves = {parameter = "P0", start = 0.2, stop =
 2.0}``): every located point of the branch (up to :data:`MAX_CURVES`) is followed in the
@@ -345,6 +346,9 @@ class ContinuationAnalysis(Analysis):
                      "growth per period of a small asymmetric perturbation in the nonlinear mixed ROM"),
             Variable("check_asymmetric_amplitude", cf, (C, F), "f8", "m",
                      "largest asymmetric |w(0.5 Re, 0)| after the family_check saturate periods (NaN without)"),
+            Variable("check_asymmetric_spread", cf, (C, F), "f8", "m",
+                     "max - min of the asymmetric w(0.5 Re, 0) over the stroboscopic samples of the last tenth "
+                     "of the saturate periods: 0 for a period-one state (NaN without saturate)"),
         ]
 
     @staticmethod
@@ -536,7 +540,8 @@ class ContinuationAnalysis(Analysis):
         values, periods, saturate = options.check
         C, F, p = len(values), len(families), options.parameter
         out = {f"check_{p}": np.full(C, np.nan), "check_floquet_modulus": np.full((C, F), np.nan),
-               "check_growth": np.full((C, F), np.nan), "check_asymmetric_amplitude": np.full((C, F), np.nan)}
+               "check_growth": np.full((C, F), np.nan), "check_asymmetric_amplitude": np.full((C, F), np.nan),
+               "check_asymmetric_spread": np.full((C, F), np.nan)}
         end = resonant_end(br.kind)
         ps = opt.prestretch_for(point.membrane, options.prestretch)
         Ka = fmap.rom.dof
@@ -549,8 +554,10 @@ class ContinuationAnalysis(Analysis):
                 out[f"check_{p}"][c] = br.value[i]
                 out["check_floquet_modulus"][c, j] = np.nanmax(np.abs(br.family_multipliers[i, j]))
                 try:
-                    out["check_growth"][c, j], out["check_asymmetric_amplitude"][c, j] = perturbation_growth(
+                    out["check_growth"][c, j], (low, high) = perturbation_growth(
                         mixed.varied(p, br.value[i]), br.state[i], asymmetric, periods=periods, saturate=saturate)
+                    out["check_asymmetric_amplitude"][c, j] = max(abs(low), abs(high))
+                    out["check_asymmetric_spread"][c, j] = high - low
                 except ValueError as exc:
                     problems.append(f"family_check n = {fam.n} at {p} = {br.value[i]:.6g}: {exc}")
         return out, "; ".join(problems)

@@ -5,6 +5,10 @@ Per grid point and mode (m, n): the converged Galerkin frequency of Eq. (25)
 Options: :attr:`LinearAnalysis.OPTIONS` (``docs/options.md``).  A task whose frequency is
 not below its Eq. 29 bound, or whose adaptive basis did not converge, is failed (the reason
 in ``message``).
+
+A list of basis sizes (``basis = [4, 8, 16]``) is a convergence study: ``omega`` gains a
+leading dimension ``basis`` (its coordinate the sizes, in the job's order), one Galerkin
+solution per size.
 """
 
 from __future__ import annotations
@@ -25,7 +29,10 @@ from .base import DEFAULT_CONTEXT, STATUS_FAILED, STATUS_OK, Analysis, JobError,
 class LinearOptions:
     modes: tuple[tuple[int, int], ...]
     prestretch: str
-    basis: int | None
+    #: Bessel functions per wave number: None (adaptive), or one size per ``basis`` entry
+    basis: tuple[int, ...] | None
+    #: whether ``basis`` was a list (a ``basis`` dimension) rather than one size
+    basis_study: bool = False
 
 
 class LinearAnalysis(Analysis):
@@ -37,57 +44,78 @@ class LinearAnalysis(Analysis):
         "modes": opt.MODES_HELP,
         "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
         "basis": "Bessel functions per wave number n in the Galerkin basis (default: adaptive, doubled "
-                 "from 32 until the frequencies change by less than 2e-6, at most 256)",
+                 "from 32 until the frequencies change by less than 2e-6, at most 256); a list of sizes is a "
+                 "convergence study: omega gains a dimension basis",
     }
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
         check_keys(table, self.name, tuple(self.OPTIONS))
         modes = opt.modes(table, self.name)
-        basis = table.get("basis")
-        if basis is not None:
-            basis = opt.number(table, self.name, "basis", low=1, high=MAX_BASIS, integer=True)
+        value = table.get("basis")
+        study = isinstance(value, list)
+        if study and not value:
+            raise JobError("linear.basis", value, "a basis size or a non-empty list of sizes")
+        basis = None
+        if value is not None:
+            basis = tuple(opt.number({"basis": v}, self.name, "basis", low=1, high=MAX_BASIS, integer=True)
+                          for v in (value if study else [value]))
         mmax = max(m for m, _ in modes)
-        if basis is not None and mmax > basis:
-            raise JobError("linear.basis", basis, f"must be >= the largest m in linear.modes ({mmax})")
-        return LinearOptions(modes, opt.prestretch(table, self.name), basis)
+        if basis is not None and mmax > min(basis):
+            raise JobError("linear.basis", value, f"must be >= the largest m in linear.modes ({mmax})")
+        return LinearOptions(modes, opt.prestretch(table, self.name), basis, study)
 
     def variables(self, options):
         k = len(options.modes)
+        omega_dims, omega_shape = ("mode",), (k,)
+        if options.basis_study:
+            omega_dims, omega_shape = ("basis", "mode"), (len(options.basis), k)
         return [
-            Variable("omega", ("mode",), (k,), "f8", "rad s-1", "natural frequency, Galerkin solution of Eq. 25"),
+            Variable("omega", omega_dims, omega_shape, "f8", "rad s-1", "natural frequency, Galerkin solution of Eq. 25"),
             Variable("omega_approx", ("mode",), (k,), "f8", "rad s-1", "approximate natural frequency, Eq. 28"),
             Variable("omega_bound", ("mode",), (k,), "f8", "rad s-1",
                      "upper bound of the natural frequency, Eq. 29 (neo-Hookean law; NaN for the others)"),
         ]
 
     def coords(self, options):
-        return opt.mode_coords(options.modes)
+        coords = opt.mode_coords(options.modes)
+        if options.basis_study:
+            coords["basis"] = (("basis",), np.array(options.basis, np.int32),
+                               {"long_name": "Bessel functions per wave number in the Galerkin basis", "units": "1"})
+        return coords
 
     def compute(self, point, options, subtask):
         m = point.membrane
         ps = solve_prestretch(m, options.prestretch)
-        out = {name: np.empty(len(options.modes)) for name in ("omega", "omega_approx", "omega_bound")}
-        by_n: dict[int, tuple[np.ndarray, float]] = {}
+        K = len(options.modes)
+        sizes = options.basis or (None,)
+        omega = np.empty((len(sizes), K))
+        out = {"omega_approx": np.empty(K), "omega_bound": np.empty(K)}
         problems = []
+        for b, size in enumerate(sizes):
+            by_n: dict[int, np.ndarray] = {}
+            for k, (mm, signed_n) in enumerate(options.modes):
+                n = abs(signed_n)  # a sine companion has the frequency of its cosine mode
+                if n not in by_n:
+                    mmax = max(a for a, c in options.modes if abs(c) == n)
+                    by_n[n], _, change = galerkin_frequencies(ps, n, mmax, basis=size, full_output=True)
+                    if change >= CHANGE_TOL:
+                        problems.append(f"n = {n}: basis not converged at {MAX_BASIS} functions "
+                                        f"(last relative change {change:.1e})")
+                omega[b, k] = by_n[n][mm - 1]
         for k, (mm, signed_n) in enumerate(options.modes):
-            n = abs(signed_n)  # a sine companion has the frequency of its cosine mode
-            if n not in by_n:
-                mmax = max(a for a, b in options.modes if abs(b) == n)
-                omega, _, change = galerkin_frequencies(ps, n, mmax, basis=options.basis, full_output=True)
-                by_n[n] = omega, change
-                if change >= CHANGE_TOL:
-                    problems.append(f"n = {n}: basis not converged at {MAX_BASIS} functions "
-                                    f"(last relative change {change:.1e})")
-            alpha = bessel_roots(n, m.delta_o, mm)[-1]
-            out["omega"][k] = by_n[n][0][mm - 1]
+            alpha = bessel_roots(abs(signed_n), m.delta_o, mm)[-1]
             out["omega_approx"][k] = approximate_frequency(ps, alpha)
             out["omega_bound"][k] = frequency_bound(m, alpha)
             # Eq. 29 bounds every neo-Hookean frequency from above (the limit delta -> infinity);
             # the other laws have no bound (NaN)
             bound = out["omega_bound"][k] if np.isfinite(out["omega_bound"][k]) else np.inf
-            if not (np.isfinite(out["omega"][k]) and 0.0 < out["omega"][k] < bound):
-                problems.append(f"mode ({mm}, {signed_n}): omega = {out['omega'][k]:.6g} rad/s is not in "
-                                f"(0, Eq. 29 bound = {out['omega_bound'][k]:.6g})")
+            for b, size in enumerate(sizes):
+                w = omega[b, k]
+                if not (np.isfinite(w) and 0.0 < w < bound):
+                    at = "" if size is None or not options.basis_study else f" with {size} functions"
+                    problems.append(f"mode ({mm}, {signed_n}){at}: omega = {w:.6g} rad/s is not in "
+                                    f"(0, Eq. 29 bound = {out['omega_bound'][k]:.6g})")
+        out["omega"] = omega if options.basis_study else omega[0]
         out["status"] = STATUS_FAILED if problems else STATUS_OK
         if problems:
             out["message"] = "; ".join(problems)

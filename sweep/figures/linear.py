@@ -13,9 +13,14 @@ from sweep.figures.panels import grid_points, point_label
 
 
 def linear_figures(ds, outdir) -> list[Path]:
-    """Frequency spectra (Fig. 4) and frequencies versus delta (Fig. 5) and delta_o (Fig. 6)."""
+    """Frequency spectra (Fig. 4) and frequencies versus delta (Fig. 5) and delta_o (Fig. 6);
+    for a convergence study in the basis size (a ``basis`` dimension) its convergence, and
+    the other figures with the largest basis."""
     plt = pyplot()
     paths = []
+    if "basis" in ds.dims:
+        paths.append(_basis_convergence(ds, outdir))
+        ds = ds.isel(basis=-1)
     modes = list(zip(ds.m.values.tolist(), ds.n.values.tolist()))
     if ds.sizes.get("delta", 1) >= 2:
         panels = list(itertools.islice(grid_points(ds, ("delta",)), 4))
@@ -33,6 +38,23 @@ def linear_figures(ds, outdir) -> list[Path]:
     if len(modes) > 1:
         paths.append(_spectrum(ds, outdir, modes))
     return paths + mode_figure(ds, outdir)
+
+
+def _basis_convergence(ds, outdir) -> Path:
+    # relative difference of each frequency from the largest basis' against the basis size,
+    # at the first grid point
+    plt = pyplot()
+    first = next(iter(grid_points(ds, ())))
+    omega = ds.omega.sel(first).transpose("basis", "mode")
+    sizes = ds.basis.values[:-1]
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for k, (m, n) in enumerate(zip(ds.m.values, ds.n.values)):
+        change = np.abs(omega.values[:-1, k] / omega.values[-1, k] - 1)
+        ax.loglog(sizes, np.where(change > 0, change, np.nan), marker="o", label=f"m={m}, n={n}")
+    ax.set(xlabel="Bessel functions per wave number",
+           ylabel=f"relative difference from {int(ds.basis.values[-1])} functions", title=point_label(first))
+    ax.legend()
+    return save_figure(fig, outdir, "linear_basis_convergence.png")
 
 
 def _fig06(ds, outdir, k) -> Path:
