@@ -40,6 +40,7 @@ from typing import NamedTuple
 import numba as nb
 import numpy as np
 
+from . import rk4
 from .linear import gauss_radial
 from .modes import bessel_roots, mode_shape
 from .prestretch import Prestretch
@@ -288,14 +289,14 @@ def _stage_loop(y, t0, h, steps, model, ys, k, g, fw, out):
     for i in range(steps):
         t = t0 + i * h
         for s in range(4):
-            f = 0.0 if s == 0 else (h if s == 3 else 0.5 * h)
+            f = rk4.stage_offset(s, h)
             for a in range(n):
                 ys[a] = y[a] + f * k[s - 1, a] if s > 0 else y[a]
             for a in range(K):
                 out[i, s, a] = ys[a]
             rhs_unpacked(t + f, ys, model, g, fw, k[s])
         for a in range(n):
-            y[a] += h / 6.0 * (k[0, a] + 2.0 * k[1, a] + 2.0 * k[2, a] + k[3, a])
+            y[a] += rk4.step_factor(h) * rk4.combine(k[0, a], k[1, a], k[2, a], k[3, a])
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
@@ -345,7 +346,7 @@ def family_monodromy(y0, t0, period, steps, tab, forcing, fam, fam_rate, fam_mat
     coef = fam.jacobian_table
     for i in range(steps):
         for s in range(4):
-            f = 0.0 if s == 0 else (h if s == 3 else 0.5 * h)
+            f = rk4.stage_offset(s, h)
             for a in range(m):
                 for b in range(m):
                     ps[a, b] = phi[a, b] + f * kp[s - 1, a, b] if s > 0 else phi[a, b]
@@ -368,7 +369,7 @@ def family_monodromy(y0, t0, period, steps, tab, forcing, fam, fam_rate, fam_mat
                         kp[s, M + r, c] -= kj * ps[l, c]
         for a in range(m):
             for b in range(m):
-                phi[a, b] += h / 6.0 * (kp[0, a, b] + 2.0 * kp[1, a, b] + 2.0 * kp[2, a, b] + kp[3, a, b])
+                phi[a, b] += rk4.step_factor(h) * rk4.combine(kp[0, a, b], kp[1, a, b], kp[2, a, b], kp[3, a, b])
     return phi
 
 

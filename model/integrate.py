@@ -26,6 +26,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from . import rk4
 from .damping_kernels import add_matrix_damping, add_matrix_damping_columns, matrix_or_none
 from .noalias import NoAliasCompiler
 from .transverse import slope_factors
@@ -76,21 +77,21 @@ def rk4_one_mode(y, t0, h, steps, coef, q_max, k_force, load, c_damp, p_load, om
         t = t0 + i * h
         if abs(q) >= q_max:
             break
-        c_half = np.cos(omega * (t + 0.5 * h))
-        c_end = np.cos(omega * (t + h))
+        c_half = np.cos(omega * (t + rk4.stage_offset(1, h)))
+        c_end = np.cos(omega * (t + rk4.stage_offset(3, h)))
         a1 = _accel(q, v, c0, coef, q_max, k_force, load, c_damp, p_load)
-        q2 = q + 0.5 * h * v
-        v2 = v + 0.5 * h * a1
+        q2 = q + rk4.stage_offset(1, h) * v
+        v2 = v + rk4.stage_offset(1, h) * a1
         if abs(q2) >= q_max:
             break
         a2 = _accel(q2, v2, c_half, coef, q_max, k_force, load, c_damp, p_load)
-        q3 = q + 0.5 * h * v2
-        v3 = v + 0.5 * h * a2
+        q3 = q + rk4.stage_offset(2, h) * v2
+        v3 = v + rk4.stage_offset(2, h) * a2
         if abs(q3) >= q_max:
             break
         a3 = _accel(q3, v3, c_half, coef, q_max, k_force, load, c_damp, p_load)
-        q4 = q + h * v3
-        v4 = v + h * a3
+        q4 = q + rk4.stage_offset(3, h) * v3
+        v4 = v + rk4.stage_offset(3, h) * a3
         if abs(q4) >= q_max:
             break
         a4 = _accel(q4, v4, c_end, coef, q_max, k_force, load, c_damp, p_load)
@@ -99,8 +100,8 @@ def rk4_one_mode(y, t0, h, steps, coef, q_max, k_force, load, c_damp, p_load, om
             stages[i, 1, 0] = q2
             stages[i, 2, 0] = q3
             stages[i, 3, 0] = q4
-        q += h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
-        v += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
+        q += rk4.step_factor(h) * rk4.combine(v, v2, v3, v4)
+        v += rk4.step_factor(h) * rk4.combine(a1, a2, a3, a4)
         c0 = c_end
     else:
         i = steps
@@ -172,7 +173,7 @@ def rk4_one_mode_lockstep(q, v, t0, h, steps, coef_t, q_max, k_force, load, c_da
                     qs[b] = q[b]
                     vs[b] = v[b]
             else:
-                f = h if s == 3 else 0.5 * h
+                f = rk4.stage_offset(s, h)
                 ct = np.cos(omega * (t + f))
                 for b in range(B):
                     qs[b] = q[b] + f * vs[b]
@@ -195,13 +196,13 @@ def rk4_one_mode_lockstep(q, v, t0, h, steps, coef_t, q_max, k_force, load, c_da
                     dq[b] = vs[b]
                     dv[b] = acc[b]
             else:
-                w = 1.0 if s == 3 else 2.0
+                w = rk4.stage_weight(s)
                 for b in range(B):
                     dq[b] += w * vs[b]
                     dv[b] += w * acc[b]
         for b in range(B):
-            q[b] += h / 6.0 * dq[b]
-            v[b] += h / 6.0 * dv[b]
+            q[b] += rk4.step_factor(h) * dq[b]
+            v[b] += rk4.step_factor(h) * dv[b]
     for b in range(B):  # element by element: an array assignment compiles a costly error path
         reach[b] = far[b]
 
@@ -305,7 +306,7 @@ def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, inv_rho2, hoop2, rad
     for i in range(steps):
         t = t0 + i * h
         for s in range(4):
-            f = 0.0 if s == 0 else (h if s == 3 else 0.5 * h)
+            f = rk4.stage_offset(s, h)
             ct = np.cos(omega * (t + f))
             for k in range(K):
                 for b in range(count):
@@ -343,14 +344,14 @@ def rk4_quadrature_lockstep(y, count, t0, h, steps, weight, inv_rho2, hoop2, rad
                     acc[k, b] = -c_damp * vs[k, b] - kf * acc[k, b] + lk
             if damping_matrix is not None:
                 add_matrix_damping_columns(damping_matrix, vs, count, acc)
-            w = 1.0 if (s == 0 or s == 3) else 2.0
+            w = rk4.stage_weight(s)
             for k in range(K):
                 for b in range(count):
                     dy[k, b] = w * vs[k, b] + (dy[k, b] if s > 0 else 0.0)
                     dy[K + k, b] = w * acc[k, b] + (dy[K + k, b] if s > 0 else 0.0)
         for k in range(n):
             for b in range(count):
-                y[k, b] += h / 6.0 * dy[k, b]
+                y[k, b] += rk4.step_factor(h) * dy[k, b]
 
 
 @nb.njit(cache=True, inline="always")
@@ -413,7 +414,7 @@ def _rk4_quadrature(y, t0, h, steps, weight, inv_rho2, hoop2, radial2, b_rho, b_
     t = t0
     for _ in range(steps):
         for s in range(4):
-            f = 0.0 if s == 0 else (h if s == 3 else 0.5 * h)
+            f = rk4.stage_offset(s, h)
             if s == 0:
                 for i in range(n):
                     tmp[i] = y[i]
@@ -431,7 +432,7 @@ def _rk4_quadrature(y, t0, h, steps, weight, inv_rho2, hoop2, radial2, b_rho, b_
             if damping_matrix.shape[0] > 0:
                 add_matrix_damping(damping_matrix, tmp[K:], stages[s, K:])
         for i in range(n):
-            y[i] += h / 6.0 * (stages[0, i] + 2.0 * stages[1, i] + 2.0 * stages[2, i] + stages[3, i])
+            y[i] += rk4.step_factor(h) * rk4.combine(stages[0, i], stages[1, i], stages[2, i], stages[3, i])
         t += h
     return t
 
@@ -547,8 +548,8 @@ def monodromy_one_mode(y0, t0, h, steps, tab, forcing, which, phi, dparam):
         cv = v
         c00, c01, c10, c11 = p00, p01, p10, p11
         cz, czv = zq, zv
-        c_half = np.cos(omega * (t + 0.5 * h))
-        c_end = np.cos(omega * (t + h))
+        c_half = np.cos(omega * (t + rk4.stage_offset(1, h)))
+        c_end = np.cos(omega * (t + rk4.stage_offset(3, h)))
         for s in range(4):
             if abs(cq) >= q_max:
                 return q, v, False
@@ -570,7 +571,7 @@ def monodromy_one_mode(y0, t0, h, steps, tab, forcing, which, phi, dparam):
             elif which == PRESSURE:
                 kz[s, 1] += load * cos_t
             if s < 3:
-                f = h if s == 2 else 0.5 * h
+                f = rk4.stage_offset(s + 1, h)
                 cq = q + f * ks[s]
                 cv = v + f * kv[s]
                 c00 = p00 + f * kp[s, 0]
@@ -579,14 +580,15 @@ def monodromy_one_mode(y0, t0, h, steps, tab, forcing, which, phi, dparam):
                 c11 = p11 + f * kp[s, 3]
                 cz = zq + f * kz[s, 0]
                 czv = zv + f * kz[s, 1]
-        q += h / 6.0 * (ks[0] + 2.0 * ks[1] + 2.0 * ks[2] + ks[3])
-        v += h / 6.0 * (kv[0] + 2.0 * kv[1] + 2.0 * kv[2] + kv[3])
-        p00 += h / 6.0 * (kp[0, 0] + 2.0 * kp[1, 0] + 2.0 * kp[2, 0] + kp[3, 0])
-        p01 += h / 6.0 * (kp[0, 1] + 2.0 * kp[1, 1] + 2.0 * kp[2, 1] + kp[3, 1])
-        p10 += h / 6.0 * (kp[0, 2] + 2.0 * kp[1, 2] + 2.0 * kp[2, 2] + kp[3, 2])
-        p11 += h / 6.0 * (kp[0, 3] + 2.0 * kp[1, 3] + 2.0 * kp[2, 3] + kp[3, 3])
-        zq += h / 6.0 * (kz[0, 0] + 2.0 * kz[1, 0] + 2.0 * kz[2, 0] + kz[3, 0])
-        zv += h / 6.0 * (kz[0, 1] + 2.0 * kz[1, 1] + 2.0 * kz[2, 1] + kz[3, 1])
+        hs = rk4.step_factor(h)
+        q += hs * rk4.combine(ks[0], ks[1], ks[2], ks[3])
+        v += hs * rk4.combine(kv[0], kv[1], kv[2], kv[3])
+        p00 += hs * rk4.combine(kp[0, 0], kp[1, 0], kp[2, 0], kp[3, 0])
+        p01 += hs * rk4.combine(kp[0, 1], kp[1, 1], kp[2, 1], kp[3, 1])
+        p10 += hs * rk4.combine(kp[0, 2], kp[1, 2], kp[2, 2], kp[3, 2])
+        p11 += hs * rk4.combine(kp[0, 3], kp[1, 3], kp[2, 3], kp[3, 3])
+        zq += hs * rk4.combine(kz[0, 0], kz[1, 0], kz[2, 0], kz[3, 0])
+        zv += hs * rk4.combine(kz[0, 1], kz[1, 1], kz[2, 1], kz[3, 1])
         c0 = c_end
     phi[0, 0] = p00
     phi[0, 1] = p01
@@ -682,19 +684,19 @@ def _monodromy_quadrature(z, n, t, h, steps, weight, inv_rho2, hoop2, radial2, b
         _aug_rhs(t, z, n, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load, c_damp, p_load, omega,
                  damping_matrix, which, g, jac, work, k1)
         for i in range(m):
-            tmp[i] = z[i] + 0.5 * h * k1[i]
-        _aug_rhs(t + 0.5 * h, tmp, n, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load, c_damp,
+            tmp[i] = z[i] + rk4.stage_offset(1, h) * k1[i]
+        _aug_rhs(t + rk4.stage_offset(1, h), tmp, n, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load, c_damp,
                  p_load, omega, damping_matrix, which, g, jac, work, k2)
         for i in range(m):
-            tmp[i] = z[i] + 0.5 * h * k2[i]
-        _aug_rhs(t + 0.5 * h, tmp, n, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load, c_damp,
+            tmp[i] = z[i] + rk4.stage_offset(2, h) * k2[i]
+        _aug_rhs(t + rk4.stage_offset(2, h), tmp, n, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load, c_damp,
                  p_load, omega, damping_matrix, which, g, jac, work, k3)
         for i in range(m):
-            tmp[i] = z[i] + h * k3[i]
-        _aug_rhs(t + h, tmp, n, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load, c_damp, p_load,
+            tmp[i] = z[i] + rk4.stage_offset(3, h) * k3[i]
+        _aug_rhs(t + rk4.stage_offset(3, h), tmp, n, weight, inv_rho2, hoop2, radial2, b_rho, b_theta, axisymmetric, law, k_force, load, c_damp, p_load,
                  omega, damping_matrix, which, g, jac, work, k4)
         for i in range(m):
-            z[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+            z[i] += rk4.step_factor(h) * rk4.combine(k1[i], k2[i], k3[i], k4[i])
         t += h
 
 
