@@ -16,6 +16,7 @@ import numpy as np
 
 from .integrate import NO_PARAMETER, monodromy_one_mode
 from .protocol import StroboscopicMap, kernel_arguments
+from .shooting import newton_map_power
 
 
 @dataclass(frozen=True)
@@ -97,7 +98,8 @@ def merge_attractors(tiles, scale, tol: float):
 
 def find_periodic_orbit(y0, k: int, fmap: StroboscopicMap, scale, tol: float, max_iter: int = 30,
                         max_step: float = 0.05):
-    """Newton iteration on ``P^k(y) - y = 0`` from ``y0``.
+    """Newton iteration on ``P^k(y) - y = 0`` from ``y0`` (:func:`model.shooting.newton_map_power`,
+    with the absolute test ``|scale (P^k(y) - y)| <= tol`` and steps of at most ``max_step``).
 
     A one-mode ROM with a force table (a map with ``kernel_arguments``,
     :mod:`model.protocol`) runs the whole iteration compiled (the 2 x 2
@@ -127,7 +129,6 @@ def find_periodic_orbit(y0, k: int, fmap: StroboscopicMap, scale, tol: float, ma
         not converge or the orbit's least period is below ``k``.
     """
     y = np.array(y0, dtype=np.float64)
-    n = y.size
     if y.shape != (2 * fmap.dof,):
         raise ValueError(f"y0 shape {y.shape} is invalid: need ({2 * fmap.dof},), a state of the map")
     scale = np.asarray(scale, dtype=np.float64)
@@ -143,33 +144,13 @@ def find_periodic_orbit(y0, k: int, fmap: StroboscopicMap, scale, tol: float, ma
         if code == _NEWTON_FAILED:
             return None
         # a stage left the table: the iteration below, whose map falls back to the quadrature
-    for _ in range(max_iter):
-        z = y.copy()
-        phi = np.eye(n)
-        pts = [y.copy()]
-        for j in range(k):
-            z, m = fmap.monodromy(z)
-            phi = m @ phi
-            if j < k - 1:
-                pts.append(z.copy())
-        res = z - y
-        if not np.all(np.isfinite(res)):
-            return None
-        if np.linalg.norm(res * scale) < tol:
-            pts = np.array(pts)
-            if k > 1 and any(np.linalg.norm((pts[j] - pts[0]) * scale) < 1e3 * tol
-                             for j in range(1, k)):
-                return None
-            return _orbit(pts, phi)
-        try:
-            dy = np.linalg.solve(phi - np.eye(n), -res)
-        except np.linalg.LinAlgError:
-            return None
-        size = np.linalg.norm(dy * scale)
-        if size > max_step:
-            dy *= max_step / size
-        y = y + dy
-    return None
+    found = newton_map_power(fmap, y, k, scale, tol, max_iter=max_iter, max_step=max_step)
+    if not found.converged:
+        return None
+    pts = found.points
+    if k > 1 and any(np.linalg.norm((pts[j] - pts[0]) * scale) < 1e3 * tol for j in range(1, k)):
+        return None  # its least period is below k
+    return _orbit(pts, found.jacobian)
 
 
 def _orbit(pts, phi) -> Attractor:
@@ -185,25 +166,27 @@ _NEWTON_CONVERGED, _NEWTON_FAILED, _NEWTON_LEFT_TABLE = 0, 1, 2
 
 @nb.njit(cache=True)
 def _newton_one_mode(y, k, h, steps, tab, forcing, scale, tol, max_iter, max_step, pts, phi):
-    # find_periodic_orbit for a one-mode ROM from its force table (the same iteration, the
-    # 2 x 2 systems solved in closed form; pts is (k + 1, 2)).  Returns _NEWTON_CONVERGED
+    # find_periodic_orbit for a one-mode ROM from its force table (the iteration of
+    # model.shooting.newton_map_power compiled, the 2 x 2 systems solved in closed form; pts is (k + 1, 2)).  Returns _NEWTON_CONVERGED
     # (pts[:k]: the points of the orbit from the converged y, phi: the derivative of P^k),
     # _NEWTON_FAILED (no convergence in max_iter, a singular system, a state not finite or
     # a least period below k) or _NEWTON_LEFT_TABLE (a stage left the table's range).
     y0 = y[0]
     y1 = y[1]
-    for _ in range(max_iter):
+    for it in range(max_iter + 1):  # max_iter steps, each followed by its test
         if not _map_power_one_mode(y0, y1, k, h, steps, tab, forcing, pts, phi):
             return _NEWTON_LEFT_TABLE
         r0 = pts[k, 0] - y0
         r1 = pts[k, 1] - y1
         if not (np.isfinite(r0) and np.isfinite(r1)):
             return _NEWTON_FAILED
-        if np.sqrt((r0 * scale[0]) ** 2 + (r1 * scale[1]) ** 2) < tol:
+        if np.sqrt((r0 * scale[0]) ** 2 + (r1 * scale[1]) ** 2) <= tol:
             for j in range(1, k):
                 if np.sqrt(((pts[j, 0] - y0) * scale[0]) ** 2 + ((pts[j, 1] - y1) * scale[1]) ** 2) < 1e3 * tol:
                     return _NEWTON_FAILED
             return _NEWTON_CONVERGED
+        if it == max_iter:
+            return _NEWTON_FAILED
         a00 = phi[0, 0] - 1.0
         a11 = phi[1, 1] - 1.0
         det = a00 * a11 - phi[0, 1] * phi[1, 0]

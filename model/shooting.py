@@ -1,4 +1,4 @@
-"""Periodic responses of the forced ROM by shooting on the stroboscopic map (section 4.3).
+"""Periodic responses by shooting on the stroboscopic map (section 4.3): Newton on ``P^k``.
 
 A ``T``-periodic response (``T = 2 pi / Omega``) of the forced ROM of Eq. (31) is a fixed
 point of the stroboscopic (Poincare) map ``P`` (:class:`model.protocol.StroboscopicMap`, e.g.
@@ -10,6 +10,11 @@ slowly transients decay (Floquet multipliers of modulus ~0.998 at c = 0.05).  Th
 eigenvalues of ``Phi`` are the Floquet multipliers; the response is stable when all of
 them lie inside the unit circle.  Residuals are measured in the scaled norm ``|S y|`` of
 :func:`model.forced.state_scale`.
+
+:func:`newton_map_power` is the one Newton iteration on ``P^k(y) - y = 0`` of the package:
+:func:`shoot` is its ``k = 1`` case with a relative test, and the attractor search of the
+basins (:func:`model.attractors.find_periodic_orbit`) its ``k >= 1`` case with an absolute
+test and limited steps (with a compiled copy for one-mode ROMs in their force table).
 """
 
 from __future__ import annotations
@@ -76,22 +81,92 @@ def shoot(fmap: StroboscopicMap, guess, tol: float = 1e-10, max_iter: int = 25,
     y = np.array(guess, dtype=float)
     if y.shape != (2 * fmap.dof,):
         raise ValueError(f"guess.shape = {y.shape} is invalid: expected ({2 * fmap.dof},) = (q, q')")
-    s = fmap.state_scale()
+    found = newton_map_power(fmap, y, 1, fmap.state_scale(), tol, atol=atol, max_iter=max_iter)
+    mu = sorted_multipliers(found.jacobian)
+    return PeriodicOrbit(found.state, mu, bool(np.max(np.abs(mu)) < 1.0), fmap.amplitude(found.state),
+                         found.residual, found.iterations, found.converged)
+
+
+class MapPowerSolution(NamedTuple):
+    """The outcome of :func:`newton_map_power`.
+
+    Attributes
+    ----------
+    state : (2K,) array
+        The last iterate ``y``.
+    points : (k, 2K) array
+        ``P^j(y)``, ``j = 0..k-1``: the orbit through ``y``.
+    jacobian : (2K, 2K) array
+        ``d P^k / dy`` at ``y`` (the product of the monodromy matrices along the orbit).
+    residual : float
+        The last residual of the test (see :func:`newton_map_power`).
+    iterations : int
+        Newton steps taken.
+    converged : bool
+        ``residual <= tol``.
+    """
+
+    state: np.ndarray
+    points: np.ndarray
+    jacobian: np.ndarray
+    residual: float
+    iterations: int
+    converged: bool
+
+
+def newton_map_power(fmap: StroboscopicMap, y0, k: int, scale, tol: float, *, atol: float | None = None,
+                     max_iter: int = 25, max_step: float = np.inf) -> MapPowerSolution:
+    """Newton's method on ``F(y) = P^k(y) - y = 0``, ``P`` the stroboscopic map.
+
+    Each iteration integrates ``k`` periods with the variational equations
+    (``fmap.monodromy``), so ``dF/dy = dP^k/dy - I`` is the exact derivative of the
+    discrete map, and solves for the step.  It stops when the residual meets ``tol``, after
+    ``max_iter`` steps, at a state or residual that is not finite, or at a singular system.
+
+    Parameters
+    ----------
+    fmap : StroboscopicMap
+    y0 : (2K,) array
+        Starting state at ``t = 0``.
+    k : int
+        Period of the orbit in forcing periods (>= 1).
+    scale : (2K,) array
+        Weights ``S`` of the norm.
+    tol : float
+        The test: ``|S F(y)| / (|S y| + atol) <= tol`` with ``atol`` (relative, with an
+        absolute floor), ``|S F(y)| <= tol`` without.
+    max_iter : int
+        Newton steps allowed.
+    max_step : float
+        Largest step in the norm ``|S dy|`` (damped Newton); default unlimited.
+
+    Returns
+    -------
+    MapPowerSolution
+    """
+    y = np.array(y0, dtype=np.float64)
     eye = np.eye(y.size)
-    res = np.inf
     it = 0
     while True:
-        yT, phi = fmap.monodromy(y)
-        f = yT - y
-        res = float(np.linalg.norm(s * f) / (np.linalg.norm(s * y) + atol))
+        z, phi = fmap.monodromy(y)
+        points = [y.copy()]
+        for _ in range(k - 1):
+            points.append(z.copy())
+            z, m = fmap.monodromy(z)
+            phi = m @ phi
+        f = z - y
+        res = float(np.linalg.norm(scale * f))
+        if atol is not None:
+            res /= float(np.linalg.norm(scale * y)) + atol
         if res <= tol or it >= max_iter or not np.isfinite(res):
             break
         try:
             dy = np.linalg.solve(phi - eye, -f)
         except np.linalg.LinAlgError:
             break
+        size = float(np.linalg.norm(dy * scale))
+        if size > max_step:
+            dy *= max_step / size
         y = y + dy
         it += 1
-    mu = sorted_multipliers(phi)
-    converged = bool(res <= tol)
-    return PeriodicOrbit(y, mu, bool(np.max(np.abs(mu)) < 1.0), fmap.amplitude(y), res, it, converged)
+    return MapPowerSolution(y, np.array(points), phi, res, it, bool(res <= tol))
