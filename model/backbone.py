@@ -1,6 +1,7 @@
 """Frequency-amplitude relation (backbone) of the free nonlinear vibration (section 4.2).
 
-Two independent methods on the ROM of :mod:`model.rom` (Figs. 9-12):
+Two independent methods on the free vibration of a model (Figs. 9-12), anything with the
+members of :class:`model.protocol.FreeVibration` (the ROM's: :class:`model.free.FreeRom`):
 
 * :func:`peak_to_peak` -- the method of Nandakumar and Chatterjee (2005) used by the paper
   on its finite element model: a lightly damped free decay is started on the first
@@ -15,7 +16,7 @@ Two independent methods on the ROM of :mod:`model.rom` (Figs. 9-12):
   reversible, so the fundamental orbit that starts at rest, ``q'(0) = 0``, satisfies
   ``q(t + T/2) = -q(t)`` and hence ``q(T/4) = 0``: Newton on ``(q(0), T/4)`` with
   ``w(0) = -A``, the Jacobian from the variational equations of the RK4 scheme
-  (:func:`model.integrate.monodromy`).
+  (the model's ``flow``).
 
 Sign conventions.  ``w(0.5 Re, 0) = probe @ q``; the paper's ``phi_10`` is negative
 inside the annulus, so ``w`` and ``q_10`` have opposite signs.  The *modal amplitude*
@@ -30,12 +31,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import dopri
-from .integrate import monodromy
-from .rom import Forcing, Rom, linear_frequencies
-
-#: The forcing of the free vibration: no damping, no pressure (Omega is irrelevant).
-_FREE = Forcing(0.0, 0.0, 1.0)
+from .protocol import FreeVibration
 
 
 class Backbone(NamedTuple):
@@ -58,10 +54,10 @@ class Backbone(NamedTuple):
     converged: np.ndarray
 
 
-def linear_mode(rom: Rom):
-    """Lowest small-amplitude frequency of the ROM and its mode.
+def linear_mode(free: FreeVibration):
+    """Lowest small-amplitude frequency of the model and its mode.
 
-    The lowest of :func:`model.rom.linear_frequencies`.
+    The lowest of its ``linear_frequencies``.
 
     Returns
     -------
@@ -70,22 +66,22 @@ def linear_mode(rom: Rom):
     vector : (K,) ndarray
         Its modal vector, scaled so that ``probe @ vector = -1`` (``w = -1`` m at the probe).
     """
-    omega, vectors = linear_frequencies(rom)
+    omega, vectors = free.linear_frequencies()
     v = vectors[:, 0]
-    scale = rom.tables.probe @ v
+    scale = free.probe @ v
     if abs(scale) < 1e-12 * np.abs(v).max():
-        raise ValueError(f"the lowest mode of {list(rom.modes)} vanishes at the probe point "
-                         f"rho = {rom.probe_rho} m: its backbone cannot be measured there")
+        raise ValueError(f"the lowest mode of {free} vanishes at the probe point: its backbone cannot be "
+                         "measured there")
     return float(omega[0]), -v / scale
 
 
-def free_orbit(rom: Rom, amplitude: float, q_guess, quarter_guess: float, steps: int = 256,
+def free_orbit(free: FreeVibration, amplitude: float, q_guess, quarter_guess: float, steps: int = 256,
                tol: float = 1e-12, max_iter: int = 12):
-    """Free periodic orbit of the undamped ROM through ``q(0)`` with ``w(0) = -amplitude``.
+    """Free periodic orbit of the undamped model through ``q(0)`` with ``w(0) = -amplitude``.
 
     Parameters
     ----------
-    rom : Rom
+    free : FreeVibration
     amplitude : float
         ``-w(rho_probe, 0, 0)`` (m) at the turning point.
     q_guess : (K,) array_like
@@ -108,9 +104,8 @@ def free_orbit(rom: Rom, amplitude: float, q_guess, quarter_guess: float, steps:
         Period (s).
     converged : bool
     """
-    K = rom.dof
-    tab = rom.tables
-    probe = tab.probe
+    K = free.dof
+    probe = free.probe
     q0 = np.array(q_guess, dtype=float)
     tau = float(quarter_guess)
     y0 = np.zeros(2 * K)
@@ -120,7 +115,7 @@ def free_orbit(rom: Rom, amplitude: float, q_guess, quarter_guess: float, steps:
         if not (np.all(np.isfinite(q0)) and np.isfinite(tau) and tau > 0.0):
             break
         y0[:K] = q0
-        yq, phi = monodromy(y0, 0.0, tau, steps, tab, _FREE)
+        yq, phi = free.flow(y0, tau, steps)
         res[:K] = yq[:K]
         res[K] = probe @ q0 + amplitude
         jac[:K, :K] = phi[:K, :K]
@@ -137,7 +132,7 @@ def free_orbit(rom: Rom, amplitude: float, q_guess, quarter_guess: float, steps:
     return q0, 4.0 * tau, False
 
 
-def continue_free_orbits(rom: Rom, amplitudes, steps: int = 256, max_halvings: int = 6) -> Backbone:
+def continue_free_orbits(free: FreeVibration, amplitudes, steps: int = 256, max_halvings: int = 6) -> Backbone:
     """Backbone by continuation of free periodic orbits (``c = 0``, ``P0 = 0``).
 
     Natural-parameter continuation in the amplitude, from the linear mode at the smallest
@@ -146,7 +141,7 @@ def continue_free_orbits(rom: Rom, amplitudes, steps: int = 256, max_halvings: i
 
     Parameters
     ----------
-    rom : Rom
+    free : FreeVibration
     amplitudes : array_like
         Targets of ``max |w(rho_probe, 0, t)|`` (m), > 0, any order.
     steps : int
@@ -161,11 +156,11 @@ def continue_free_orbits(rom: Rom, amplitudes, steps: int = 256, max_halvings: i
     amps = np.asarray(amplitudes, dtype=float).ravel()
     if amps.size == 0 or not np.all(np.isfinite(amps)) or np.any(amps <= 0.0):
         raise ValueError(f"amplitudes = {amplitudes!r} is invalid: need finite values > 0 (m)")
-    K = rom.dof
+    K = free.dof
     omega = np.full(amps.size, np.nan)
     modal = np.full((amps.size, K), np.nan)
     done = np.zeros(amps.size, dtype=bool)
-    w_lin, v = linear_mode(rom)
+    w_lin, v = linear_mode(free)
     a_prev, q_prev, tau_prev = 0.0, v, 0.5 * np.pi / w_lin
     for idx in np.argsort(amps, kind="stable"):
         target = amps[idx]
@@ -175,7 +170,7 @@ def continue_free_orbits(rom: Rom, amplitudes, steps: int = 256, max_halvings: i
             while True:
                 # Scale the previous orbit (the linear mode at the start) to the new amplitude.
                 guess = q_prev * (a_try / a_prev) if a_prev > 0.0 else v * a_try
-                q0, period, conv = free_orbit(rom, a_try, guess, tau_prev, steps)
+                q0, period, conv = free_orbit(free, a_try, guess, tau_prev, steps)
                 if conv:
                     a_prev, q_prev, tau_prev = a_try, q0, period / 4.0
                     break
@@ -228,12 +223,12 @@ def decay_samples(times, states, probe):
     return amplitude, omega, modal
 
 
-def peak_to_peak(rom: Rom, amplitudes, c: float = 0.05, cycles: int = 8, rtol: float = 1e-10,
+def peak_to_peak(free: FreeVibration, amplitudes, c: float = 0.05, cycles: int = 8, rtol: float = 1e-10,
                  steps: int = 256) -> Backbone:
     """Backbone by the peak-to-peak method on lightly damped free decays.
 
-    One decay per target amplitude, all integrated in one batched call
-    (:func:`model.dopri.extrema`): each starts at rest on the first nonlinear mode
+    One decay per target amplitude, all integrated in one batched call (the model's
+    ``decay_extrema``): each starts at rest on the first nonlinear mode
     (the turning point of the free periodic orbit, :func:`continue_free_orbits`; the linear shape for
     one mode) slightly above its target, so that its ``cycles`` cycles straddle the
     target; the samples of :func:`decay_samples` are interpolated linearly in amplitude
@@ -243,11 +238,11 @@ def peak_to_peak(rom: Rom, amplitudes, c: float = 0.05, cycles: int = 8, rtol: f
 
     Parameters
     ----------
-    rom : Rom
+    free : FreeVibration
     amplitudes : array_like
         Targets of ``max |w(rho_probe, 0, t)|`` (m), > 0.
     c : float
-        Damping of the decays (N s m-3), > 0.  Amplitudes decay as
+        Viscous damping of the decays (N s m-3), > 0.  Amplitudes decay as
         ``exp(-c t / (2 Gamma h))``: ``c = 0.05`` (the paper's value,
         ``c/(Gamma h) = 0.0227 s-1``) gives about 0.2 % per cycle near 33 rad/s, and
         the frequency bias of the damping, of relative order
@@ -271,22 +266,21 @@ def peak_to_peak(rom: Rom, amplitudes, c: float = 0.05, cycles: int = 8, rtol: f
     if int(cycles) < 2:
         raise ValueError(f"cycles = {cycles!r} is invalid: must be an integer >= 2")
     cycles = int(cycles)
-    m = rom.membrane
-    K = rom.dof
-    w_lin, v = linear_mode(rom)
-    rate = m.damping_rate(c)
+    K = free.dof
+    w_lin, v = linear_mode(free)
+    rate = free.decay_rate(c)
     # Start so that the target is reached about half-way through the recorded cycles.
     start = amps * np.exp(0.5 * rate * 0.5 * cycles * 2.0 * np.pi / w_lin)
     if K == 1:
         q0, ok = v[None, :] * start[:, None], np.ones(amps.size, dtype=bool)
     else:
-        orbits = continue_free_orbits(rom, start, steps)
+        orbits = continue_free_orbits(free, start, steps)
         q0, ok = orbits.modal, orbits.converged
     y0 = np.zeros((amps.size, 2 * K))
     y0[:, :K] = np.where(ok[:, None], q0, 0.0)
     # The linear period is the longest: the nonlinear backbone hardens.
     t_end = (cycles + 1) * 2.0 * np.pi / w_lin
-    ext = dopri.extrema(rom, y0, t_end, 2 * cycles, c=c, rtol=rtol, atol=1e-14 * m.Re)
+    ext = free.decay_extrema(y0, t_end, 2 * cycles, c, rtol, 1e-14 * free.length)
     omega = np.full(amps.size, np.nan)
     modal = np.full((amps.size, K), np.nan)
     done = np.zeros(amps.size, dtype=bool)
@@ -294,7 +288,7 @@ def peak_to_peak(rom: Rom, amplitudes, c: float = 0.05, cycles: int = 8, rtol: f
         n = int(ext.count[j])
         a_s, w_s, q_s = decay_samples(np.concatenate([[0.0], ext.times[j, :n]]),
                                       np.concatenate([y0[j:j + 1], ext.states[j, :n]]),
-                                      rom.tables.probe)
+                                      free.probe)
         if a_s.size < 2 or not a_s.min() <= amps[j] <= a_s.max():
             continue
         order = np.argsort(a_s)

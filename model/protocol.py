@@ -1,4 +1,5 @@
-"""What the algorithms need of a forced model at one parameter point: the map protocol.
+"""What the algorithms need of a model at one parameter point: the map protocol, and the
+free-vibration protocol of the backbones.
 
 Shooting (:mod:`model.shooting`), continuation (:mod:`model.continuation`), two-parameter
 curves (:mod:`model.codim2`), stepped responses (:mod:`model.response`) and basins
@@ -20,6 +21,11 @@ back without them:
     basins' lock-step slots, the compiled settling loop of stepped responses, the
     compiled one-mode Newton search).  Without it these algorithms advance states with
     ``advance_batch`` / ``advance`` from Python, one period at a time.
+
+The backbone methods (:mod:`model.backbone`) take any object with the members of
+:class:`FreeVibration`: the free motion of the same kind of model (:class:`model.free.FreeRom`
+for the ROM).  Optional capability: ``frequency_bound()``, an upper bound of the backbone's
+frequency (the ROM's Eq. 29; NaN without it).
 """
 
 from __future__ import annotations
@@ -86,6 +92,43 @@ class StroboscopicMap(Protocol):
 
     def amplitude(self, y, periods: int = 1) -> float:
         """The reported amplitude (m) of the orbit of ``periods`` periods from ``y``."""
+
+
+@runtime_checkable
+class FreeVibration(Protocol):
+    """The free (unforced) motion of a second-order model with state ``y = (q, q')``.
+
+    Attributes
+    ----------
+    dof : int
+        Coordinates ``q``; states have ``2 dof`` components.
+    probe : (dof,) ndarray
+        The measured displacement is ``w = probe @ q`` (m): the amplitude of a backbone is
+        the largest ``|w|`` over an orbit.
+    length : float
+        A length scale of the model (m), for absolute tolerances.
+    """
+
+    dof: int
+    probe: np.ndarray
+    length: float
+
+    def linear_frequencies(self) -> tuple[np.ndarray, np.ndarray]:
+        """Small-amplitude frequencies (rad s-1, ascending) and their modal vectors
+        (columns, ``(dof, dof)``)."""
+
+    def flow(self, y0, duration: float, steps: int) -> tuple[np.ndarray, np.ndarray]:
+        """State after ``duration`` (s) of the undamped motion from ``y0`` in ``steps``
+        time steps, and its derivative in ``y0`` (exact for the discrete scheme)."""
+
+    def decay_rate(self, c: float) -> float:
+        """Decay rate (s-1) of the amplitude under the viscous damping ``c`` (N s m-3)."""
+
+    def decay_extrema(self, y0, t_end: float, max_count: int, c: float, rtol: float, atol: float):
+        """Up to ``max_count`` successive extrema of ``w`` of free decays under the viscous
+        damping ``c`` from the rows of ``y0`` (``(N, 2 dof)``) until ``t_end`` (s): a record
+        with ``times`` ``(N, max_count)``, ``states`` ``(N, max_count, 2 dof)`` and
+        ``count`` ``(N,)``."""
 
 
 class KernelArguments(NamedTuple):

@@ -180,6 +180,8 @@ def parse_job(text: str, source: str = "<job>") -> Job:
             errors.append(JobError(key, value, f"unknown table; the tables are {allowed}"))
 
     model = checked(lambda: _model(_table(doc, "model", required=False)))
+    if model is not None:
+        checked(_model_provides, model, analysis, analysis_name)
     membrane = checked(lambda: _membrane(_table(doc, "membrane", required=False)))
     damping = checked(lambda: _damping(_table(doc, "damping", required=False)))
     grid_table = checked(lambda: _table(doc, "grid", required=True))
@@ -325,6 +327,15 @@ def _model(table: Mapping) -> ModelSpec:
         raise JobError("model.kind", kind, "a string naming a registered model")
     model = models.get(kind)
     return ModelSpec(kind, model.parse_options(table))
+
+
+def _model_provides(model: ModelSpec, analysis: Analysis, analysis_name: str) -> None:
+    """Refuse an analysis that asks the job's model for what it does not provide
+    (:attr:`sweep.analyses.base.Analysis.model_needs`, :meth:`sweep.models.base.Model.provides`)."""
+    missing = [m for m in analysis.model_needs if not model.model().provides(m)]
+    if missing:
+        raise JobError("job.analysis", analysis_name, f"an analysis that model {model.kind!r} runs: this one needs "
+                       f"its {', '.join(missing)}, which it does not provide")
 
 
 def _required_grid(analysis: Analysis, analysis_name: str, grid: Mapping[str, np.ndarray],

@@ -13,6 +13,7 @@ import xarray as xr
 
 from model import dopri
 from model.backbone import continue_free_orbits, free_orbit, linear_mode, peak_to_peak
+from model.free import FreeRom
 from model.linear import frequency_bound, galerkin_frequencies
 from model.params import Membrane
 from model.prestretch import solve_prestretch
@@ -42,19 +43,19 @@ def rom3():
 
 @pytest.fixture(scope="module")
 def bb1(rom1):
-    return continue_free_orbits(rom1, AMPS)
+    return continue_free_orbits(FreeRom(rom1), AMPS)
 
 
 @pytest.fixture(scope="module")
 def bb3(rom3):
-    return continue_free_orbits(rom3, AMPS)
+    return continue_free_orbits(FreeRom(rom3), AMPS)
 
 
 @pytest.mark.parametrize("which", ["1", "3"])
 def test_backbone_starts_at_linear_galerkin_frequency(rom1, rom3, bb1, bb3, which):
     rom, bb = (rom1, bb1) if which == "1" else (rom3, bb3)
     ref = galerkin_frequencies(solve_prestretch(Membrane()), 0, 1, basis=rom.dof)[0][0]
-    assert linear_mode(rom)[0] == pytest.approx(ref, rel=1e-10)
+    assert linear_mode(FreeRom(rom))[0] == pytest.approx(ref, rel=1e-10)
     assert bb.omega[0] == pytest.approx(ref, rel=1e-4)
 
 
@@ -65,7 +66,7 @@ def test_weak_nonlinearity_matches_lindstedt(rom1):
     -21 eps^2 a^4 / (256 omega0^3) + 5 eps5 a^4 / (16 omega0); the test allows twice the
     sum of their magnitudes (eps, eps5 from secants of the exact force).
     """
-    w0, v = linear_mode(rom1)
+    w0, v = linear_mode(FreeRom(rom1))
     jac, g = np.empty((1, 1)), np.empty(1)
     force_jacobian(np.zeros(1), rom1.tables, jac)
 
@@ -79,7 +80,7 @@ def test_weak_nonlinearity_matches_lindstedt(rom1):
     eps5 = (cubic_secant(a) - eps) / a**2
     lindstedt = w0 + 3 * eps * a**2 / (8 * w0)
     next_order = 21 * eps**2 * a**4 / (256 * w0**3) + 5 * abs(eps5) * a**4 / (16 * w0)
-    omega = continue_free_orbits(rom1, [amplitude]).omega[0]
+    omega = continue_free_orbits(FreeRom(rom1), [amplitude]).omega[0]
     assert abs(omega - lindstedt) <= 2 * next_order
 
 
@@ -108,7 +109,7 @@ def test_orbits_are_periodic_under_dop853(rom3, bb3):
 def test_delta_weakens_and_delta_o_strengthens_nonlinearity():
     rise = {}
     for delta, delta_o in ((1.1, 0.2), (1.5, 0.2), (2.0, 0.2), (1.1, 0.4)):
-        om = continue_free_orbits(_rom(delta, delta_o), [0.001, 0.2]).omega
+        om = continue_free_orbits(FreeRom(_rom(delta, delta_o)), [0.001, 0.2]).omega
         rise[delta, delta_o] = om[1] / om[0] - 1
     assert rise[1.1, 0.2] > rise[1.5, 0.2] > rise[2.0, 0.2] > 0           # Fig. 11
     assert rise[1.1, 0.4] > rise[1.1, 0.2]                                 # Fig. 12
@@ -132,7 +133,7 @@ def test_three_modes_higher_amplitudes_small_and_close_to_one_mode(bb1, bb3):
 @pytest.mark.parametrize("which,tol", [("1", 2e-7), ("3", 1e-4)])
 def test_peak_to_peak_agrees_with_shooting(rom1, rom3, bb1, bb3, which, tol):
     rom, bb = (rom1, bb1) if which == "1" else (rom3, bb3)
-    pk = peak_to_peak(rom, AMPS, c=0.05)
+    pk = peak_to_peak(FreeRom(rom), AMPS, c=0.05)
     assert pk.converged.all()
     np.testing.assert_allclose(pk.omega, bb.omega, rtol=tol)
     if which == "1":
@@ -140,15 +141,15 @@ def test_peak_to_peak_agrees_with_shooting(rom1, rom3, bb1, bb3, which, tol):
 
 
 def test_failed_newton_is_reported_not_raised(rom1):
-    w0, v = linear_mode(rom1)
-    _, _, converged = free_orbit(rom1, 0.3, v * 0.3, 0.5 * np.pi / w0, max_iter=1)
+    w0, v = linear_mode(FreeRom(rom1))
+    _, _, converged = free_orbit(FreeRom(rom1), 0.3, v * 0.3, 0.5 * np.pi / w0, max_iter=1)
     assert not converged
 
 
 @pytest.mark.parametrize("call,message", [
-    (lambda r: continue_free_orbits(r, [0.1, -1.0]), r"amplitudes = \[0.1, -1.0\] is invalid: need finite values > 0"),
-    (lambda r: peak_to_peak(r, [0.1], c=0.0), r"c = 0.0 is invalid: the peak-to-peak method needs a damped decay"),
-    (lambda r: peak_to_peak(r, [0.1], cycles=1), r"cycles = 1 is invalid: must be an integer >= 2"),
+    (lambda r: continue_free_orbits(FreeRom(r), [0.1, -1.0]), r"amplitudes = \[0.1, -1.0\] is invalid: need finite values > 0"),
+    (lambda r: peak_to_peak(FreeRom(r), [0.1], c=0.0), r"c = 0.0 is invalid: the peak-to-peak method needs a damped decay"),
+    (lambda r: peak_to_peak(FreeRom(r), [0.1], cycles=1), r"cycles = 1 is invalid: must be an integer >= 2"),
 ])
 def test_backbone_errors_name_the_value(rom1, call, message):
     with pytest.raises(ValueError, match=message):

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from model.backbone import linear_mode
+from model.free import FreeRom
 from model.continuation import FOLD, REGULAR, continue_orbits, cusp_from_folds, stable_amplitudes_at
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
@@ -195,7 +196,7 @@ def test_omega_branch_bends_right_with_two_folds(rom):
     br = continue_orbits(ForcedMap.from_loading(rom, PAPER), "Omega", 28.0, 50.0, ds_max=0.3, max_points=1000)
     folds = br.special(FOLD)
     assert br.complete and folds.size == 2
-    assert br.value[folds[0]] > br.value[folds[1]] > linear_mode(rom)[0]
+    assert br.value[folds[0]] > br.value[folds[1]] > linear_mode(FreeRom(rom))[0]
     for i in folds:
         assert abs(br.multipliers[i, 0] - 1) < 1e-8 and br.stable[i - 1] != br.stable[i + 1]
     regular = br.kind == REGULAR

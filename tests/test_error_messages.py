@@ -9,6 +9,7 @@ import pytest
 from model import prestretch as pre
 from model.materials import NeoHookean
 from model.backbone import linear_mode
+from model.free import FreeRom
 from model.codim2 import continue_curve
 from model.forced import ForcedMap
 from model.integrate import lockstep_table
@@ -54,9 +55,9 @@ def test_a_pre_stretch_whose_collocation_does_not_converge(monkeypatch):
 def test_a_backbone_of_a_mode_that_vanishes_at_the_probe(ps):
     rom = build_rom(ps, [(1, -1)])  # the sine companion: zero on the ray theta = 0 of the probe
     with pytest.raises(ValueError, match=re.escape(
-            "the lowest mode of [(1, -1)] vanishes at the probe point rho = 0.5 m: its backbone cannot be "
-            "measured there")):
-        linear_mode(rom)
+            "the lowest mode of the ROM of [(1, -1)] (probe at rho = 0.5 m) vanishes at the probe point: its "
+            "backbone cannot be measured there")):
+        linear_mode(FreeRom(rom))
 
 
 def test_a_fold_curve_from_a_point_that_is_no_fold(fmap):

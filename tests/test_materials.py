@@ -278,24 +278,78 @@ ic_y = {start = -10.0, stop = 10.0, num = 6}
 tiles = 1
 max_periods = 3000
 """,
+    # the features of the continuation on their own: branch switching, a codim-2 fold curve
+    "continuation:switching": """
+[grid]
+delta = 1.1
+delta_o = 0.2
+P0 = 1.0
+c = 0.05
+[continuation]
+parameter = "Omega"
+start = 25.0
+stop = 44.0
+prestretch = "analytic"
+steps = 64
+ds_max = 0.3
+max_points = 300
+families = {n = [1], radial = 2}
+branch_switching = {max_points = 6, n = 1}
+""",
+    "continuation:fold_curve": """
+[grid]
+delta = 1.1
+delta_o = 0.2
+Omega = 33.5
+c = 0.05
+[continuation]
+parameter = "P0"
+start = 0.0
+stop = 3.0
+prestretch = "analytic"
+steps = 64
+max_points = 200
+fold_curve = {parameter = "c", start = 0.05, stop = 0.1}
+""",
+    # a mode-set sweep
+    "basins:mode_sets": """
+[grid]
+delta = 1.1
+delta_o = 0.2
+Omega = 33.5
+P0 = 5.0
+c = 5.0
+[basins]
+modes = [[[1, 0]], [[1, 0], [2, 0]]]
+prestretch = "analytic"
+ic_x = {start = -0.3, stop = 0.3, num = 4}
+ic_y = {start = -10.0, stop = 10.0, num = 4}
+tiles = 1
+max_periods = 3000
+""",
 }
 
 
-def _run_in_process(analysis: str, membrane: str) -> list[dict]:
+def _run_in_process(case: str, membrane: str) -> list[dict]:
     from sweep.jobspec import parse_job
 
-    job = parse_job(f'[job]\nname = "law"\nanalysis = "{analysis}"\n{membrane}\n{ANALYSIS_JOBS[analysis]}')
+    analysis = case.split(":")[0]
+    job = parse_job(f'[job]\nname = "law"\nanalysis = "{analysis}"\n{membrane}\n{ANALYSIS_JOBS[case]}')
     return [job.analysis.compute(*job.point(t)[:1], job.options, job.point(t)[1]) for t in range(job.layout.n_tasks)]
 
 
 @pytest.mark.parametrize("analysis", ANALYSIS_JOBS)
 def test_mooney_rivlin_without_c2_is_the_neo_hookean_law_in_every_analysis(analysis):
+    # (and in the continuation's branch switching and fold curves, and a mode-set sweep)
     """Every analysis of a job with ``law = "mooney-rivlin"``, ``C2 = 0`` gives the
     neo-Hookean job's arrays: the law's extra terms are exact zeros, so the arithmetic
     differs only where the compiler orders the two specialisations' sums differently
     (rounding, amplified by Newton solves and adaptive steps to at most 1e-9 here)."""
     nh = _run_in_process(analysis, "")
     mr = _run_in_process(analysis, '[membrane]\nlaw = "mooney-rivlin"\nC2 = 0.0')
+    reached = {"continuation:switching": "switched_Omega", "continuation:fold_curve": "fold_curve_c"}
+    if analysis in reached:  # the feature did follow its branch or curve
+        assert np.isfinite(nh[0][reached[analysis]]).sum() >= 3
     for a, b in zip(nh, mr):
         assert a["status"] == b["status"] == 0, (a.get("message"), b.get("message"))
         for name in a:

@@ -26,7 +26,7 @@ from functools import partial
 import numpy as np
 
 from model.backbone import continue_free_orbits, linear_mode, peak_to_peak
-from model.linear import frequency_bound
+from model.free import FreeRom
 from model.params import Membrane
 
 from . import options as opt
@@ -51,16 +51,11 @@ class BackboneOptions:
         return np.linspace(*self.amplitude)
 
 
-def _backbone_mode(rom) -> int:
-    """Index of the mode that dominates the lowest linear mode (its Eq. 29 bound applies)."""
-    _, v = linear_mode(rom)
-    return int(np.argmax(np.abs(v * np.sqrt(rom.mass))))
-
-
 class BackboneAnalysis(Analysis):
     """Backbone curves by shooting and by the peak-to-peak method."""
 
     name = "backbone"
+    model_needs = ("free_vibration",)
     #: The option table ``[backbone]``: key -> description (docs/options.md).
     OPTIONS = {
         "modes": opt.MODES_HELP,
@@ -107,10 +102,10 @@ class BackboneAnalysis(Analysis):
         return [partial(_compile_backbone, options.material)]
 
     def compute(self, point, options, subtask):
-        rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
+        free = point.model.free_vibration(point, options)
         targets = options.targets
-        orbits = continue_free_orbits(rom, targets)
-        peaks = peak_to_peak(rom, targets, c=options.peak_damping)
+        orbits = continue_free_orbits(free, targets)
+        peaks = peak_to_peak(free, targets, c=options.peak_damping)
         ok = bool(orbits.converged.all() and peaks.converged.all())
         why = {} if ok else {"message": f"{np.count_nonzero(~orbits.converged)} target(s) without a free periodic "
                                         f"orbit, {np.count_nonzero(~peaks.converged)} without a peak-to-peak sample"}
@@ -118,8 +113,8 @@ class BackboneAnalysis(Analysis):
                 "omega_nl": orbits.omega,
                 "omega_peak": peaks.omega,
                 "modal_amplitude": orbits.modal,
-                "omega_linear": linear_mode(rom)[0],
-                "omega_bound": float(frequency_bound(point.membrane, rom.alpha[_backbone_mode(rom)])),
+                "omega_linear": linear_mode(free)[0],
+                "omega_bound": getattr(free, "frequency_bound", lambda: np.nan)(),
                 "status": STATUS_OK if ok else STATUS_NOT_CONVERGED}
 
 
@@ -128,6 +123,6 @@ BACKBONE = BackboneAnalysis()
 
 def _compile_backbone(material: str) -> None:
     # Backbone.warmups: the free-orbit continuation and the peak-to-peak integration
-    rom = opt.rom_for(Membrane(law=material), "analytic", ((1, 0),))
-    continue_free_orbits(rom, [1e-3], steps=8)
-    peak_to_peak(rom, [1e-3], cycles=2)
+    free = FreeRom(opt.rom_for(Membrane(law=material), "analytic", ((1, 0),)))
+    continue_free_orbits(free, [1e-3], steps=8)
+    peak_to_peak(free, [1e-3], cycles=2)

@@ -125,6 +125,20 @@ class ModelSpec:
         ``point`` for an analysis with ``options`` (:meth:`sweep.models.base.Model.forced_map`)."""
         return self.model().forced_map(point, self.options, options, modes, default_steps)
 
+    def free_vibration(self, point: Point, options: Any):
+        """The free vibration (:class:`model.protocol.FreeVibration`) of this model at
+        ``point`` (:meth:`sweep.models.base.Model.free_vibration`)."""
+        return self.model().free_vibration(point, self.options, options)
+
+    def static_state(self, point: Point, options: Any):
+        """The static state of this model at ``point`` (:meth:`sweep.models.base.Model.static_state`)."""
+        return self.model().static_state(point, self.options, options)
+
+    def natural_frequencies(self, point: Point, options: Any, basis: int | None = None):
+        """The natural frequencies of ``options.modes`` at ``point`` and what did not
+        converge (:meth:`sweep.models.base.Model.natural_frequencies`)."""
+        return self.model().natural_frequencies(point, self.options, options, basis)
+
 
 #: A job without a ``[model]`` table: the Galerkin ROM.
 DEFAULT_MODEL = ModelSpec()
@@ -219,6 +233,16 @@ class Variable:
     fill: float | int = np.nan
     attrs: Mapping[str, Any] = field(default_factory=dict)
 
+    def blank(self) -> np.ndarray:
+        """An array of the declared shape and dtype filled with ``fill``: where a task's
+        output starts, so that what it does not reach stays padding."""
+        return np.full(self.shape, self.fill, dtype=self.dtype)
+
+
+def blank_outputs(variables) -> dict[str, np.ndarray]:
+    """:meth:`Variable.blank` of each of ``variables``, by name."""
+    return {v.name: v.blank() for v in variables}
+
 
 class TaskError(Exception):
     """A task returned something else than its analysis declares (a bug of the analysis)."""
@@ -266,6 +290,10 @@ class Analysis(ABC):
     OPTIONS: ClassVar[Mapping[str, str]] = {}
     #: grid keys that must be present (each may still have length 1)
     required_grid: ClassVar[tuple[str, ...]] = ("delta", "delta_o")
+    #: What the analysis asks of the job's model (:class:`sweep.models.base.Model`): the
+    #: names of the methods it calls (``forced_map``, ``free_vibration``, ``static_state``,
+    #: ``natural_frequencies``); a job whose model provides them not is refused.
+    model_needs: ClassVar[tuple[str, ...]] = ()
 
     @abstractmethod
     def parse_options(self, table: Mapping[str, Any], grid: Mapping[str, np.ndarray],

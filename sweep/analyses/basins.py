@@ -129,6 +129,7 @@ class Basins(Analysis):
     """Basins of attraction on a lattice of initial conditions (Fig. 19)."""
 
     name = "basins"
+    model_needs = ("forced_map",)
     #: The option table ``[basins]``: key -> description (docs/options.md).
     OPTIONS = {
         "modes": opt.MODES_HELP,

@@ -17,9 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from model.linear import CHANGE_TOL, MAX_BASIS, approximate_frequency, frequency_bound, galerkin_frequencies
+from model.linear import MAX_BASIS, approximate_frequency, frequency_bound
 from model.modes import bessel_roots
-from model.prestretch import solve_prestretch
 
 from . import options as opt
 from .base import DEFAULT_CONTEXT, STATUS_FAILED, STATUS_OK, Analysis, JobError, Variable, check_keys
@@ -39,6 +38,7 @@ class LinearAnalysis(Analysis):
     """Linear frequencies omega_mn by Galerkin (Eq. 25), Eq. (28) and Eq. (29)."""
 
     name = "linear"
+    model_needs = ("static_state", "natural_frequencies")
     #: The option table ``[linear]``: key -> description (docs/options.md).
     OPTIONS = {
         "modes": opt.MODES_HELP,
@@ -85,23 +85,15 @@ class LinearAnalysis(Analysis):
 
     def compute(self, point, options, subtask):
         m = point.membrane
-        ps = solve_prestretch(m, options.prestretch)
+        ps = point.model.static_state(point, options)
         K = len(options.modes)
         sizes = options.basis or (None,)
         omega = np.empty((len(sizes), K))
         out = {"omega_approx": np.empty(K), "omega_bound": np.empty(K)}
         problems = []
         for b, size in enumerate(sizes):
-            by_n: dict[int, np.ndarray] = {}
-            for k, (mm, signed_n) in enumerate(options.modes):
-                n = abs(signed_n)  # a sine companion has the frequency of its cosine mode
-                if n not in by_n:
-                    mmax = max(a for a, c in options.modes if abs(c) == n)
-                    by_n[n], _, change = galerkin_frequencies(ps, n, mmax, basis=size, full_output=True)
-                    if change >= CHANGE_TOL:
-                        problems.append(f"n = {n}: basis not converged at {MAX_BASIS} functions "
-                                        f"(last relative change {change:.1e})")
-                omega[b, k] = by_n[n][mm - 1]
+            omega[b], unconverged = point.model.natural_frequencies(point, options, size)
+            problems += unconverged
         for k, (mm, signed_n) in enumerate(options.modes):
             alpha = bessel_roots(abs(signed_n), m.delta_o, mm)[-1]
             out["omega_approx"][k] = approximate_frequency(ps, alpha)
@@ -112,7 +104,7 @@ class LinearAnalysis(Analysis):
             for b, size in enumerate(sizes):
                 w = omega[b, k]
                 if not (np.isfinite(w) and 0.0 < w < bound):
-                    at = "" if size is None or not options.basis_study else f" with {size} functions"
+                    at = f" with {size} functions" if options.basis_study else ""
                     problems.append(f"mode ({mm}, {signed_n}){at}: omega = {w:.6g} rad/s is not in "
                                     f"(0, Eq. 29 bound = {out['omega_bound'][k]:.6g})")
         out["omega"] = omega if options.basis_study else omega[0]

@@ -85,6 +85,7 @@ class ModeSetSweep(Analysis):
         self.name = inner.name
         self.OPTIONS = inner.OPTIONS
         self.required_grid = inner.required_grid
+        self.model_needs = inner.model_needs
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT) -> ModeSetOptions:
         key = f"{self.name}.modes"

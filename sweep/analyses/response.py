@@ -56,6 +56,7 @@ class ResponseAnalysis(Analysis):
     """Brute-force stepped sweeps of the forced ROM, up and down."""
 
     name = "response"
+    model_needs = ("forced_map",)
     #: The option table ``[response]``: key -> description (docs/options.md).
     OPTIONS = {
         "parameter": "Omega | P0 (required): the swept forcing parameter, not a grid key; the other "

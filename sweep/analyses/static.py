@@ -11,8 +11,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from model.prestretch import solve_prestretch
-
 from . import options as opt
 from .base import DEFAULT_CONTEXT, STATUS_OK, Analysis, JobError, Variable, check_keys
 
@@ -31,6 +29,7 @@ class StaticAnalysis(Analysis):
     """Static pre-stretch: ``r_o(rho)``, ``sigma_1``, ``sigma_2`` and the edge traction."""
 
     name = "static"
+    model_needs = ("static_state",)
     #: The option table ``[static]``: key -> description (docs/options.md).
     OPTIONS = {
         "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
@@ -61,7 +60,7 @@ class StaticAnalysis(Analysis):
 
     def compute(self, point, options, subtask):
         m = point.membrane
-        ps = solve_prestretch(m, options.prestretch)
+        ps = point.model.static_state(point, options)
         rho = options.radii
         inside = (rho >= m.Ro * (1 - 1e-12)) & (rho <= m.Re * (1 + 1e-12))
         r = np.full(rho.shape, np.nan)

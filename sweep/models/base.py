@@ -3,7 +3,12 @@
 A model turns one grid point (a :class:`~sweep.analyses.base.Point`) and an analysis'
 options into the objects the algorithms of :mod:`model` take: for the forced analyses
 (``response``, ``continuation``, ``basins``) a stroboscopic map
-(:class:`model.protocol.StroboscopicMap`).  The analyses never build a model themselves.
+(:class:`model.protocol.StroboscopicMap`); for ``backbone`` its free vibration
+(:class:`model.protocol.FreeVibration`); for ``static`` its static state and for
+``linear`` its natural frequencies.  Only :meth:`Model.forced_map` is required; an analysis
+names the methods it calls (:attr:`sweep.analyses.base.Analysis.model_needs`) and a job
+whose model does not provide them (:meth:`Model.provides`) is refused at validation.  The
+analyses never build a model themselves.
 """
 
 from __future__ import annotations
@@ -27,6 +32,11 @@ class Model(ABC):
     #: delta, the lean quadrature of the basins) apply to this model's maps.
     rom_features: ClassVar[bool] = False
 
+    def provides(self, method: str) -> bool:
+        """Whether the model implements ``method`` (one of the methods below; the
+        optional ones raise NotImplementedError unless a subclass overrides them)."""
+        return method == "forced_map" or getattr(type(self), method, None) is not getattr(Model, method, None)
+
     def parse_options(self, table: Mapping[str, Any]) -> Any:
         """Validate the ``[model]`` table (without ``kind``); raise
         :class:`~sweep.analyses.base.JobError` on bad input.  Default: no keys."""
@@ -43,3 +53,21 @@ class Model(ABC):
         steps per forcing period where its options give none.  Models without modes or
         fixed steps ignore them.
         """
+
+    def free_vibration(self, point, model_options: Any, options: Any):
+        """The free vibration (:class:`model.protocol.FreeVibration`) of the model at
+        ``point`` for the ``backbone`` analysis with ``options``."""
+        raise NotImplementedError(f"model {self.name!r} has no free vibration (backbone)")
+
+    def static_state(self, point, model_options: Any, options: Any):
+        """The static pre-stretched state at ``point`` for the ``static`` analysis: an
+        object with ``radius(rho)``, ``stresses(rho)`` and ``traction()``
+        (:class:`model.prestretch.Prestretch`)."""
+        raise NotImplementedError(f"model {self.name!r} has no static state")
+
+    def natural_frequencies(self, point, model_options: Any, options: Any, basis: int | None):
+        """Natural frequencies (rad s-1) of the modes of ``options.modes`` at ``point`` for
+        the ``linear`` analysis, with ``basis`` functions per wave number (None: the
+        model's converged default), and a list of what did not converge (empty when all
+        did)."""
+        raise NotImplementedError(f"model {self.name!r} has no natural frequencies (linear)")

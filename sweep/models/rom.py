@@ -1,10 +1,16 @@
 """The Galerkin reduced-order model (:mod:`model.rom`) as a job's model (``[model] kind = "rom"``).
 
-Its options are today's analysis options: ``modes``, ``prestretch`` and ``steps`` in the
-analysis' own table (docs/options.md); ``[model]`` takes ``kind`` only.
+Its options are today's analysis options: ``modes``, ``prestretch``, ``steps`` and (for
+``linear``) ``basis`` in the analysis' own table (docs/options.md); ``[model]`` takes
+``kind`` only.  It runs every analysis: the forced ones on :class:`model.forced.ForcedMap`,
+``backbone`` on :class:`model.free.FreeRom`, ``static`` on the pre-stretch of
+:mod:`model.prestretch` and ``linear`` on the Galerkin solution of Eq. (25)
+(:func:`model.linear.galerkin_frequencies`), which does not depend on the ROM's modes.
 """
 
 from __future__ import annotations
+
+import numpy as np
 
 from sweep.models.base import Model
 
@@ -26,6 +32,37 @@ class RomModel(Model):
         steps = opt.steps_for(point.membrane, options.prestretch, options.modes, options.steps,
                               default_steps or DEFAULT_STEPS)
         return ForcedMap.from_loading(rom, point.loading, steps, point.damping)
+
+
+    def free_vibration(self, point, model_options, options):
+        from model.free import FreeRom
+        from sweep.analyses import options as opt
+
+        return FreeRom(opt.rom_for(point.membrane, options.prestretch, tuple(options.modes)))
+
+    def static_state(self, point, model_options, options):
+        from sweep.analyses import options as opt
+
+        return opt.prestretch_for(point.membrane, options.prestretch)
+
+    def natural_frequencies(self, point, model_options, options, basis):
+        from model.linear import CHANGE_TOL, MAX_BASIS, galerkin_frequencies
+        from sweep.analyses import options as opt
+
+        ps = opt.prestretch_for(point.membrane, options.prestretch)
+        omega = np.empty(len(options.modes))
+        by_n: dict[int, np.ndarray] = {}
+        problems = []
+        for k, (m, signed_n) in enumerate(options.modes):
+            n = abs(signed_n)  # a sine companion has the frequency of its cosine mode
+            if n not in by_n:
+                count = max(a for a, b in options.modes if abs(b) == n)
+                by_n[n], _, change = galerkin_frequencies(ps, n, count, basis=basis, full_output=True)
+                if change >= CHANGE_TOL:
+                    problems.append(f"n = {n}: basis not converged at {MAX_BASIS} functions "
+                                    f"(last relative change {change:.1e})")
+            omega[k] = by_n[n][m - 1]
+        return omega, problems
 
 
 ROM = RomModel()

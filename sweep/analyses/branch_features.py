@@ -1,0 +1,475 @@
+"""The optional features of the ``continuation`` analysis, one part each.
+
+A feature reads its option of ``[continuation]`` (:mod:`sweep.analyses.continuation`
+parses them with the functions here), declares its variables and coordinates once
+(:meth:`BranchFeature.variables`, :meth:`BranchFeature.coords`) and computes them from the
+continued branch (:meth:`BranchFeature.compute`), starting from the declared blanks
+(:func:`sweep.analyses.base.blank_outputs`) so that what it does not reach stays padding:
+
+* :data:`FAMILIES` -- the Floquet multipliers of the asymmetric families along the branch
+  (``families``), and the block of each located point;
+* :data:`FOLD_CURVE` -- the first saddle-node followed in a second parameter through its
+  cusps (``fold_curve``, :func:`model.codim2.continue_folds`);
+* :data:`BIFURCATION_CURVES` -- every located point followed in a second parameter
+  (``bifurcation_curves``, :func:`model.codim2.continue_curve`);
+* :data:`FAMILY_CHECK` -- time integration of the mixed ROMs against the families'
+  multipliers (``family_check``, :func:`model.families.perturbation_growth`);
+* :data:`BRANCH_SWITCHING` -- the asymmetric branch born at a branch point
+  (``branch_switching``, :func:`model.switching.follow_bifurcated_branch`).
+
+The outputs are described in the docstring of :mod:`sweep.analyses.continuation`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from model.codim2 import continue_curve, continue_folds
+from model.continuation import BRANCH_POINT, KIND_NAMES, resonant_end
+from model.families import build_family, perturbation_growth, symmetry_blocks
+from model.prestretch import solve_prestretch
+from model.rom import build_rom
+from model.switching import follow_bifurcated_branch, mixed_rom
+
+from . import options as opt
+from .base import GRID_KEYS, JobError, Variable, blank_outputs
+
+#: Length of the ``cusp`` dimension (cusps of the fold curve, NaN padded).
+MAX_CUSPS = 4
+#: Largest arclength step of the bifurcation curves (scaled unknowns): along them the
+#: orbit's phase turns while its amplitude barely changes, so steps are larger than on a
+#: branch; the turning test (model.continuation.MAX_TURN) still bounds them.
+CURVE_DS_MAX = 0.5
+#: Length of the ``curve`` dimension (bifurcation curves, NaN padded).
+MAX_CURVES = 16
+#: Largest number of values of ``family_check``.
+MAX_CHECKS = 16
+
+
+def _kind_attrs() -> dict:
+    return {"flag_values": np.arange(-1, len(KIND_NAMES), dtype=np.int8),
+            "flag_meanings": "padding " + " ".join(KIND_NAMES)}
+
+
+def _curve_point_coord(options) -> dict:
+    return {"curve_point": (("curve_point",), np.arange(options.max_points, dtype=np.int32),
+                            {"long_name": "index along a two-parameter curve", "units": "1"})}
+
+
+@dataclass(frozen=True)
+class BranchContext:
+    """What the features compute from: the task's grid point, its map at ``start``, the
+    branch in the map's coordinates (``branch``) and in the job's mode layout (``layout``,
+    the same unless a mixed mode set was reduced by symmetry), the families and the
+    analysis' options."""
+
+    point: Any
+    fmap: Any
+    branch: Any
+    layout: Any
+    families: tuple
+    options: Any
+
+
+class BranchFeature:
+    """One optional feature of the continuation (see the module docstring)."""
+
+    def enabled(self, options) -> bool:
+        """Whether the job asks for the feature."""
+        raise NotImplementedError
+
+    def variables(self, options) -> list[Variable]:
+        """The feature's outputs (none when it is not enabled)."""
+        raise NotImplementedError
+
+    def coords(self, options) -> dict:
+        """The coordinates of the feature's own dimensions."""
+        return {}
+
+    def compute(self, ctx: BranchContext) -> tuple[dict[str, np.ndarray], str]:
+        """The outputs, and what went wrong ("" when nothing did)."""
+        raise NotImplementedError
+
+
+def by_symmetry(options) -> bool:
+    """A mixed mode set (axisymmetric and other modes) without ``families``: continued on the
+    axisymmetric subspace with family blocks."""
+    axisymmetric, blocks = symmetry_blocks(options.modes)
+    return options.families is None and bool(blocks) and bool(axisymmetric)
+
+
+class Families(BranchFeature):
+    """``families``: the families' multipliers along the branch; ``point_family`` also for a
+    mixed mode set reduced by symmetry."""
+
+    def enabled(self, options):
+        return options.families is not None or by_symmetry(options)
+
+    def variables(self, options):
+        n = options.max_points
+        if not self.enabled(options):
+            return []
+        point_family = [Variable("point_family", ("point",), (n,), "i2", "1",
+                                 "wave number n of the block a located point belongs to (0: axisymmetric block "
+                                 "and regular points)", -1)]
+        if options.families is None:
+            return point_family
+        F, w = len(options.families[0]), 2 * options.families[1]
+        pf, pfm = ("point", "family"), ("point", "family", "family_multiplier")
+        return [
+            Variable("family_multiplier_modulus", pf, (n, F), "f8", "1",
+                     "largest Floquet multiplier modulus of the family's block"),
+            Variable("family_multiplier_real", pfm, (n, F, w), "f8", "1",
+                     "real part of the family's Floquet multipliers, by decreasing modulus"),
+            Variable("family_multiplier_imag", pfm, (n, F, w), "f8", "1",
+                     "imaginary part of the family's Floquet multipliers, by decreasing modulus"),
+        ] + point_family
+
+    def coords(self, options):
+        if options.families is None:
+            return {}
+        return {"family": (("family",), np.array(options.families[0], dtype=np.int32),
+                           {"long_name": "circumferential wave number n of the asymmetric mode family", "units": "1"}),
+                "family_multiplier": (("family_multiplier",), np.arange(2 * options.families[1], dtype=np.int32),
+                                      {"long_name": "Floquet multiplier index within the family's block",
+                                       "units": "1"})}
+
+    def compute(self, ctx):
+        out = blank_outputs(self.variables(ctx.options))
+        br = ctx.layout
+        m = br.value.size
+        if ctx.options.families is not None:
+            mu = br.family_multipliers
+            out["family_multiplier_modulus"][:m] = np.abs(mu).max(axis=2)
+            out["family_multiplier_real"][:m], out["family_multiplier_imag"][:m] = mu.real, mu.imag
+        out["point_family"][:m] = br.family
+        return out, ""
+
+
+def second_parameter(table, section, parameter, damping, name="fold_curve"):
+    """A ``{parameter, start, stop}`` option naming a second parameter: ``(name, start,
+    stop)`` or None."""
+    key = f"{section}.{name}"
+    value = table.get(name)
+    if value is None:
+        return None
+    if not isinstance(value, dict) or set(value) != {"parameter", "start", "stop"}:
+        raise JobError(key, value, "must be a table {parameter = , start = , stop = }")
+    allowed = opt.second_parameters(parameter, damping) + (("delta",) if name == "bifurcation_curves" else ())
+    second = opt.choice(value, key, "parameter", allowed)
+    low, low_open = (1.0, True) if second == "delta" else (0.0, second == "Omega")
+    start = opt.number(value, key, "start", low=low, low_open=low_open)
+    stop = opt.number(value, key, "stop", low=low, low_open=low_open)
+    if start == stop:
+        raise JobError(f"{key}.stop", stop, f"must differ from {key}.start")
+    return second, start, stop
+
+
+class FoldCurve(BranchFeature):
+    """``fold_curve``: the first saddle-node in a second parameter, through its cusps."""
+
+    def enabled(self, options):
+        return options.fold_curve is not None
+
+    def variables(self, options):
+        if not self.enabled(options):
+            return []
+        p, q, n = options.parameter, options.fold_curve[0], options.max_points
+        cp = ("curve_point",)
+        return [
+            Variable(f"fold_curve_{q}", cp, (n,), "f8", GRID_KEYS[q][0],
+                     f"{q} along the curve of saddle-nodes (two-parameter continuation)"),
+            Variable(f"fold_curve_{p}", cp, (n,), "f8", GRID_KEYS[p][0], f"{p} at the saddle-node"),
+            Variable("fold_curve_amplitude", cp, (n,), "f8", "m", "amplitude at the saddle-node"),
+            Variable(f"cusp_{q}", ("cusp",), (MAX_CUSPS,), "f8", GRID_KEYS[q][0],
+                     f"{q} at the cusps where two saddle-nodes merge"),
+            Variable(f"cusp_{p}", ("cusp",), (MAX_CUSPS,), "f8", GRID_KEYS[p][0], f"{p} at the cusps"),
+        ]
+
+    def coords(self, options):
+        if not self.enabled(options):
+            return {}
+        return {"cusp": (("cusp",), np.arange(MAX_CUSPS, dtype=np.int32), {"long_name": "cusp index", "units": "1"}),
+                **_curve_point_coord(options)}
+
+    def compute(self, ctx):
+        options = ctx.options
+        out = blank_outputs(self.variables(options))
+        p, (q, q_start, q_stop), n = options.parameter, options.fold_curve, options.max_points
+        try:
+            curve = continue_folds(ctx.fmap, p, q, q_start, q_stop, (options.start, options.stop), max_points=n)
+        except (RuntimeError, ArithmeticError, np.linalg.LinAlgError) as exc:
+            return out, f"fold curve: {type(exc).__name__}: {exc}"
+        m, c = min(curve.p.size, n), min(len(curve.cusp), MAX_CUSPS)
+        out[f"fold_curve_{q}"][:m], out[f"fold_curve_{p}"][:m], out["fold_curve_amplitude"][:m] = \
+            curve.q[:m], curve.p[:m], curve.amplitude[:m]
+        out[f"cusp_{q}"][:c], out[f"cusp_{p}"][:c] = curve.cusp[:c, 0], curve.cusp[:c, 1]
+        no_fold = curve.p.size == 0
+        return out, "" if curve.complete or no_fold else f"fold curve: {curve.message}"
+
+
+def curves_option(table, section, parameter, grid, damping):
+    """The ``bifurcation_curves`` option; the grid values of its parameter must lie in its
+    range (the curves run from each task's value to both ends)."""
+    value = second_parameter(table, section, parameter, damping, "bifurcation_curves")
+    if value is not None and value[0] in grid:
+        lo, hi = min(value[1:]), max(value[1:])
+        outside = [float(v) for v in np.atleast_1d(grid[value[0]]) if not lo <= v <= hi]
+        if outside:
+            raise JobError(f"{section}.bifurcation_curves", table["bifurcation_curves"],
+                           f"the [grid] values of {value[0]} must lie in [start, stop]; {outside} do not")
+    return value
+
+
+class BifurcationCurves(BranchFeature):
+    """``bifurcation_curves``: every located point of the branch in a second parameter."""
+
+    def enabled(self, options):
+        return options.bifurcation_curves is not None
+
+    def variables(self, options):
+        if not self.enabled(options):
+            return []
+        p, q, n = options.parameter, options.bifurcation_curves[0], options.max_points
+        cp = ("curve", "curve_point")
+        return [
+            Variable(f"curve_{q}", cp, (MAX_CURVES, n), "f8", GRID_KEYS[q][0],
+                     f"{q} along the curve of bifurcation points (two-parameter continuation)"),
+            Variable(f"curve_{p}", cp, (MAX_CURVES, n), "f8", GRID_KEYS[p][0], f"{p} along the curve"),
+            Variable("curve_amplitude", cp, (MAX_CURVES, n), "f8", "m", "amplitude along the curve"),
+            Variable("curve_kind", ("curve",), (MAX_CURVES,), "i1", "1", "kind of the bifurcation points of the curve",
+                     -1, _kind_attrs()),
+            Variable("curve_family", ("curve",), (MAX_CURVES,), "i2", "1",
+                     "wave number n of the block of the curve (0: axisymmetric)", -1),
+        ]
+
+    def coords(self, options):
+        if not self.enabled(options):
+            return {}
+        return {"curve": (("curve",), np.arange(MAX_CURVES, dtype=np.int32),
+                          {"long_name": "index of the bifurcation curve (located points in branch order)",
+                           "units": "1"}),
+                **_curve_point_coord(options)}
+
+    def compute(self, ctx):
+        """The curves start at the task's value of the second parameter.  In ``delta`` the
+        pre-stretch, the ROM and the family are rebuilt at every value met, without the
+        one-mode tables (quadrature kernels: a rebuild costs milliseconds)."""
+        options, br, fmap = ctx.options, ctx.branch, ctx.fmap
+        out = blank_outputs(self.variables(options))
+        p, (q, q_start, q_stop), n = options.parameter, options.bifurcation_curves, options.max_points
+        q_here = ctx.point.value(q)
+        located = np.flatnonzero(br.kind > 0)
+        problems = [f"{located.size - MAX_CURVES} located points not followed (MAX_CURVES = {MAX_CURVES})"] \
+            if located.size > MAX_CURVES else []
+        by_n = {f.n: f for f in ctx.families}
+        span = abs(options.stop - options.start)
+        for j, i in enumerate(located[:MAX_CURVES]):
+            kind, family = int(br.kind[i]), by_n.get(int(br.family[i]))
+            out["curve_kind"][j], out["curve_family"][j] = kind, br.family[i]
+            halves = []
+            for end in (q_start, q_stop):
+                if end == q_here:
+                    continue
+                try:
+                    halves.append(continue_curve(fmap, p, q, q_here, end, br.state[i], br.value[i], span, kind=kind,
+                                                 family=family, ds_max=CURVE_DS_MAX, max_points=n // 2,
+                                                 rebuild=_rebuild(ctx.point, options, fmap, family) if q == "delta"
+                                                 else None))
+                except (RuntimeError, ArithmeticError, np.linalg.LinAlgError) as exc:
+                    problems.append(f"curve {j} ({KIND_NAMES[kind]}) towards {q} = {end}: {type(exc).__name__}: {exc}")
+            if not halves:
+                continue
+            first = halves[0]
+            qs, ps, amp = first.q[::-1], first.p[::-1], first.amplitude[::-1]
+            for h in halves[1:]:
+                qs, ps, amp = (np.concatenate([qs, h.q[1:]]), np.concatenate([ps, h.p[1:]]),
+                               np.concatenate([amp, h.amplitude[1:]]))
+            m = qs.size
+            out[f"curve_{q}"][j, :m], out[f"curve_{p}"][j, :m], out["curve_amplitude"][j, :m] = qs, ps, amp
+            problems += [f"curve {j} ({KIND_NAMES[kind]}): {h.message}" for h in halves if not h.complete]
+        return out, "; ".join(problems)
+
+
+def _rebuild(point, options, fmap, family):
+    """``delta -> (map, family)`` for curves in ``delta``: the task's membrane with that delta,
+    the same modes (the ROM's), forcing and steps; quadrature kernels (no tables)."""
+    def at(delta):
+        ps = solve_prestretch(replace(point.membrane, delta=delta), options.prestretch)
+        rom = build_rom(ps, fmap.rom.modes, force_table=False)
+        fam = None if family is None else build_family(ps, rom, family.n, family.radial, jacobian_table=False)
+        return fmap.with_rom(rom), fam
+    return at
+
+
+def family_check_option(table, section):
+    """The ``family_check = {values, periods, saturate}`` option: ``(values, periods,
+    saturate)`` or None."""
+    value = table.get("family_check")
+    if value is None:
+        return None
+    key = f"{section}.family_check"
+    if not isinstance(value, dict) or not {"values"} <= set(value) <= {"values", "periods", "saturate"}:
+        raise JobError(key, value, "must be a table {values = [..], periods = N, saturate = N}")
+    if table.get("families") is None:
+        raise JobError(key, value, "needs continuation.families")
+    values = value["values"]
+    if (not isinstance(values, list) or not 0 < len(values) <= MAX_CHECKS
+            or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) for v in values)):
+        raise JobError(f"{key}.values", values, f"must be a list of 1 to {MAX_CHECKS} finite numbers")
+    return (tuple(float(v) for v in values), opt.number(value, key, "periods", 100, integer=True, low=10, high=100_000),
+            opt.number(value, key, "saturate", 0, integer=True, low=0, high=1_000_000))
+
+
+class FamilyCheck(BranchFeature):
+    """``family_check``: brute force against Floquet at the resonant responses nearest
+    the given values."""
+
+    def enabled(self, options):
+        return options.check is not None
+
+    def variables(self, options):
+        if not self.enabled(options):
+            return []
+        C, F, p = len(options.check[0]), len(options.families[0]), options.parameter
+        cf = ("check", "family")
+        return [
+            Variable(f"check_{p}", ("check",), (C,), "f8", GRID_KEYS[p][0],
+                     f"{p} of the resonant response checked (the point of the resonant stretch nearest each "
+                     "family_check value)"),
+            Variable("check_floquet_modulus", cf, (C, F), "f8", "1", "largest multiplier modulus of the family's block"),
+            Variable("check_growth", cf, (C, F), "f8", "1",
+                     "growth per period of a small asymmetric perturbation in the nonlinear mixed ROM"),
+            Variable("check_asymmetric_amplitude", cf, (C, F), "f8", "m",
+                     "largest asymmetric |w(0.5 Re, 0)| after the family_check saturate periods (NaN without)"),
+            Variable("check_asymmetric_spread", cf, (C, F), "f8", "m",
+                     "max - min of the asymmetric w(0.5 Re, 0) over the stroboscopic samples of the last tenth "
+                     "of the saturate periods: 0 for a period-one state (NaN without saturate)"),
+        ]
+
+    def coords(self, options):
+        if not self.enabled(options):
+            return {}
+        return {"check": (("check",), np.arange(len(options.check[0]), dtype=np.int32),
+                          {"long_name": "index of the family_check value", "units": "1"})}
+
+    def compute(self, ctx):
+        options, br, fmap = ctx.options, ctx.branch, ctx.fmap
+        out = blank_outputs(self.variables(options))
+        values, periods, saturate = options.check
+        p = options.parameter
+        end = resonant_end(br.kind)
+        ps = opt.prestretch_for(ctx.point.membrane, options.prestretch)
+        Ka = fmap.rom.dof
+        problems = []
+        for j, fam in enumerate(ctx.families):
+            mixed = fmap.with_rom(mixed_rom(ps, fmap.rom, fam))
+            asymmetric = tuple(range(Ka, Ka + len(fam.radial)))
+            for c, v in enumerate(values):
+                i = int(np.argmin(np.abs(br.value[:end] - v)))
+                out[f"check_{p}"][c] = br.value[i]
+                out["check_floquet_modulus"][c, j] = np.nanmax(np.abs(br.family_multipliers[i, j]))
+                try:
+                    out["check_growth"][c, j], (low, high) = perturbation_growth(
+                        mixed.varied(p, br.value[i]), br.state[i], asymmetric, periods=periods, saturate=saturate)
+                    out["check_asymmetric_amplitude"][c, j] = max(abs(low), abs(high))
+                    out["check_asymmetric_spread"][c, j] = high - low
+                except ValueError as exc:
+                    problems.append(f"family_check n = {fam.n} at {p} = {br.value[i]:.6g}: {exc}")
+        return out, "; ".join(problems)
+
+
+def switching_option(table, section, families) -> tuple[int, int]:
+    """The ``branch_switching = {max_points = N, n = wave number}`` option: ``(N, n)`` (n = 0:
+    the first branch point of any family), or ``(0, 0)`` without it."""
+    value = table.get("branch_switching")
+    if value is None:
+        return 0, 0
+    key = f"{section}.branch_switching"
+    if not isinstance(value, dict) or not {"max_points"} <= set(value) <= {"max_points", "n"}:
+        raise JobError(key, value, "must be a table {max_points = N} or {max_points = N, n = wave number}")
+    if families is None:
+        raise JobError(key, value, "needs continuation.families (branch points are found in the families)")
+    n = opt.number(value, key, "n", 0, integer=True, low=0)
+    if n and n not in families[0]:
+        raise JobError(f"{key}.n", n, f"must be one of the families' wave numbers {list(families[0])}")
+    return opt.number(value, key, "max_points", integer=True, low=2, high=10_000), n
+
+
+class BranchSwitching(BranchFeature):
+    """``branch_switching``: the asymmetric branch at the first branch point of a family."""
+
+    def enabled(self, options):
+        return bool(options.switch_points)
+
+    def variables(self, options):
+        if not self.enabled(options):
+            return []
+        n, p, sp = options.switch_points, options.parameter, ("switched_point",)
+        K = len(options.modes) + options.families[1]
+        return [
+            Variable(f"switched_{p}", sp, (n,), "f8", GRID_KEYS[p][0],
+                     f"{p} along the asymmetric branch bifurcating at the first branch point"),
+            Variable("switched_amplitude", sp, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)|"),
+            Variable("switched_asymmetric_amplitude", sp, (n,), "f8", "m",
+                     "max over one period of the asymmetric part of w(0.5 Re, 0, t)"),
+            Variable("switched_stable", sp, (n,), "i1", "1", "stability within the ROM of the axisymmetric and "
+                     "the family's cosine modes", -1,
+                     {"flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "padding unstable stable"}),
+            Variable("switched_point_type", sp, (n,), "i1", "1", "kind of point on the asymmetric branch", -1,
+                     _kind_attrs()),
+            Variable("switched_multiplier_modulus", sp, (n,), "f8", "1", "largest Floquet multiplier modulus"),
+            Variable("switched_modal_coordinate", ("switched_point", "switched_mode"), (n, K), "f8", "m",
+                     "modal coordinates on the stroboscopic section (modes: switched_mode_m, switched_mode_n)"),
+            Variable("switched_mode_m", ("switched_mode",), (K,), "i4", "1", "radial index m of the switched ROM's modes",
+                     -1),
+            Variable("switched_mode_n", ("switched_mode",), (K,), "i4", "1", "wave number n of the switched ROM's modes",
+                     -1),
+        ]
+
+    def coords(self, options):
+        if not self.enabled(options):
+            return {}
+        return {"switched_point": (("switched_point",), np.arange(options.switch_points, dtype=np.int32),
+                                   {"long_name": "index along the switched (asymmetric) branch", "units": "1"})}
+
+    def compute(self, ctx):
+        """"" as the problem also when the branch has no branch point of a family."""
+        options, br, fmap = ctx.options, ctx.branch, ctx.fmap
+        out = blank_outputs(self.variables(options))
+        n, p, K = options.switch_points, options.parameter, len(options.modes) + options.families[1]
+        bps = [i for i in np.flatnonzero(br.kind == BRANCH_POINT)
+               if br.family[i] > 0 and options.switch_family in (0, br.family[i])]
+        if not bps:
+            return out, ""
+        i = bps[0]
+        family = next(f for f in ctx.families if f.n == br.family[i])
+        ps = opt.prestretch_for(ctx.point.membrane, options.prestretch)
+        try:
+            sw, fmap_mixed, asym = follow_bifurcated_branch(ps, fmap, family, p, options.start, options.stop,
+                                                            br.state[i], br.value[i], ds_max=options.ds_max,
+                                                            max_points=n)
+        except (RuntimeError, ArithmeticError, np.linalg.LinAlgError) as exc:
+            return out, f"branch switching at {p} = {br.value[i]:.9g}: {type(exc).__name__}: {exc}"
+        m = sw.value.size
+        out[f"switched_{p}"][:m], out["switched_amplitude"][:m] = sw.value, sw.amplitude
+        out["switched_asymmetric_amplitude"][:m], out["switched_stable"][:m] = asym, sw.stable
+        out["switched_point_type"][:m] = sw.kind
+        out["switched_multiplier_modulus"][:m] = np.abs(sw.multipliers).max(axis=1)
+        out["switched_modal_coordinate"][:m] = sw.state[:, :K]
+        modes = np.array(fmap_mixed.rom.modes, dtype=np.int32)
+        out["switched_mode_m"], out["switched_mode_n"] = modes[:, 0], modes[:, 1]
+        return out, "" if sw.complete or m >= n else f"switched branch: {sw.message}"
+
+
+FAMILIES = Families()
+FOLD_CURVE = FoldCurve()
+BIFURCATION_CURVES = BifurcationCurves()
+FAMILY_CHECK = FamilyCheck()
+BRANCH_SWITCHING = BranchSwitching()
+#: The features in the order of their outputs and of their computation.
+FEATURES = (FAMILIES, FOLD_CURVE, BIFURCATION_CURVES, FAMILY_CHECK, BRANCH_SWITCHING)
