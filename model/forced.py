@@ -29,7 +29,7 @@ from .families import Family, family_linear_system, family_monodromy
 from .integrate import OMEGA, PRESSURE, monodromy, monodromy_parameter, rk4_one_mode, rk4_steps
 from .params import Loading
 from .protocol import PARAMETERS, KernelArguments, sorted_multipliers, state_scale
-from .rom import Forcing, Rom, linear_frequencies, linear_system
+from .rom import Forcing, Rom, acceleration_mismatch, build_rom, lean_radial_points, linear_frequencies, linear_system
 
 #: RK4 steps per forcing period of shooting, continuation and stepped sweeps.  At
 #: delta = 1.1, Omega = 33.5, c = 0.05 the fold values in P0 change by 2e-6 (relative) from
@@ -102,7 +102,7 @@ def steps_per_period(rom: Rom, base: int) -> int:
 class ForcedMap:
     """The stroboscopic map of a forced ROM at one point ``(Omega, P0)`` and damping law:
     the ROM's implementation of :class:`model.protocol.StroboscopicMap`, with the
-    capabilities ``family_monodromy`` and ``kernel_arguments``.
+    capabilities ``family_monodromy``, ``kernel_arguments`` and ``lean``.
 
     Build with :meth:`from_loading` or :meth:`build`.  The forcing values are not validated
     here (a continuation corrector may step slightly outside the physical range);
@@ -157,6 +157,29 @@ class ForcedMap:
         if self.damping is None:
             return ForcedMap(rom, self.forcing, self.steps)
         return ForcedMap.build(rom, self.forcing.P0, self.forcing.Omega, self.damping, self.steps)
+
+    @property
+    def radial_points(self) -> int:
+        """Radial Gauss-Legendre points of the ROM's quadrature."""
+        return self.rom.radial_points
+
+    def lean(self, sample, rtol: float) -> ForcedMap:
+        """The map on the fewest radial quadrature points that leave its accelerations
+        unchanged to ``rtol`` on the states ``sample()`` (``(S, 2K)``, called only when
+        the ROM integrates by quadrature: a one-mode ROM runs its force table), or this map
+        (:func:`model.rom.lean_radial_points`; the optional ``lean`` capability of
+        :mod:`model.protocol`)."""
+        if self.rom.tables.table_max > 0.0:
+            return self
+        points = lean_radial_points(self.rom.prestretch, self.rom, sample(), rtol)
+        if points >= self.rom.radial_points:
+            return self
+        return self.with_rom(build_rom(self.rom.prestretch, self.rom.modes, radial_points=points))
+
+    def acceleration_mismatch(self, reference: ForcedMap, states) -> float:
+        """Largest relative difference of this map's undamped accelerations from those of
+        ``reference`` (the same modes) on ``states`` (:func:`model.rom.acceleration_mismatch`)."""
+        return acceleration_mismatch(self.rom, reference.rom, states)
 
     @property
     def parameters(self) -> tuple[str, ...]:

@@ -21,6 +21,11 @@ back without them:
     basins' lock-step slots, the compiled settling loop of stepped responses, the
     compiled one-mode Newton search).  Without it these algorithms advance states with
     ``advance_batch`` / ``advance`` from Python, one period at a time.
+``lean(sample, rtol)`` with ``acceleration_mismatch(reference, states)``
+    A cheaper map that is the same to ``rtol`` on the states ``sample()`` (the ROM's
+    fewest radial quadrature points), and how far it is from the original on other
+    states (the basins' fast method checks it again on the attractors it finds).  Without
+    it the basins use the map as it is.
 
 The backbone methods (:mod:`model.backbone`) take any object with the members of
 :class:`FreeVibration`: the free motion of the same kind of model (:class:`model.free.FreeRom`

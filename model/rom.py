@@ -121,6 +121,7 @@ class Rom:
     radial_points: int
     theta_points: int         # the uniform rule's points on [0, 2 pi) (folded: the tables hold nt // 2 + 1)
     tables: RomTables
+    prestretch: Prestretch    # the static solution it was built on
 
     @property
     def dof(self) -> int:
@@ -310,7 +311,7 @@ def build_rom(prestretch: Prestretch, modes, probe_rho: float | None = None,
         axisymmetric=nt == 0, law=m.material, table_max=0.0, stiffness_table=np.zeros((0, 1)), slope_table=np.zeros((0, 1)))
     if K == 1 and nt == 0 and force_table:
         tables = tables._replace(**_force_table(tables, _table_reach(tables, TABLE_MAX_W * m.Re / np.abs(psi).max())))
-    return Rom(m, modes, alpha, mass, forcing, probe_rho, nr, nt, tables)
+    return Rom(m, modes, alpha, mass, forcing, probe_rho, nr, nt, tables, prestretch)
 
 
 #: The one-mode force table covers ``max |w|`` up to this many times ``Re``.

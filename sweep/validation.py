@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from model.continuation import KIND_LABELS, resonant_end, stable_amplitudes_at, unstable_intervals
+from sweep.analyses.branch_features import CURVE_DS_MAX
 from sweep.analyses.mode_sets import select
 from sweep.errors import RunError
 from sweep.storage.netcdf import run_attributes
@@ -392,6 +393,9 @@ def _basins_brute_force(ds, results: Path) -> list[str]:
                   f"{np.mean(mine == -1):.1%} of its initial conditions are unclassified.", ""]
 
 
+#: A row's located point lies on a bifurcation curve when the curve passes within this
+#: (rad/s) of it at the row's P0.
+ON_CURVE = 0.05
 #: Radial modes per family of the `validation/families-radial-M` jobs (M = 2 is fig14-families).
 FAMILY_RADIAL = (4, 6, 8)
 #: Intervals whose ends move by at most this (rad/s) between the last two M count as settled.
@@ -520,15 +524,15 @@ def _stability_map(results: Path) -> list[str]:
                         w = (P0 - q[i]) / (q[i + 1] - q[i]) if q[i + 1] != q[i] else 0.0
                         crossings.append(p[i] + w * (p[i + 1] - p[i]))
                 d = float(np.min(np.abs(np.array(crossings) - omega))) if crossings else np.inf
-                if d < 0.05:
+                if d < ON_CURVE:
                     matched += 1
                     worst = max(worst, d)
                 else:
                     off.add(round(float(P0), 3))
         out.append(f"| {KIND_LABELS[kind]} | {fam} | {lowest:.4f} | {count} | {matched} | {worst:.1e} | "
                    f"{', '.join(f'{v:g}' for v in sorted(off)) or '-'} | {below} |")
-    return out + ["", "A point counts as on a curve within 0.05 rad/s; the differences left are those of the",
-                  "linear interpolation between curve points (steps of up to 0.5 in the scaled arclength).",
+    return out + ["", f"A point counts as on a curve within {ON_CURVE:g} rad/s; the differences left are those of the",
+                  f"linear interpolation between curve points (steps of up to {CURVE_DS_MAX:g} in the scaled arclength).",
                   "Points on no curve belong to instability intervals that do not reach the P0 = 1 Pa row",
                   "the curves start from (they open at larger P0, near the upper saddle-node).", ""]
 

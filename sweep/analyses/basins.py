@@ -52,7 +52,6 @@ from model import lattice as ml
 from model.forced import ForcedMap
 from model.integrity import global_integrity_measure, integrity_factor
 from model.params import Loading, Membrane
-from model.rom import acceleration_mismatch, build_rom, lean_radial_points
 
 from . import options as opt
 from .base import DEFAULT_CONTEXT, GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable, check_keys
@@ -239,19 +238,13 @@ class Basins(Analysis):
                "tile_attractor_amplitude": np.full(A, np.nan),
                "tile_attractor_multiplier": np.full(A, np.nan),
                "status": STATUS_OK}
-        fmap = point.model.forced_map(point, options, default_steps=mb.DEFAULT_STEPS)
+        full = fmap = point.model.forced_map(point, options, default_steps=mb.DEFAULT_STEPS)
         steps = getattr(fmap, "steps", 0)
         lattice = options.lattice()
-        full = rom = getattr(fmap, "rom", None)  # the ROM's lean quadrature: for its maps only
-        if rom is not None and rom.tables.table_max == 0.0 and options.method == "fast":
-            # (brute force, the reference, keeps the full rule)
-            ps = opt.prestretch_for(point.membrane, options.prestretch)
-            points = lean_radial_points(ps, rom, ml.window_states(lattice, fmap), LEAN_RTOL)
-            if points < rom.radial_points:
-                rom = build_rom(ps, options.modes, radial_points=points)
-                fmap = fmap.with_rom(rom)
+        if options.method == "fast" and hasattr(fmap, "lean"):  # (brute force, the reference, keeps the full rule)
+            fmap = fmap.lean(partial(ml.window_states, lattice, fmap), LEAN_RTOL)
         out["tile_rk4_steps"] = steps
-        out["tile_radial_points"] = 0 if rom is None else rom.radial_points
+        out["tile_radial_points"] = getattr(fmap, "radial_points", 0)
         rows = options.tile_rows(subtask)
         chosen = options.sampled(rows)
         states = ml.lattice_states(lattice, rows, S)[chosen]
@@ -272,11 +265,11 @@ class Basins(Analysis):
             out["tile_attractor_amplitude"][a] = fmap.amplitude(att.points[0], att.period)
             out["tile_attractor_multiplier"][a] = np.max(np.abs(att.multipliers))
         mismatch = 0.0
-        if atts and rom is not full:  # the lean rule again, on the attractors found
-            mismatch = acceleration_mismatch(rom, full, np.concatenate([a.points for a in atts]))
+        if atts and fmap is not full:  # the lean rule again, on the attractors found
+            mismatch = fmap.acceleration_mismatch(full, np.concatenate([a.points for a in atts]))
         if mismatch > LEAN_RTOL:
             out["status"] = STATUS_NOT_CONVERGED
-            out["message"] = (f"the {rom.radial_points}-point radial rule chosen on the window's trajectories "
+            out["message"] = (f"the {fmap.radial_points}-point radial rule chosen on the window's trajectories "
                               f"differs by {mismatch:.1e} from the full rule on the attractors found (they lie "
                               f"beyond what the window's trajectories visit; method = \"brute\" keeps the full rule)")
         elif len(atts) > A or np.any(labels < 0):
