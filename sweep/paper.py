@@ -39,7 +39,8 @@ PAPER_JOBS = (
 #: the paper: convergence in the basis, the modes and the RK4 steps, and brute-force checks.
 VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
     "linear-basis", "forced-modes-omega", "forced-modes-omega-fine", "forced-modes-p0", "forced-modes-p0-fine",
-    "families-radial-4", "families-radial-6", "families-radial-8", "family-check", "fig19a-basins-brute",
+    "families-viscous", "families-modal", "families-rayleigh",
+    "families-1pct-viscous", "families-1pct-modal", "families-1pct-rayleigh", "family-check", "fig19a-basins-brute",
 ))
 QUICK_NUM = 41
 

@@ -6,7 +6,8 @@ import pytest
 
 from model.backbone import linear_mode
 from model.free import FreeRom
-from model.continuation import FOLD, REGULAR, continue_orbits, cusp_from_folds, stable_amplitudes_at
+from model.continuation import (FOLD, REGULAR, continue_orbits, cusp_from_folds, resonant_end, stable_amplitudes_at,
+                                unstable_intervals)
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
@@ -138,6 +139,13 @@ MEMBRANE = Membrane()
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
       "family_check": {"values": [float("nan")]}}, GRID,
      "continuation.family_check.values = [nan] is invalid: must be a list of 1 to 16 finite numbers"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": [4, 2]}}, GRID,
+     "continuation.families.radial = [4, 2] is invalid: an integer from 1 to 32, or a list of distinct increasing"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": [2, 40]}}, GRID,
+     "continuation.families.radial = 40 is invalid: must be <= 32"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": [2, 4]},
+      "branch_switching": {"max_points": 10}}, GRID,
+     "continuation.branch_switching = {'max_points': 10} is invalid: needs one radial count in continuation.families"),
 ])
 def test_option_errors_name_key_value_and_rule(table, grid, message):
     with pytest.raises(JobError) as err:
@@ -176,6 +184,36 @@ def test_compute_with_families_reports_each_family():
     assert modulus[:, 0].max() > 1.2 and modulus[:, 1].max() < 1.0
     assert not (out["stable"][:n][modulus[:, 0] > 1.0]).any()
     assert (out["point_family"][n:] == -1).all() and np.isnan(modulus).sum() == 0
+
+
+def test_a_radial_study_gives_each_count_as_its_own_run_does():
+    # families = {n = [1], radial = [2, 3]}: one branch, the n = 1 family at 2 and at 3
+    # radial modes along family_radial.  Each count's instability intervals are those of a
+    # run with that count alone (their ends are located points, to ~1e-10 in arclength;
+    # the study's branch also holds the other count's located points).
+    grid = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "P0": np.array([1.0]), "c": np.array([0.05])}
+    point = grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "P0": 1.0, "c": 0.05})
+
+    def run(radial):
+        options = CONTINUATION.parse_options({"parameter": "Omega", "start": 25.0, "stop": 55.0, "max_points": 600,
+                                              "ds_max": 0.3, "families": {"n": [1], "radial": radial}}, grid, MEMBRANE)
+        out = CONTINUATION.compute(point, options, 0)
+        assert out["status"] == 0 and all(np.shape(out[v.name]) == v.shape for v in CONTINUATION.variables(options))
+        n = int(out["n_points"])
+        return options, out, n
+
+    options, study, n = run([2, 3])
+    assert [v.dims for v in CONTINUATION.variables(options) if v.name == "family_multiplier_modulus"] == \
+        [("point", "family_radial", "family")]
+    assert list(CONTINUATION.coords(options)["family_radial"][1]) == [2, 3]
+    assert np.isnan(study["family_multiplier_real"][:n, 0, 0, 4:]).all()  # 2 x 2 radial modes, padded to 6
+    end = resonant_end(study["point_type"][:n])
+    for r, radial in enumerate((2, 3)):
+        _, alone, m = run(radial)
+        a = unstable_intervals(alone["Omega"][:m][:resonant_end(alone["point_type"][:m])],
+                               alone["family_multiplier_modulus"][:m, 0][:resonant_end(alone["point_type"][:m])])
+        b = unstable_intervals(study["Omega"][:n][:end], study["family_multiplier_modulus"][:n, r, 0][:end])
+        assert len(a) == len(b) >= 1 and np.allclose(a, b, atol=1e-6), (radial, a, b)
 
 
 def test_cusp_extrapolation_of_a_square_root_merger():

@@ -102,9 +102,22 @@ def by_symmetry(options) -> bool:
     return options.families is None and bool(blocks) and bool(axisymmetric)
 
 
+def family_radials(options) -> tuple[int, ...]:
+    """The radial mode counts of ``families``: one, or those of a convergence study
+    (``radial = [M1, M2, ..]``)."""
+    M = options.families[1]
+    return M if isinstance(M, tuple) else (M,)
+
+
+def is_radial_study(options) -> bool:
+    """Whether ``families`` lists several radial counts (``family_radial`` dimension)."""
+    return options.families is not None and isinstance(options.families[1], tuple)
+
+
 class Families(BranchFeature):
     """``families``: the families' multipliers along the branch; ``point_family`` also for a
-    mixed mode set reduced by symmetry."""
+    mixed mode set reduced by symmetry.  A study in the radial counts adds the dimension
+    ``family_radial`` after ``point`` (the multipliers padded with NaN to the largest count)."""
 
     def enabled(self, options):
         return options.families is not None or by_symmetry(options)
@@ -118,33 +131,41 @@ class Families(BranchFeature):
                                  "and regular points)", -1)]
         if options.families is None:
             return point_family
-        F, w = len(options.families[0]), 2 * options.families[1]
-        pf, pfm = ("point", "family"), ("point", "family", "family_multiplier")
+        F, w = len(options.families[0]), 2 * max(family_radials(options))
+        study = ("family_radial",) if is_radial_study(options) else ()
+        R = (len(family_radials(options)),) if study else ()
+        pf, pfm = ("point", *study, "family"), ("point", *study, "family", "family_multiplier")
         return [
-            Variable("family_multiplier_modulus", pf, (n, F), "f8", "1",
+            Variable("family_multiplier_modulus", pf, (n, *R, F), "f8", "1",
                      "largest Floquet multiplier modulus of the family's block"),
-            Variable("family_multiplier_real", pfm, (n, F, w), "f8", "1",
+            Variable("family_multiplier_real", pfm, (n, *R, F, w), "f8", "1",
                      "real part of the family's Floquet multipliers, by decreasing modulus"),
-            Variable("family_multiplier_imag", pfm, (n, F, w), "f8", "1",
+            Variable("family_multiplier_imag", pfm, (n, *R, F, w), "f8", "1",
                      "imaginary part of the family's Floquet multipliers, by decreasing modulus"),
         ] + point_family
 
     def coords(self, options):
         if options.families is None:
             return {}
+        radial = {} if not is_radial_study(options) else {
+            "family_radial": (("family_radial",), np.array(family_radials(options), dtype=np.int32),
+                              {"long_name": "radial modes per asymmetric family", "units": "1"})}
         return {"family": (("family",), np.array(options.families[0], dtype=np.int32),
                            {"long_name": "circumferential wave number n of the asymmetric mode family", "units": "1"}),
-                "family_multiplier": (("family_multiplier",), np.arange(2 * options.families[1], dtype=np.int32),
+                "family_multiplier": (("family_multiplier",), np.arange(2 * max(family_radials(options)),
+                                                                        dtype=np.int32),
                                       {"long_name": "Floquet multiplier index within the family's block",
-                                       "units": "1"})}
+                                       "units": "1"}),
+                **radial}
 
     def compute(self, ctx):
         out = blank_outputs(self.variables(ctx.options))
         br = ctx.layout
         m = br.value.size
         if ctx.options.families is not None:
-            mu = br.family_multipliers
-            out["family_multiplier_modulus"][:m] = np.abs(mu).max(axis=2)
+            shape = out["family_multiplier_real"].shape[1:]  # ([R,] F, w): the families by count, then n
+            mu = br.family_multipliers.reshape(m, *shape)
+            out["family_multiplier_modulus"][:m] = np.nanmax(np.abs(mu), axis=-1)
             out["family_multiplier_real"][:m], out["family_multiplier_imag"][:m] = mu.real, mu.imag
         out["point_family"][:m] = br.family
         return out, ""

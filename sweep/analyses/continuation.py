@@ -103,8 +103,8 @@ from model.shooting import shoot
 from . import options as opt
 from .base import (DEFAULT_CONTEXT, GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
                    blank_outputs, check_keys)
-from .branch_features import (FEATURES, BranchContext, by_symmetry, curves_option, family_check_option, second_parameter,
-                              switching_option)
+from .branch_features import (FEATURES, BranchContext, by_symmetry, curves_option, family_check_option, family_radials,
+                              second_parameter, switching_option)
 
 #: Length of the ``fold`` dimension.
 MAX_FOLDS = 6
@@ -175,7 +175,8 @@ class ContinuationAnalysis(Analysis):
         "families": "{n = [wave numbers], radial = M}: Floquet multipliers of the asymmetric mode families "
                     "(radial modes 1..M of each n) along the axisymmetric branch; branch points, period "
                     "doublings and Neimark-Sacker points of each family are located (default none; needs "
-                    "axisymmetric modes)",
+                    "axisymmetric modes); radial = [M1, M2, ..] is a convergence study: every family at every "
+                    "count, along a dimension family_radial",
     }
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
@@ -189,7 +190,12 @@ class ContinuationAnalysis(Analysis):
             raise JobError(f"{s}.stop", stop, "must differ from continuation.start")
         modes = opt.modes(table, s)
         families = opt.families(table, s, modes)
-        opt.rom_only(table, s, context.model, ("families", "branch_switching", "check"))
+        opt.rom_only(table, s, context.model, ("families", "branch_switching", "family_check"))
+        if families is not None and isinstance(families[1], tuple):  # a study in the radial modes
+            for key in ("branch_switching", "family_check", "bifurcation_curves"):
+                if key in table:
+                    raise JobError(f"{s}.{key}", table[key], "needs one radial count in continuation.families "
+                                   "(radial = M), not a list")
         opt.damping_modes(context.damping, s, modes, families or any(n for _, n in modes))
         ds_max = opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0)
         return ContinuationOptions(
@@ -262,9 +268,9 @@ class ContinuationAnalysis(Analysis):
             unique = list(dict.fromkeys((n, radial) for n, radial, _ in blocks))
             families = opt.families_for(point.membrane, options.prestretch, modes, tuple(unique))
         elif options.families is not None:
-            ns, M = options.families
+            ns, _ = options.families
             families = opt.families_for(point.membrane, options.prestretch, modes,
-                                        tuple((n, tuple(range(1, M + 1))) for n in ns))
+                                        tuple((n, tuple(range(1, M + 1))) for M in family_radials(options) for n in ns))
         else:
             families = ()
         br = continue_orbits(fmap, options.parameter, options.start, options.stop, ds_max=options.ds_max,

@@ -235,8 +235,10 @@ def families_for(membrane: Membrane, prestretch: str, modes: tuple[tuple[int, in
     return tuple(build_family(ps, rom, n, radial) for n, radial in blocks)
 
 
-def families(table, section: str, mode_list) -> tuple[tuple[int, ...], int] | None:
-    """The ``families = {n = [..], radial = M}`` option: ``(wave numbers, M)`` or None.
+def families(table, section: str, mode_list) -> tuple[tuple[int, ...], int | tuple[int, ...]] | None:
+    """The ``families = {n = [..], radial = M}`` option: ``(wave numbers, M)`` or None;
+    ``radial = [M1, M2, ..]`` (distinct, increasing) is a convergence study: ``M`` is then
+    the tuple of counts.
 
     The families need an axisymmetric mode set (their blocks are taken on axisymmetric
     orbits).
@@ -251,7 +253,13 @@ def families(table, section: str, mode_list) -> tuple[tuple[int, ...], int] | No
     if (not isinstance(ns, list) or not ns or any(isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in ns)
             or len(set(ns)) != len(ns)):
         raise JobError(f"{key}.n", ns, "must be a non-empty list of distinct integers >= 1")
-    radial = number(value, key, "radial", integer=True, low=1, high=32)
+    if isinstance(value["radial"], list):
+        counts = value["radial"]
+        radial = tuple(number({"radial": m}, key, "radial", integer=True, low=1, high=32) for m in counts)
+        if not radial or list(radial) != sorted(set(radial)):
+            raise JobError(f"{key}.radial", counts, "an integer from 1 to 32, or a list of distinct increasing ones")
+    else:
+        radial = number(value, key, "radial", integer=True, low=1, high=32)
     if any(n for _, n in mode_list):
         raise JobError(f"{section}.modes", [list(p) for p in mode_list],
                        "must be axisymmetric (every n = 0) when families are given")

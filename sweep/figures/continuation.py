@@ -16,8 +16,11 @@ def continuation_figures(ds, outdir) -> list:
     overlaid (a colour bar when there are more than four).  Stable responses solid,
     unstable dashed, saddle-nodes circles (period doubling squares, Neimark-Sacker
     diamonds).  Continuations in Omega are zoomed on the resonance (:func:`_zoom_omega`).
-    The fold-loci figure skips the panels without saddle-nodes.
+    The fold-loci figure skips the panels without saddle-nodes.  Of a study in the families'
+    radial modes (a ``family_radial`` dimension) the figures show the largest count.
     """
+    if "family_radial" in ds.dims:
+        ds = ds.isel(family_radial=-1)
     plt = pyplot()
     par = ds.attrs.get("continued_parameter", "P0" if "P0" in ds.data_vars else "Omega")
     xlabel = r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)"
