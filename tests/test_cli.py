@@ -390,8 +390,11 @@ def test_ctrl_c_is_one_line_with_the_way_to_continue(tmp_path):
     job = tmp_path / "slow.toml"
     job.write_text(JOB.replace("scale = 1.0", "scale = 1.0\nsleep = 1.0"))
     env = {**os.environ, "PYTHONPATH": str(os.path.dirname(__file__)), analyses.EXTRA_ENV: EXTRA}
+    # SIGINT at its default in the child: a test run started in the background by a shell
+    # without job control inherits it ignored, and so would the child (then no Ctrl-C at all)
     proc = subprocess.Popen([sys.executable, "-m", "sweep", "run", str(job), "-o", str(tmp_path / "s.nc")],
-                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     lock = tmp_path / "s.nc.parts" / "lock"
     deadline = time.monotonic() + 60
     while not lock.exists() and time.monotonic() < deadline:
