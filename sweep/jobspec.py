@@ -334,8 +334,8 @@ def _model_provides(model: ModelSpec, analysis: Analysis, analysis_name: str) ->
     (:attr:`sweep.analyses.base.Analysis.model_needs`, :meth:`sweep.models.base.Model.provides`)."""
     missing = [m for m in analysis.model_needs if not model.model().provides(m)]
     if missing:
-        raise JobError("job.analysis", analysis_name, f"an analysis that model {model.kind!r} runs: this one needs "
-                       f"its {', '.join(missing)}, which it does not provide")
+        raise JobError("job.analysis", analysis_name, f"an analysis that model {model.kind!r} can run (this one "
+                       f"needs its {', '.join(missing)}, which it does not provide)")
 
 
 def _required_grid(analysis: Analysis, analysis_name: str, grid: Mapping[str, np.ndarray],

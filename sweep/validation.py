@@ -378,11 +378,15 @@ def _basins_brute_force(ds, results: Path) -> list[str]:
     lattice = ml.Lattice(fast.ic_x.values, fast.ic_y.values, 0, K)
     scale, radius = ml.lattice_scale(lattice, 2 * K), default_settings(K).radius
     known = attractors(fast)
-    same = np.array([ma.match_attractor(b, known, scale, radius) for b in attractors(brute)] + [-1])
+    # the fast run's index of each brute-force attractor (-3: none of the fast run's, so that
+    # it agrees with no fast label); an initial condition unclassified (-1) in both agrees
+    same = np.array([ma.match_attractor(b, known, scale, radius) for b in attractors(brute)], dtype=int)
+    same = np.where(same < 0, -3, same)
     computed = brute.label.values != -2
     mine = brute.label.values[computed]
-    agree = np.mean(np.where(mine >= 0, same[mine], -2) == fast.label.values[computed])
-    unmatched = int(np.sum(same[:-1] < 0))
+    mapped = np.where(mine >= 0, same[np.clip(mine, 0, None)] if same.size else -3, mine)
+    agree = np.mean(mapped == fast.label.values[computed])
+    unmatched = int(np.sum(same == -3))
     return out + [f"{int(computed.sum())} initial conditions of the {label} lattice drawn at random and integrated",
                   f"at {int(brute.rk4_steps)} RK4 steps per period (the fast run: {int(fast.rk4_steps)}) until the "
                   "capture disc of an attractor",
@@ -539,16 +543,6 @@ def _stability_map(results: Path) -> list[str]:
                   "the curves start from (they open at larger P0, near the upper saddle-node).", ""]
 
 
-def _resonant_stretch(ds, parameter="Omega"):
-    """The resonant stretch of a continuation result at one grid point: parameter values
-    and the family multiplier moduli (point, family) from the start to the first
-    saddle-node."""
-    n = int(ds.n_points)
-    end = resonant_end(ds.point_type.values.ravel()[:n])
-    modulus = ds.family_multiplier_modulus.transpose("point", "family").values
-    return ds[parameter].values.ravel()[:end], modulus[:end]
-
-
 def _family_convergence(results: Path) -> list[str]:
     out = ["### Family stability under three damping laws: convergence with the radial modes", "",
            "Intervals of Omega (rad/s) on the resonant stretch at delta = 1.1 where each family is unstable,",
@@ -558,7 +552,8 @@ def _family_convergence(results: Path) -> list[str]:
            "with omega). Two sets: the paper's light damping (first-mode ratio 3.5e-4, P0 = 1 Pa,",
            "`validation/families-<law>`) and a first-mode ratio of 1 % (P0 = 10 Pa, `validation/families-1pct-<law>`).",
            "In brackets: the largest multiplier modulus of the family on the stretch. Convergence",
-           f"criterion: from M to 2M the same number of intervals, each end moving by less than {SETTLED:g} rad/s.", ""]
+           f"criterion: from M to the next count (2M) the same number of intervals, each end moving by less than "
+           f"{SETTLED:g} rad/s, at the last step.", ""]
     for name in FAMILY_STUDIES:
         ds = _open(results, name)
         if ds is None or "family_radial" not in ds.dims:
@@ -582,19 +577,23 @@ def _family_convergence(results: Path) -> list[str]:
         for r, M in enumerate(radial):
             out.append(f"| {M} | " + " | ".join(f"{_fmt_intervals(intervals[M, j])} ({np.nanmax(modulus[:, r, j]):.3f})"
                                                 for j in range(len(families))) + " |")
+        if len(radial) < 2:
+            out += ["", "One radial count only: no convergence to judge.", ""]
+            continue
         verdicts = []
         for j, f in enumerate(families):
             moves = [_largest_move(intervals[a, j], intervals[c, j]) for a, c in zip(radial, radial[1:])]
             last = "converged" if moves[-1] < SETTLED else "not converged"
             verdicts.append(f"n = {f}: " + ", ".join("appears/vanishes" if not np.isfinite(m) else f"{m:.2f}"
                                                      for m in moves) + f" ({last})")
-        out += ["", f"Largest end move (rad/s) from M to 2M, M = {', '.join(map(str, radial[:-1]))}: "
+        steps = ", ".join(f"{a} -> {c}" for a, c in zip(radial, radial[1:]))
+        out += ["", f"Largest end move (rad/s) from each M to the next ({steps}): "
                 + "; ".join(verdicts) + ".", ""]
     return out + [_threshold_note(), ""]
 
 
 def _threshold_note() -> str:
-    """Why the viscous law does not converge in the radial modes (the averaged threshold)."""
+    """The averaged threshold of a parametric tongue under each law (theory, no result)."""
     return ("A mode of frequency omega_j modulated parametrically at 2 omega_j, q'' + 2 zeta_j omega_j q' + "
             "omega_j^2 (1 + eps cos 2 omega_j t) q = 0, is destabilised by averaging for eps > 4 zeta_j. Under the "
             "viscous law zeta_j omega_j = c / (2 Gamma h) for every mode, so the threshold 4 zeta_j falls as "
@@ -697,6 +696,10 @@ def section_forced_modes(results: Path) -> list[str]:
                        f"| {change} | {peak:.4f} | {change_amp} |")
             previous = (folds, peak)
         f = fine.isel({d: 0 for d in grid if d in fine.dims})
+        if [(int(a), int(b)) for a, b in zip(f.m.values, f.n.values)] != \
+                [(int(a), int(b)) for a, b in zip(p.m.values, p.n.values)]:
+            return out + [f"*`validation/{job}-fine` has another mode set than the largest of `validation/{job}`: "
+                          "run both job files as committed.*", ""]
         fine_folds = _folds(f)
         last[case] += (f" (the last set at {int(f.rk4_steps)} steps per period: "
                        + (f"saddle-nodes within {np.max(np.abs(fine_folds / previous[0] - 1)):.1e}"

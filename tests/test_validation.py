@@ -35,6 +35,11 @@ def test_the_report_computes_nothing_from_the_model():
                 and (node.module or "").startswith("model") for alias in node.names}
     imported |= {(alias.name, "") for node in ast.walk(tree) if isinstance(node, ast.Import)
                  for alias in node.names if alias.name.startswith("model")}
+    # and of the sweep, only constants, selections and the result files' attributes
+    through_sweep = {(node.module, alias.name) for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)
+                     and (node.module or "").startswith("sweep.") for alias in node.names}
+    assert through_sweep <= {("sweep.analyses.branch_features", "CURVE_DS_MAX"), ("sweep.analyses.mode_sets", "select"),
+                             ("sweep.errors", "RunError"), ("sweep.storage.netcdf", "run_attributes")}
     assert imported <= {("model.continuation", "KIND_LABELS"), ("model.continuation", "resonant_end"),
                         ("model.continuation", "stable_amplitudes_at"), ("model.continuation", "unstable_intervals"),
                         ("model", "attractors"), ("model", "lattice"), ("model.basins", "default_settings")}

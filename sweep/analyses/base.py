@@ -292,7 +292,7 @@ class Analysis(ABC):
     required_grid: ClassVar[tuple[str, ...]] = ("delta", "delta_o")
     #: What the analysis asks of the job's model (:class:`sweep.models.base.Model`): the
     #: names of the methods it calls (``forced_map``, ``free_vibration``, ``static_state``,
-    #: ``natural_frequencies``); a job whose model provides them not is refused.
+    #: ``natural_frequencies``); a job whose model does not provide them is refused.
     model_needs: ClassVar[tuple[str, ...]] = ()
 
     @abstractmethod

@@ -354,7 +354,7 @@ class Basins(Analysis):
                 "lattice_mode": np.int32(options.lattice_mode - 1)}),
             "basin_fraction": (G + ("attractor",), frac, {
                 "units": "1", "long_name": "global integrity measure: basin area fraction of "
-                "the lattice window (Soliman and Thompson 1989)"}),
+                "the lattice window (Soliman and Thompson 1989; of the sample with basins.sample)"}),
             "integrity_factor": (G + ("attractor",), intf, {
                 "units": "1", "long_name": "integrity factor: radius of the largest disc "
                 "centred at the attractor inside its basin, window scaled to the unit square, "

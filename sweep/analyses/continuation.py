@@ -121,7 +121,8 @@ class ContinuationOptions:
     ds_max: float
     steps: int | None
     fold_curve: tuple[str, float, float] | None = None
-    families: tuple[tuple[int, ...], int] | None = None
+    #: (wave numbers, radial modes per family: a count, or the counts of a study)
+    families: tuple[tuple[int, ...], int | tuple[int, ...]] | None = None
     bifurcation_curves: tuple[str, float, float] | None = None
     switch_points: int = 0
     switch_family: int = 0

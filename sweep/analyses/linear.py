@@ -59,6 +59,9 @@ class LinearAnalysis(Analysis):
         if value is not None:
             basis = tuple(opt.number({"basis": v}, self.name, "basis", low=1, high=MAX_BASIS, integer=True)
                           for v in (value if study else [value]))
+            if list(basis) != sorted(set(basis)):
+                raise JobError("linear.basis", value, "a list of distinct increasing sizes (the last is the "
+                               "reference of a convergence study)")
         mmax = max(m for m, _ in modes)
         if basis is not None and mmax > min(basis):
             raise JobError("linear.basis", value, f"must be >= the largest m in linear.modes ({mmax})")

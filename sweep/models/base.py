@@ -28,8 +28,8 @@ class Model(ABC):
     OPTIONS: ClassVar[Mapping[str, str]] = {}
     #: The grid keys of the membrane the model needs (the analyses add their forcing keys).
     required_grid: ClassVar[tuple[str, ...]] = ()
-    #: Whether the analyses' ROM-only options (mode families, branch switching, curves in
-    #: delta, the lean quadrature of the basins) apply to this model's maps.
+    #: Whether the analyses' ROM-only options (mode families, branch switching, the family
+    #: check, curves in delta) apply to this model's maps.
     rom_features: ClassVar[bool] = False
 
     def provides(self, method: str) -> bool:

@@ -33,7 +33,6 @@ class RomModel(Model):
                               default_steps or DEFAULT_STEPS)
         return ForcedMap.from_loading(rom, point.loading, steps, point.damping)
 
-
     def free_vibration(self, point, model_options, options):
         from model.free import FreeRom
         from sweep.analyses import options as opt
