@@ -10,9 +10,9 @@ from model.prestretch import solve_prestretch
 from model.response import refine_jumps, stepped_sweep
 from model.rom import build_rom, force_jacobian
 from sweep.analyses.base import JobError
-from sweep.analyses import options as opt
 from sweep.analyses.response import RESPONSE
 from sweep.jobspec import grid_point
+from sweep.models.rom import rom_for
 
 
 @pytest.fixture(scope="module")
@@ -132,6 +132,6 @@ def test_compute_returns_declared_shapes():
     assert out["status"] == 0 and (out["converged"] == 1).all()
     assert list(RESPONSE.coords(options)["direction"][1]) == ["up", "down"]
     # the stroboscopic state lies on the orbit: |w| there is at most the orbit's amplitude
-    rom = opt.rom_for(point.membrane, options.prestretch, options.modes)
+    rom = rom_for(point.membrane, options.prestretch, options.modes)
     w = np.abs(out["modal_coordinate"] @ rom.tables.probe)
     assert np.all(w <= out["amplitude"] * (1 + 1e-9)) and np.all(w > 0)

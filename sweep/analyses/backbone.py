@@ -29,6 +29,8 @@ from model.backbone import continue_free_orbits, linear_mode, peak_to_peak
 from model.free import FreeRom
 from model.params import Membrane
 
+from sweep.models.rom import rom_for
+
 from . import options as opt
 from .base import DEFAULT_CONTEXT, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Variable, check_keys
 
@@ -123,6 +125,6 @@ BACKBONE = BackboneAnalysis()
 
 def _compile_backbone(material: str) -> None:
     # Backbone.warmups: the free-orbit continuation and the peak-to-peak integration
-    free = FreeRom(opt.rom_for(Membrane(law=material), "analytic", ((1, 0),)))
+    free = FreeRom(rom_for(Membrane(law=material), "analytic", ((1, 0),)))
     continue_free_orbits(free, [1e-3], steps=8)
     peak_to_peak(free, [1e-3], cycles=2)

@@ -53,6 +53,8 @@ from model.forced import ForcedMap
 from model.integrity import global_integrity_measure, integrity_factor
 from model.params import Loading, Membrane
 
+from sweep.models.rom import rom_for
+
 from . import options as opt
 from .base import DEFAULT_CONTEXT, GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable, check_keys
 
@@ -415,7 +417,7 @@ BASINS = Basins()
 
 def _warmup_map(options: BasinsOptions) -> ForcedMap:
     # The stroboscopic map of the job's ROM at a Fig. 19a point, for the warmup calls
-    rom = opt.rom_for(Membrane(law=options.material), options.prestretch, options.modes)
+    rom = rom_for(Membrane(law=options.material), options.prestretch, options.modes)
     return ForcedMap.from_loading(rom, Loading(33.5, 1.0, 0.05), options.steps or mb.DEFAULT_STEPS)
 
 

@@ -35,6 +35,8 @@ from model.prestretch import solve_prestretch
 from model.rom import build_rom
 from model.switching import follow_bifurcated_branch, mixed_rom
 
+from sweep.models.rom import prestretch_for
+
 from . import options as opt
 from .base import GRID_KEYS, JobError, Variable, blank_outputs
 
@@ -384,7 +386,7 @@ class FamilyCheck(BranchFeature):
         values, periods, saturate = options.check
         p = options.parameter
         end = resonant_end(br.kind)
-        ps = opt.prestretch_for(ctx.point.membrane, options.prestretch)
+        ps = prestretch_for(ctx.point.membrane, options.prestretch)
         Ka = fmap.rom.dof
         problems = []
         for j, fam in enumerate(ctx.families):
@@ -469,7 +471,7 @@ class BranchSwitching(BranchFeature):
             return out, ""
         i = bps[0]
         family = next(f for f in ctx.families if f.n == br.family[i])
-        ps = opt.prestretch_for(ctx.point.membrane, options.prestretch)
+        ps = prestretch_for(ctx.point.membrane, options.prestretch)
         try:
             sw, fmap_mixed, asym = follow_bifurcated_branch(ps, fmap, family, p, options.start, options.stop,
                                                             br.state[i], br.value[i], ds_max=options.ds_max,

@@ -100,6 +100,8 @@ from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
 from model.shooting import shoot
 
+from sweep.models.rom import families_for, rom_for
+
 from . import options as opt
 from .base import (DEFAULT_CONTEXT, GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
                    blank_outputs, check_keys)
@@ -267,10 +269,10 @@ class ContinuationAnalysis(Analysis):
             # a sine block with the radial indices of a cosine block has its multipliers:
             # one family each, so that every point is located once
             unique = list(dict.fromkeys((n, radial) for n, radial, _ in blocks))
-            families = opt.families_for(point.membrane, options.prestretch, modes, tuple(unique))
+            families = families_for(point.membrane, options.prestretch, modes, tuple(unique))
         elif options.families is not None:
             ns, _ = options.families
-            families = opt.families_for(point.membrane, options.prestretch, modes,
+            families = families_for(point.membrane, options.prestretch, modes,
                                         tuple((n, tuple(range(1, M + 1))) for M in family_radials(options) for n in ns))
         else:
             families = ()
@@ -367,5 +369,5 @@ CONTINUATION = ContinuationAnalysis()
 
 def _compile_shooting(modes, material: str) -> None:
     # Continuation.warmups: the shooting Newton iteration of a ROM of these modes and this law
-    rom = opt.rom_for(Membrane(law=material), "analytic", modes)
+    rom = rom_for(Membrane(law=material), "analytic", modes)
     shoot(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 0.05), steps=16), np.zeros(2 * rom.dof))

@@ -6,18 +6,13 @@ value and what is allowed, so that analyses validate their tables in a few lines
 
 from __future__ import annotations
 
-import functools
 import math
 from collections.abc import Mapping
 
 import numpy as np
 
-from model.families import Family, build_family
 from model.forced import PARAMETERS as FORCING_PARAMETERS
-from model.forced import steps_per_period
-from model.params import Membrane
-from model.prestretch import KINDS, solve_prestretch
-from model.rom import Rom, build_rom
+from model.prestretch import KINDS
 
 from .base import DEFAULT_DAMPING, GRID_KEYS, MISSING, DampingSpec, JobError
 
@@ -110,7 +105,8 @@ def modes(table, section: str, default=((1, 0),)) -> tuple[tuple[int, int], ...]
 def steps(table, section: str, base: int, low: int, high: int | None = 4096) -> int | None:
     """The ``steps`` option: RK4 steps per forcing period, an integer in ``[low, high]``
     (``high`` None: no upper bound), or ``"auto"`` (the default, returned as None):
-    :func:`model.forced.steps_per_period` of the task's ROM with ``base`` (:func:`steps_for`)."""
+    :func:`model.forced.steps_per_period` of the task's ROM with ``base``
+    (:func:`sweep.models.rom.steps_for`)."""
     v = table.get("steps", "auto")
     if v == "auto":
         return None
@@ -126,12 +122,6 @@ def steps_help(base: int, which: str = "the set") -> str:
     return (f"RK4 steps per forcing period, or \"auto\" (default): {base} for one mode, for several "
             f"{base} x (highest / lowest linear frequency of {which})^(5/4), rounded up to a multiple of 8 "
             "(the fastest mode integrated as accurately as the slowest)")
-
-
-def steps_for(membrane: Membrane, prestretch: str, modes, steps: int | None, base: int) -> int:
-    """The steps per period of a task: the option's value, or for ``"auto"``
-    :func:`model.forced.steps_per_period` of the ROM of ``modes`` (:func:`rom_for`)."""
-    return steps if steps is not None else steps_per_period(rom_for(membrane, prestretch, modes), base)
 
 
 def linspace(table, section: str, key: str, default=None, *, low=None, low_open=False,
@@ -210,29 +200,6 @@ def mode_coords(mode_list) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict]
     return {"m": (("mode",), arr[:, 0], {"long_name": "radial mode index m", "units": "1"}),
             "n": (("mode",), arr[:, 1], {"long_name": "circumferential wave number n (negative: the sine "
                                                       "companion sin(|n| theta))", "units": "1"})}
-
-
-@functools.lru_cache(maxsize=8)
-def prestretch_for(membrane: Membrane, prestretch: str):
-    """The ``prestretch`` solution of ``membrane`` (cached)."""
-    return solve_prestretch(membrane, prestretch)
-
-
-@functools.lru_cache(maxsize=8)
-def rom_for(membrane: Membrane, prestretch: str, modes: tuple[tuple[int, int], ...]) -> Rom:
-    """The ROM of ``modes`` on the ``prestretch`` solution of ``membrane`` (cached: the
-    tiles of a basins lattice and the tasks of a grid often share a membrane)."""
-    return build_rom(prestretch_for(membrane, prestretch), modes)
-
-
-@functools.lru_cache(maxsize=8)
-def families_for(membrane: Membrane, prestretch: str, modes: tuple[tuple[int, int], ...],
-                 blocks: tuple[tuple[int, tuple[int, ...]], ...]) -> tuple[Family, ...]:
-    """The family blocks (:func:`model.families.build_family`) ``(n, radial indices)`` for
-    the axisymmetric ROM of :func:`rom_for`."""
-    ps = prestretch_for(membrane, prestretch)
-    rom = rom_for(membrane, prestretch, modes)
-    return tuple(build_family(ps, rom, n, radial) for n, radial in blocks)
 
 
 def families(table, section: str, mode_list) -> tuple[tuple[int, ...], int | tuple[int, ...]] | None:

@@ -24,6 +24,8 @@ from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
 from model.response import refine_jumps, stepped_sweep
 
+from sweep.models.rom import rom_for
+
 from . import options as opt
 from .base import DEFAULT_CONTEXT, GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Variable, check_keys
 
@@ -150,6 +152,6 @@ RESPONSE = ResponseAnalysis()
 
 def _compile_stepped_sweep(modes, material: str) -> None:
     # Response.warmups: the stepped sweep of a ROM of these modes and this material law
-    rom = opt.rom_for(Membrane(law=material), "analytic", modes)
+    rom = rom_for(Membrane(law=material), "analytic", modes)
     stepped_sweep(ForcedMap.from_loading(rom, Loading(30.0, 0.1, 1.0), steps=16), "P0", [0.1],
                   max_periods=2, min_periods=1)

@@ -10,9 +10,49 @@ Its options are today's analysis options: ``modes``, ``prestretch``, ``steps`` a
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from sweep.models.base import Model
+
+
+@functools.lru_cache(maxsize=8)
+def prestretch_for(membrane, prestretch: str):
+    """The ``prestretch`` solution (:func:`model.prestretch.solve_prestretch`) of
+    ``membrane`` (cached)."""
+    from model.prestretch import solve_prestretch
+
+    return solve_prestretch(membrane, prestretch)
+
+
+@functools.lru_cache(maxsize=8)
+def rom_for(membrane, prestretch: str, modes: tuple[tuple[int, int], ...]):
+    """The ROM of ``modes`` on the ``prestretch`` solution of ``membrane`` (cached: the
+    tiles of a basins lattice and the tasks of a grid often share a membrane)."""
+    from model.rom import build_rom
+
+    return build_rom(prestretch_for(membrane, prestretch), modes)
+
+
+@functools.lru_cache(maxsize=8)
+def families_for(membrane, prestretch: str, modes: tuple[tuple[int, int], ...],
+                 blocks: tuple[tuple[int, tuple[int, ...]], ...]):
+    """The family blocks (:func:`model.families.build_family`) ``(n, radial indices)`` for
+    the axisymmetric ROM of :func:`rom_for`."""
+    from model.families import build_family
+
+    ps = prestretch_for(membrane, prestretch)
+    rom = rom_for(membrane, prestretch, modes)
+    return tuple(build_family(ps, rom, n, radial) for n, radial in blocks)
+
+
+def steps_for(membrane, prestretch: str, modes, steps: int | None, base: int) -> int:
+    """The steps per period of a task: the option's value, or for ``"auto"``
+    :func:`model.forced.steps_per_period` of the ROM of ``modes`` (:func:`rom_for`)."""
+    from model.forced import steps_per_period
+
+    return steps if steps is not None else steps_per_period(rom_for(membrane, prestretch, modes), base)
 
 
 class RomModel(Model):
@@ -25,30 +65,25 @@ class RomModel(Model):
     def forced_map(self, point, model_options, options, modes=None, default_steps=None):
         # imported here: a job file names its model at validation, which compiles nothing
         from model.forced import DEFAULT_STEPS, ForcedMap
-        from sweep.analyses import options as opt
 
         modes = options.modes if modes is None else modes
-        rom = opt.rom_for(point.membrane, options.prestretch, tuple(modes))
-        steps = opt.steps_for(point.membrane, options.prestretch, options.modes, options.steps,
-                              default_steps or DEFAULT_STEPS)
+        rom = rom_for(point.membrane, options.prestretch, tuple(modes))
+        steps = steps_for(point.membrane, options.prestretch, options.modes, options.steps,
+                          default_steps or DEFAULT_STEPS)
         return ForcedMap.from_loading(rom, point.loading, steps, point.damping)
 
     def free_vibration(self, point, model_options, options):
         from model.free import FreeRom
-        from sweep.analyses import options as opt
 
-        return FreeRom(opt.rom_for(point.membrane, options.prestretch, tuple(options.modes)))
+        return FreeRom(rom_for(point.membrane, options.prestretch, tuple(options.modes)))
 
     def static_state(self, point, model_options, options):
-        from sweep.analyses import options as opt
-
-        return opt.prestretch_for(point.membrane, options.prestretch)
+        return prestretch_for(point.membrane, options.prestretch)
 
     def natural_frequencies(self, point, model_options, options, basis):
         from model.linear import CHANGE_TOL, MAX_BASIS, galerkin_frequencies
-        from sweep.analyses import options as opt
 
-        ps = opt.prestretch_for(point.membrane, options.prestretch)
+        ps = prestretch_for(point.membrane, options.prestretch)
         omega = np.empty(len(options.modes))
         by_n: dict[int, np.ndarray] = {}
         problems = []
