@@ -171,7 +171,7 @@ class ForcedMap:
         :mod:`model.protocol`)."""
         if self.rom.tables.table_max > 0.0:
             return self
-        points = lean_radial_points(self.rom.prestretch, self.rom, sample(), rtol)
+        points = lean_radial_points(self.rom, sample(), rtol)
         if points >= self.rom.radial_points:
             return self
         return self.with_rom(build_rom(self.rom.prestretch, self.rom.modes, radial_points=points))

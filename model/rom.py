@@ -188,7 +188,7 @@ def default_quadrature(modes) -> tuple[int, int]:
 LEAN_RADIAL_POINTS = (32, 48, 64, 96, 128)
 
 
-def lean_radial_points(prestretch: Prestretch, rom: Rom, states, rtol: float = 1e-10) -> int:
+def lean_radial_points(rom: Rom, states, rtol: float = 1e-10) -> int:
     """The fewest radial points with which ``rom`` is unchanged on ``states``.
 
     :func:`default_quadrature` sizes the radial rule for the largest amplitudes of the
@@ -200,10 +200,8 @@ def lean_radial_points(prestretch: Prestretch, rom: Rom, states, rtol: float = 1
 
     Parameters
     ----------
-    prestretch : Prestretch
-        The static solution ``rom`` was built on.
     rom : Rom
-        The reference ROM (its angular rule and probe are kept).
+        The reference ROM (its pre-stretch, angular rule and probe are kept).
     states : (M, 2K) array
         States ``(q, q')`` (m, m s-1) the analysis will visit.
     rtol : float
@@ -214,7 +212,7 @@ def lean_radial_points(prestretch: Prestretch, rom: Rom, states, rtol: float = 1
     for n in LEAN_RADIAL_POINTS:
         if n >= rom.radial_points:
             break
-        lean = build_rom(prestretch, rom.modes, rom.probe_rho, n, rom.theta_points, force_table=False)
+        lean = build_rom(rom.prestretch, rom.modes, rom.probe_rho, n, rom.theta_points, force_table=False)
         if np.abs(_accelerations(lean, states) - exact).max() <= bound:
             return n
     return rom.radial_points

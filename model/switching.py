@@ -23,7 +23,6 @@ import numpy as np
 from .continuation import Branch, continue_orbits
 from .families import Family
 from .forced import ForcedMap
-from .prestretch import Prestretch
 from .rom import Rom, build_rom
 
 
@@ -36,9 +35,10 @@ def null_direction(fmap: ForcedMap, state, family: Family) -> np.ndarray:
     return v / np.linalg.norm(v)
 
 
-def mixed_rom(prestretch: Prestretch, rom: Rom, family: Family) -> Rom:
-    """The ROM of ``rom``'s axisymmetric modes followed by the family's cosine modes."""
-    return build_rom(prestretch, list(rom.modes) + list(family.modes), probe_rho=rom.probe_rho)
+def mixed_rom(rom: Rom, family: Family) -> Rom:
+    """The ROM of ``rom``'s axisymmetric modes followed by the family's cosine modes, on
+    ``rom``'s pre-stretch."""
+    return build_rom(rom.prestretch, list(rom.modes) + list(family.modes), probe_rho=rom.probe_rho)
 
 
 def asymmetric_part(rom: Rom, axisymmetric: int) -> Rom:
@@ -49,15 +49,13 @@ def asymmetric_part(rom: Rom, axisymmetric: int) -> Rom:
     return replace(rom, tables=rom.tables._replace(probe=probe))
 
 
-def follow_bifurcated_branch(prestretch: Prestretch, fmap: ForcedMap, family: Family, parameter: str,
+def follow_bifurcated_branch(fmap: ForcedMap, family: Family, parameter: str,
                              start: float, stop: float, state, value: float,
                              **options) -> tuple[Branch, ForcedMap, np.ndarray]:
     """The asymmetric branch bifurcating at the branch point ``(state, value)`` of ``family``.
 
     Parameters
     ----------
-    prestretch : Prestretch
-        The static solution of ``fmap``'s ROM.
     fmap : ForcedMap
         The map of the axisymmetric ROM (its continued parameter is overridden).
     family : Family
@@ -81,7 +79,7 @@ def follow_bifurcated_branch(prestretch: Prestretch, fmap: ForcedMap, family: Fa
     """
     at = fmap.varied(parameter, value)
     v = null_direction(at, state, family)
-    mixed = mixed_rom(prestretch, fmap.rom, family)
+    mixed = mixed_rom(fmap.rom, family)
     Ka, M = fmap.rom.dof, len(family.radial)
     K = Ka + M
     y0 = np.zeros(2 * K)

@@ -23,7 +23,7 @@ from model.forced import ForcedMap
 from model.integrate import rk4_steps
 from model.linear import galerkin_frequencies
 from model.materials import invariant_energy
-from model.params import Loading, Membrane, ParameterError
+from model.params import Membrane, ParameterError
 from model.prestretch import solve_prestretch
 from model.rom import build_rom, elastic_force, force_jacobian, force_work, total_energy
 

@@ -18,7 +18,7 @@ from model.switching import follow_bifurcated_branch
 def switched(fig14a_n1):
     fmap, br = fig14a_n1.fmap, fig14a_n1.branch
     i = br.special(BRANCH_POINT)[0]
-    sw, fmap_mixed, asym = follow_bifurcated_branch(fig14a_n1.prestretch, fmap, fig14a_n1.family, "Omega", 25.0,
+    sw, fmap_mixed, asym = follow_bifurcated_branch(fmap, fig14a_n1.family, "Omega", 25.0,
                                                     55.0, br.state[i], br.value[i], ds=0.01, ds_max=0.3,
                                                     max_points=8)
     return br.value[i], (fmap, br), sw, fmap_mixed, asym

@@ -35,8 +35,6 @@ from model.prestretch import solve_prestretch
 from model.rom import build_rom
 from model.switching import follow_bifurcated_branch, mixed_rom
 
-from sweep.models.rom import prestretch_for
-
 from . import options as opt
 from .base import GRID_KEYS, JobError, Variable, blank_outputs
 
@@ -386,11 +384,10 @@ class FamilyCheck(BranchFeature):
         values, periods, saturate = options.check
         p = options.parameter
         end = resonant_end(br.kind)
-        ps = prestretch_for(ctx.point.membrane, options.prestretch)
         Ka = fmap.rom.dof
         problems = []
         for j, fam in enumerate(ctx.families):
-            mixed = fmap.with_rom(mixed_rom(ps, fmap.rom, fam))
+            mixed = fmap.with_rom(mixed_rom(fmap.rom, fam))
             asymmetric = tuple(range(Ka, Ka + len(fam.radial)))
             for c, v in enumerate(values):
                 i = int(np.argmin(np.abs(br.value[:end] - v)))
@@ -471,9 +468,8 @@ class BranchSwitching(BranchFeature):
             return out, ""
         i = bps[0]
         family = next(f for f in ctx.families if f.n == br.family[i])
-        ps = prestretch_for(ctx.point.membrane, options.prestretch)
         try:
-            sw, fmap_mixed, asym = follow_bifurcated_branch(ps, fmap, family, p, options.start, options.stop,
+            sw, fmap_mixed, asym = follow_bifurcated_branch(fmap, family, p, options.start, options.stop,
                                                             br.state[i], br.value[i], ds_max=options.ds_max,
                                                             max_points=n)
         except (RuntimeError, ArithmeticError, np.linalg.LinAlgError) as exc:

@@ -135,7 +135,7 @@ class ModeSetSweep(Analysis):
         check_result(result, self.inner.variables(options.sets[s]))  # as the runner would, before padding
         out = {k: result[k] for k in ("status", "message") if k in result}
         for v in self._declared(options).values():
-            padded = np.full(v.shape, v.fill, dtype=v.dtype)
+            padded = v.blank()
             if v.name in result:
                 value = np.asarray(result[v.name])
                 padded[tuple(slice(0, n) for n in value.shape)] = value
