@@ -1,7 +1,7 @@
 """Axisymmetric pre-stretch of the annular membrane (paper, section 3).
 
 Three variants of the deformed radius ``r_o(rho)`` share one interface
-(:class:`Prestretch`): ``analytic`` (linearised solution, Eq. 21, the same for every law:
+(:class:`Prestretch`, a :class:`PlanarState`): ``analytic`` (linearised solution, Eq. 21, the same for every law:
 the small-strain displacement of an incompressible disc under edge displacements),
 ``numeric`` (Chebyshev collocation of the nonlinear equilibrium of the membrane's law,
 Eq. 15 for the neo-Hookean law; shooting only seeds it where Eq. 21 does not) and ``fit``
@@ -60,8 +60,40 @@ def _equilibrium_rhs(law, rho, state):
     return np.array([y, (w2 - w1 - w12 * (y - l2)) / (rho * w11)])
 
 
+class PlanarState:
+    """What every axisymmetric planar state ``r(rho)`` of a membrane gives from its radius and
+    slope: stretches, stresses and edge traction.  Subclasses have ``membrane`` and
+    ``radius(rho)``, ``slope(rho)``: :class:`Prestretch` (the ROM's) and
+    :class:`model.full.static.FullPrestretch` (the full model's)."""
+
+    def stretches(self, rho):
+        """Principal stretches ``(lambda_1, lambda_2, lambda_3)`` of Eq. (12) at ``rho`` (m)."""
+        rho = np.asarray(rho, dtype=float)
+        r, dr = self.radius(rho), self.slope(rho)
+        return dr, r / rho, rho / (r * dr)
+
+    def stresses(self, rho):
+        """Cauchy principal stresses ``(sigma_1, sigma_2)`` (Pa), Eq. (22) for any law.
+
+        ``sigma_i = lambda_i dW/dlambda_i`` for the incompressible membrane in plane
+        stress (:func:`model.materials.stretch_derivatives`); for the neo-Hookean law
+        ``2 C1 (lambda_i^2 - lambda_3^2)``, Eq. (22).
+        """
+        l1, l2, _ = self.stretches(rho)
+        w1, w2, *_ = stretch_derivatives(self.membrane.material, l1, l2)
+        c1 = self.membrane.C1
+        return c1 * l1 * w1, c1 * l2 * w2
+
+    def traction(self) -> float:
+        """Edge traction ``f = h dW/dlambda_1`` (N m-1 of undeformed edge) that holds the
+        stretch at ``rho = Re``, Eq. (16)."""
+        m = self.membrane
+        l1, l2 = float(self.slope(m.Re)), m.Rf / m.Re
+        return m.h * m.C1 * float(stretch_derivatives(m.material, l1, l2)[0])
+
+
 @dataclass(frozen=True)
-class Prestretch:
+class Prestretch(PlanarState):
     """The deformed radius ``r_o(rho)`` of one pre-stretched membrane.
 
     Build it with :func:`solve_prestretch`.  ``coef`` holds the variant's representation
@@ -96,31 +128,6 @@ class Prestretch:
         """Radial stretch ``lambda_1 = d r_o / d rho`` (1) at ``rho`` (m), Eq. (12)."""
         s = np.asarray(rho, dtype=float) / self.membrane.Re
         return self._scaled(s)[1]
-
-    def stretches(self, rho):
-        """Principal stretches ``(lambda_1, lambda_2, lambda_3)`` of Eq. (12) at ``rho`` (m)."""
-        rho = np.asarray(rho, dtype=float)
-        r, dr = self.radius(rho), self.slope(rho)
-        return dr, r / rho, rho / (r * dr)
-
-    def stresses(self, rho):
-        """Cauchy principal stresses ``(sigma_1, sigma_2)`` (Pa), Eq. (22) for any law.
-
-        ``sigma_i = lambda_i dW/dlambda_i`` for the incompressible membrane in plane
-        stress (:func:`model.materials.stretch_derivatives`); for the neo-Hookean law
-        ``2 C1 (lambda_i^2 - lambda_3^2)``, Eq. (22).
-        """
-        l1, l2, _ = self.stretches(rho)
-        w1, w2, *_ = stretch_derivatives(self.membrane.material, l1, l2)
-        c1 = self.membrane.C1
-        return c1 * l1 * w1, c1 * l2 * w2
-
-    def traction(self) -> float:
-        """Edge traction ``f = h dW/dlambda_1`` (N m-1 of undeformed edge) that holds the
-        stretch at ``rho = Re``, Eq. (16)."""
-        m = self.membrane
-        l1, l2 = float(self.slope(m.Re)), m.Rf / m.Re
-        return m.h * m.C1 * float(stretch_derivatives(m.material, l1, l2)[0])
 
 
 def _analytic_coef(delta, delta_o):
@@ -275,6 +282,22 @@ def _fit_coef(delta, delta_o, numeric_coef):
     return tuple(float(c) for c in coef)
 
 
+def check_extensibility(membrane: Membrane) -> None:
+    """Refuse a membrane whose outer edge alone is beyond the law's limit of extensibility.
+
+    Raises
+    ------
+    ValueError
+        When ``delta^2 + 2/delta - 3``, the least ``I1 - 3`` of the hoop stretch ``delta`` at
+        the outer edge, is not below Gent's ``Jm``.
+    """
+    d = membrane.delta
+    if extensibility(membrane.material, d * d + 2.0 / d) <= 0.0:  # the least I1 of the outer edge
+        raise ValueError(f"Jm = {membrane.Jm!r} is invalid at delta = {d!r}: must exceed delta^2 + 2/delta - 3 = "
+                         f"{d * d + 2.0 / d - 3.0:.6g}, the least I1 - 3 at the outer edge (no state within the "
+                         "Gent law's limit of extensibility)")
+
+
 def solve_prestretch(membrane: Membrane, kind: str = "numeric") -> Prestretch:
     """Solve the static pre-stretch of ``membrane`` with the chosen variant.
 
@@ -293,11 +316,8 @@ def solve_prestretch(membrane: Membrane, kind: str = "numeric") -> Prestretch:
     """
     if kind not in KINDS:
         raise ValueError(f"prestretch = {kind!r} is invalid: must be one of {', '.join(KINDS)}")
+    check_extensibility(membrane)
     d, do = membrane.delta, membrane.delta_o
-    if extensibility(membrane.material, d * d + 2.0 / d) <= 0.0:  # the least I1 of the outer edge
-        raise ValueError(f"Jm = {membrane.Jm!r} is invalid at delta = {d!r}: must exceed delta^2 + 2/delta - 3 = "
-                         f"{d * d + 2.0 / d - 3.0:.6g}, the least I1 - 3 at the outer edge (no state within the "
-                         "Gent law's limit of extensibility)")
     if kind == "analytic":
         coef = _analytic_coef(d, do)
     elif kind == "numeric":

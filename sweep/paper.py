@@ -38,7 +38,8 @@ PAPER_JOBS = (
 #: Job files (``jobs/validation/<name>.toml``) of the checks in ``docs/validation.md`` beyond
 #: the paper: convergence in the basis, the modes and the RK4 steps, and brute-force checks.
 VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
-    "linear-basis", "forced-modes-omega", "forced-modes-omega-fine", "forced-modes-p0", "forced-modes-p0-fine",
+    "linear-basis", "full-static", "full-linear",
+    "forced-modes-omega", "forced-modes-omega-fine", "forced-modes-p0", "forced-modes-p0-fine",
     "families-viscous", "families-modal", "families-rayleigh",
     "families-1pct-viscous", "families-1pct-modal", "families-1pct-rayleigh", "family-check", "fig19a-basins-brute",
 ))

@@ -71,7 +71,7 @@ class BackboneAnalysis(Analysis):
         check_keys(table, self.name, tuple(self.OPTIONS))
         return BackboneOptions(
             modes=opt.modes(table, self.name),
-            prestretch=opt.prestretch(table, self.name),
+            prestretch=opt.prestretch(table, self.name, context),
             amplitude=opt.linspace(table, self.name, "amplitude", DEFAULT_AMPLITUDE, low=0.0,
                                    low_open=True, max_num=10_000),
             peak_damping=opt.number(table, self.name, "peak_damping", 0.05, low=0.0, low_open=True),

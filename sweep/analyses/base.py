@@ -139,6 +139,11 @@ class ModelSpec:
         converge (:meth:`sweep.models.base.Model.natural_frequencies`)."""
         return self.model().natural_frequencies(point, self.options, options, basis)
 
+    def inplane_frequencies(self, point: Point, options: Any, basis: int | None = None):
+        """The in-plane natural frequencies of ``options.modes`` at ``point``
+        (:meth:`sweep.models.base.Model.inplane_frequencies`)."""
+        return self.model().inplane_frequencies(point, self.options, options, basis)
+
 
 #: A job without a ``[model]`` table: the Galerkin ROM.
 DEFAULT_MODEL = ModelSpec()

@@ -191,7 +191,7 @@ class Basins(Analysis):
             max_period=opt.number(table, _SECTION, "max_period", d.max_period, low=1, high=64,
                                   integer=True))
         return BasinsOptions(
-            modes=modes, prestretch=opt.prestretch(table, _SECTION), lattice_mode=lm,
+            modes=modes, prestretch=opt.prestretch(table, _SECTION, context), lattice_mode=lm,
             ic_x=ic_x, ic_y=ic_y, method=method,
             tiles=min(max(opt.number(table, _SECTION, "tiles", 8, low=1, integer=True),
                           math.ceil(ic_x[2] * ic_y[2] / MAX_TILE_POINTS)), ic_x[2]),

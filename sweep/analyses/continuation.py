@@ -202,7 +202,7 @@ class ContinuationAnalysis(Analysis):
         opt.damping_modes(context.damping, s, modes, families or any(n for _, n in modes))
         ds_max = opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0)
         return ContinuationOptions(
-            parameter, start, stop, modes, opt.prestretch(table, s),
+            parameter, start, stop, modes, opt.prestretch(table, s, context),
             opt.number(table, s, "max_points", math.ceil(BRANCH_ARCLENGTH / ds_max), low=2, high=100_000,
                        integer=True),
             ds_max,

@@ -1,7 +1,9 @@
 """Analysis ``linear``: natural frequencies of the pre-stretched membrane (section 4.1).
 
 Per grid point and mode (m, n): the converged Galerkin frequency of Eq. (25)
-(``omega``), Eq. (28) (``omega_approx``) and the Eq. (29) bound (``omega_bound``).
+(``omega``), Eq. (28) (``omega_approx``) and the Eq. (29) bound (``omega_bound``); with a
+model that has in-plane motion (``[model] kind = "full"``) also the m-th in-plane frequency
+of wave number n (``omega_inplane``).
 Options: :attr:`LinearAnalysis.OPTIONS` (``docs/options.md``).  A task whose frequency is
 not below its Eq. 29 bound, or whose adaptive basis did not converge, is failed (the reason
 in ``message``).
@@ -32,6 +34,8 @@ class LinearOptions:
     basis: tuple[int, ...] | None
     #: whether ``basis`` was a list (a ``basis`` dimension) rather than one size
     basis_study: bool = False
+    #: whether the job's model has in-plane frequencies (``omega_inplane``)
+    inplane: bool = False
 
 
 class LinearAnalysis(Analysis):
@@ -43,9 +47,10 @@ class LinearAnalysis(Analysis):
     OPTIONS = {
         "modes": opt.MODES_HELP,
         "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
-        "basis": "Bessel functions per wave number n in the Galerkin basis (default: adaptive, doubled "
-                 "from 32 until the frequencies change by less than 2e-6, at most 256); a list of sizes is a "
-                 "convergence study: omega gains a dimension basis",
+        "basis": "radial functions per wave number n: the ROM's Bessel functions of the Galerkin basis "
+                 "(default: adaptive, doubled from 32 until the frequencies change by less than 2e-6, at most "
+                 "256), the full model's Legendre functions per field (default: its [model] order); a list of "
+                 "sizes is a convergence study: omega (and omega_inplane) gain a dimension basis",
     }
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
@@ -65,25 +70,28 @@ class LinearAnalysis(Analysis):
         mmax = max(m for m, _ in modes)
         if basis is not None and mmax > min(basis):
             raise JobError("linear.basis", value, f"must be >= the largest m in linear.modes ({mmax})")
-        return LinearOptions(modes, opt.prestretch(table, self.name), basis, study)
+        inplane = context.model.model().provides("inplane_frequencies")
+        return LinearOptions(modes, opt.prestretch(table, self.name, context), basis, study, inplane)
 
     def variables(self, options):
         k = len(options.modes)
         omega_dims, omega_shape = ("mode",), (k,)
         if options.basis_study:
             omega_dims, omega_shape = ("basis", "mode"), (len(options.basis), k)
+        inplane = [Variable("omega_inplane", omega_dims, omega_shape, "f8", "rad s-1",
+                            "m-th in-plane natural frequency of wave number n")] if options.inplane else []
         return [
             Variable("omega", omega_dims, omega_shape, "f8", "rad s-1", "natural frequency, Galerkin solution of Eq. 25"),
             Variable("omega_approx", ("mode",), (k,), "f8", "rad s-1", "approximate natural frequency, Eq. 28"),
             Variable("omega_bound", ("mode",), (k,), "f8", "rad s-1",
                      "upper bound of the natural frequency, Eq. 29 (neo-Hookean law; NaN for the others)"),
-        ]
+        ] + inplane
 
     def coords(self, options):
         coords = opt.mode_coords(options.modes)
         if options.basis_study:
             coords["basis"] = (("basis",), np.array(options.basis, np.int32),
-                               {"long_name": "Bessel functions per wave number in the Galerkin basis", "units": "1"})
+                               {"long_name": "radial functions per wave number in the Galerkin basis", "units": "1"})
         return coords
 
     def compute(self, point, options, subtask):
@@ -92,11 +100,14 @@ class LinearAnalysis(Analysis):
         K = len(options.modes)
         sizes = options.basis or (None,)
         omega = np.empty((len(sizes), K))
+        inplane = np.empty((len(sizes), K))
         out = {"omega_approx": np.empty(K), "omega_bound": np.empty(K)}
         problems = []
         for b, size in enumerate(sizes):
             omega[b], unconverged = point.model.natural_frequencies(point, options, size)
             problems += unconverged
+            if options.inplane:
+                inplane[b] = point.model.inplane_frequencies(point, options, size)
         for k, (mm, signed_n) in enumerate(options.modes):
             alpha = bessel_roots(abs(signed_n), m.delta_o, mm)[-1]
             out["omega_approx"][k] = approximate_frequency(ps, alpha)
@@ -111,6 +122,8 @@ class LinearAnalysis(Analysis):
                     problems.append(f"mode ({mm}, {signed_n}){at}: omega = {w:.6g} rad/s is not in "
                                     f"(0, Eq. 29 bound = {out['omega_bound'][k]:.6g})")
         out["omega"] = omega if options.basis_study else omega[0]
+        if options.inplane:
+            out["omega_inplane"] = inplane if options.basis_study else inplane[0]
         out["status"] = STATUS_FAILED if problems else STATUS_OK
         if problems:
             out["message"] = "; ".join(problems)

@@ -55,9 +55,12 @@ def choice(table, section: str, key: str, allowed, default=None) -> str:
     return v
 
 
-def prestretch(table, section: str, default: str = "numeric") -> str:
-    """The ``prestretch`` option: ``analytic`` (Eq. 21), ``numeric`` (Eq. 15) or ``fit`` (Eq. 18)."""
-    return choice(table, section, "prestretch", KINDS, default)
+def prestretch(table, section: str, context=None, default: str = "numeric") -> str:
+    """The ``prestretch`` option: ``analytic`` (Eq. 21), ``numeric`` (Eq. 15) or ``fit`` (Eq. 18),
+    those of them the job's model solves (``context.model``: a
+    :class:`~sweep.analyses.base.JobContext`; all three without one)."""
+    kinds = KINDS if context is None else context.model.model().prestretch_kinds
+    return choice(table, section, "prestretch", kinds, default)
 
 
 #: Description of the ``modes`` option, shared by the analyses (docs/options.md).

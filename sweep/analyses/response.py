@@ -81,7 +81,7 @@ class ResponseAnalysis(Analysis):
         modes = opt.modes(table, s)
         opt.damping_modes(context.damping, s, modes, None)
         return ResponseOptions(
-            parameter, values, modes, opt.prestretch(table, s),
+            parameter, values, modes, opt.prestretch(table, s, context),
             opt.steps(table, s, DEFAULT_STEPS, low=16),
             opt.number(table, s, "tol", 1e-6, low=0.0, low_open=True, high=1e-2),
             opt.number(table, s, "consecutive", 20, low=1, high=10_000, integer=True),

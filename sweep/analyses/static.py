@@ -44,7 +44,7 @@ class StaticAnalysis(Analysis):
         rho = opt.linspace(table, self.name, "rho", default, low=0.0, low_open=True)
         if rho[1] > re or rho[0] > rho[1]:
             raise JobError("static.rho", table.get("rho"), f"need 0 < start <= stop <= Re = {re} m")
-        return StaticOptions(opt.prestretch(table, self.name), rho)
+        return StaticOptions(opt.prestretch(table, self.name, context), rho)
 
     def variables(self, options):
         n = options.rho[2]

@@ -1,7 +1,9 @@
 """Registry of models: ``[model] kind = name`` -> a :class:`~sweep.models.base.Model`.
 
 The sweep builds the model of every grid point through this registry: ``"rom"``, the
-Galerkin reduced-order model (:mod:`sweep.models.rom`), is the default.  Models of one's
+Galerkin reduced-order model (:mod:`sweep.models.rom`), is the default; ``"full"``, the
+membrane with its in-plane displacements (:mod:`sweep.models.full`), runs ``static`` and
+``linear`` so far.  Models of one's
 own are added through the environment variable ``SWEEP_EXTRA_MODELS``
 (comma-separated ``name=module:attribute`` items, the module on ``PYTHONPATH``), as
 ``tests/escape_model.py`` adds Thompson's escape oscillator (docs/architecture.md).
@@ -17,6 +19,7 @@ EXTRA_ENV = "SWEEP_EXTRA_MODELS"
 
 BUILTIN = {
     "rom": "sweep.models.rom:ROM",
+    "full": "sweep.models.full:FULL",
 }
 
 _REGISTRY = Registry("models", "model.kind", BUILTIN, EXTRA_ENV)

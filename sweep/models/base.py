@@ -5,22 +5,21 @@ options into the objects the algorithms of :mod:`model` take: for the forced ana
 (``response``, ``continuation``, ``basins``) a stroboscopic map
 (:class:`model.protocol.StroboscopicMap`); for ``backbone`` its free vibration
 (:class:`model.protocol.FreeVibration`); for ``static`` its static state and for
-``linear`` its natural frequencies.  Only :meth:`Model.forced_map` is required; an analysis
-names the methods it calls (:attr:`sweep.analyses.base.Analysis.model_needs`) and a job
+``linear`` its natural frequencies (and, for a model with in-plane motion, its in-plane
+ones).  Every method is optional: an analysis names the methods it calls (:attr:`sweep.analyses.base.Analysis.model_needs`) and a job
 whose model does not provide them (:meth:`Model.provides`) is refused at validation.  The
 analyses never build a model themselves.
 """
 
 from __future__ import annotations
 
-from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from typing import Any, ClassVar
 
 from sweep.job_errors import check_keys
 
 
-class Model(ABC):
+class Model:
     """One kind of model a job can ask for (``[model] kind = name``)."""
 
     name: ClassVar[str]
@@ -31,11 +30,14 @@ class Model(ABC):
     #: Whether the analyses' ROM-only options (mode families, branch switching, the family
     #: check, curves in delta) apply to this model's maps.
     rom_features: ClassVar[bool] = False
+    #: The ``prestretch`` variants (:data:`model.prestretch.KINDS`) the analyses may ask of
+    #: the model (a model that solves its own pre-stretch admits ``numeric`` only).
+    prestretch_kinds: ClassVar[tuple[str, ...]] = ("analytic", "numeric", "fit")
 
     def provides(self, method: str) -> bool:
-        """Whether the model implements ``method`` (one of the methods below; the
-        optional ones raise NotImplementedError unless a subclass overrides them)."""
-        return method == "forced_map" or getattr(type(self), method, None) is not getattr(Model, method, None)
+        """Whether the model implements ``method`` (one of the methods below, which raise
+        NotImplementedError unless a subclass overrides them)."""
+        return getattr(type(self), method, None) is not getattr(Model, method, None)
 
     def parse_options(self, table: Mapping[str, Any]) -> Any:
         """Validate the ``[model]`` table (without ``kind``); raise
@@ -43,7 +45,6 @@ class Model(ABC):
         check_keys(table, "model", ("kind", *self.OPTIONS))
         return None
 
-    @abstractmethod
     def forced_map(self, point, model_options: Any, options: Any, modes=None, default_steps: int | None = None):
         """The stroboscopic map of the model at ``point`` (its forcing, damping law and
         membrane) for an analysis with ``options``.
@@ -53,6 +54,7 @@ class Model(ABC):
         steps per forcing period where its options give none.  Models without modes or
         fixed steps ignore them.
         """
+        raise NotImplementedError(f"model {self.name!r} has no stroboscopic map (forced analyses)")
 
     def free_vibration(self, point, model_options: Any, options: Any):
         """The free vibration (:class:`model.protocol.FreeVibration`) of the model at
@@ -71,3 +73,9 @@ class Model(ABC):
         model's converged default), and a list of what did not converge (empty when all
         did)."""
         raise NotImplementedError(f"model {self.name!r} has no natural frequencies (linear)")
+
+    def inplane_frequencies(self, point, model_options: Any, options: Any, basis: int | None):
+        """In-plane natural frequencies (rad s-1) at ``point`` for the ``linear`` analysis: for
+        each mode ``(m, n)`` of ``options.modes`` the m-th in-plane frequency of wave number
+        ``n``, with ``basis`` functions per field (None: the model's default)."""
+        raise NotImplementedError(f"model {self.name!r} has no in-plane motion")

@@ -1,0 +1,119 @@
+"""Natural frequencies of the full model about its pre-stretched state
+(docs/model.md, "The full model", "Linear vibrations").
+
+A displacement of one circumferential harmonic ``n``,
+
+    u = U(s) cos(n theta),   v = V(s) sin(n theta),   w = W(s) cos(n theta)
+
+(the sine companion exchanges cos and sin and has the same frequencies), changes the
+columns of the surface's deformation gradient by
+
+    da1 = (U', V', W'),   da2 = ((-n U - V) / s, (U + n V) / s, -n W / s)
+
+(the first, third and fifth components times ``cos``, the others times ``sin``).  The
+second variation of the energy is ``int da . A da s ds`` over the angle with ``A`` the
+tangent moduli of :func:`model.full.surface.hessian` at the planar pre-stretch; the angular
+integral couples only components of equal parity (a factor ``pi``, ``2 pi`` for ``n = 0``,
+which cancels against the kinetic energy ``(Gamma h / 2) int (U^2 + V^2 + W^2) s ds``).
+At the planar state ``A`` couples ``W`` with neither ``U`` nor ``V`` (``A`` has no entry between
+a ``z`` component and an in-plane one there), so the problem splits into a transverse one --
+the same as Eq. (25), whose converged Galerkin frequencies it reproduces -- and an in-plane
+one in ``(U, V)``; for ``n = 0`` the in-plane one splits again into radial (``U``) and
+torsional (``V``) motion.  With ``K`` and ``M`` the Legendre-Galerkin matrices (scaled radii),
+``omega^2 = (C1 / (Gamma Re^2)) lambda`` for their generalised eigenvalues ``lambda``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg import eigh
+
+from . import surface
+from .static import FullPrestretch, planar_columns
+
+
+def _tangent(state: FullPrestretch):
+    b = state.basis
+    r, dr = state.scaled(b.s)
+    a1, a2 = planar_columns(r, dr, b.s)
+    return surface.hessian(state.membrane.material, a1, a2)
+
+
+def _variations(state: FullPrestretch, n: int, fields: str):
+    """``(6, unknowns, points)``: the change of each component of ``F`` per basis coefficient
+    of the ``fields`` (a subset of ``"UVW"``, in that order), and the component parities."""
+    b = state.basis
+    k, p = b.order, b.s.size
+    zero = np.zeros((k, p))
+    inv_s = 1.0 / b.s
+    # rows: a1_r, a1_theta, a1_z, a2_r, a2_theta, a2_z; one block of columns per field
+    by_field = {
+        "U": [b.dphi, zero, zero, -n * b.phi * inv_s, b.phi * inv_s, zero],
+        "V": [zero, b.dphi, zero, -b.phi * inv_s, n * b.phi * inv_s, zero],
+        "W": [zero, zero, b.dphi, zero, zero, -n * b.phi * inv_s],
+    }
+    blocks = np.array([np.concatenate([by_field[f][c] for f in fields]) for c in range(6)])
+    return blocks
+
+
+#: Whether each component of ``F`` varies as ``cos(n theta)`` (True) or ``sin(n theta)``.
+_COSINE = np.array([True, False, True, False, True, False])
+
+
+def stiffness_mass(state: FullPrestretch, n: int, fields: str):
+    """The Galerkin stiffness and mass matrices of harmonic ``n`` for the ``fields``
+    (scaled radii, divided by ``C1 h`` and ``Gamma h`` and by the angular factor)."""
+    b = state.basis
+    A = _tangent(state)
+    dF = _variations(state, n, fields)
+    w = b.s * b.weights
+    same = _COSINE[:, None] == _COSINE[None, :]
+    if n == 0:
+        same[:] = True  # every component is independent of theta
+    K = np.zeros((dF.shape[1], dF.shape[1]))
+    for i in range(6):
+        for j in range(6):
+            if same[i, j]:
+                K += (dF[i] * (A[:, i, j] * w)) @ dF[j].T
+    blocks = [(b.phi * w) @ b.phi.T] * len(fields)
+    M = np.zeros_like(K)
+    o = b.order
+    for f, block in enumerate(blocks):
+        M[f * o:(f + 1) * o, f * o:(f + 1) * o] = block
+    return 0.5 * (K + K.T), M
+
+
+def frequencies(state: FullPrestretch, n: int, count: int, fields: str) -> np.ndarray:
+    """The ``count`` lowest natural frequencies (rad s-1) of harmonic ``n`` for ``fields``:
+    ``"W"`` transverse, ``"UV"`` in-plane (``"U"`` radial or ``"V"`` torsional alone for
+    ``n = 0``).
+
+    Raises
+    ------
+    ValueError
+        When ``count`` exceeds the unknowns, or the in-plane fields are split for ``n > 0``
+        (they are coupled there).
+    """
+    if n > 0 and fields in ("U", "V"):
+        raise ValueError(f"fields = {fields!r} is invalid for n = {n}: U and V are coupled for n > 0 (use 'UV')")
+    K, M = stiffness_mass(state, n, fields)
+    if count > K.shape[0]:
+        raise ValueError(f"count = {count} is invalid: must be <= {K.shape[0]} unknowns of order "
+                         f"{state.basis.order}")
+    lam = eigh(K, M, eigvals_only=True, subset_by_index=(0, count - 1))
+    m = state.membrane
+    return np.sqrt(m.C1 / (m.Gamma * m.Re**2) * lam)
+
+
+def transverse_frequencies(state: FullPrestretch, n: int, count: int) -> np.ndarray:
+    """``omega_mn`` (rad s-1), ``m = 1 .. count``: the transverse modes of harmonic ``n``."""
+    return frequencies(state, n, count, "W")
+
+
+def inplane_frequencies(state: FullPrestretch, n: int, count: int) -> np.ndarray:
+    """The ``count`` lowest in-plane frequencies (rad s-1) of harmonic ``n`` (radial and
+    torsional modes together for ``n = 0``, sorted)."""
+    if n == 0:
+        both = np.concatenate([frequencies(state, 0, count, "U"), frequencies(state, 0, count, "V")])
+        return np.sort(both)[:count]
+    return frequencies(state, n, count, "UV")

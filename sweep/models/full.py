@@ -1,0 +1,83 @@
+"""The full model of the membrane (:mod:`model.full`) as a job's model (``[model] kind = "full"``).
+
+It keeps the in-plane displacements and their inertia that the ROM drops.  So far it runs
+``static`` (its own pre-stretch, the minimum of the axisymmetric energy) and ``linear``
+(transverse and in-plane frequencies per wave number); the forced analyses and
+``backbone`` are refused at validation.  Its resolution is ``[model] order``, the number
+of radial Legendre-Galerkin functions per field; ``linear.basis`` overrides it per task
+(a list of orders is a convergence study).
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+
+import numpy as np
+
+from model.full.static import DEFAULT_ORDER
+from sweep.analyses import options as opt
+from sweep.job_errors import check_keys
+from sweep.models.base import Model
+
+#: Largest radial order a job may ask for.
+MAX_ORDER = 256
+
+
+@dataclass(frozen=True)
+class FullOptions:
+    #: radial Legendre-Galerkin functions per field
+    order: int
+
+
+@functools.lru_cache(maxsize=8)
+def full_prestretch_for(membrane, order: int):
+    """The full model's pre-stretch (:func:`model.full.static.solve_full_prestretch`) of
+    ``membrane`` on ``order`` radial functions (cached)."""
+    from model.full.static import solve_full_prestretch
+
+    return solve_full_prestretch(membrane, order)
+
+
+class FullModel(Model):
+    """The membrane with in-plane displacements on ``order`` radial functions per field."""
+
+    name = "full"
+    required_grid = ("delta", "delta_o")
+    prestretch_kinds = ("numeric",)
+
+    OPTIONS = {"order": f"radial Legendre-Galerkin functions per displacement field (default {DEFAULT_ORDER}; "
+                        f"4..{MAX_ORDER}); the pre-stretch and the frequencies converge spectrally with it "
+                        "(docs/model.md, \"The full model\")"}
+
+    def parse_options(self, table):
+        check_keys(table, "model", ("kind", *self.OPTIONS))
+        return FullOptions(opt.number(table, "model", "order", DEFAULT_ORDER, low=4, high=MAX_ORDER, integer=True))
+
+    def static_state(self, point, model_options, options):
+        return full_prestretch_for(point.membrane, model_options.order)
+
+    def natural_frequencies(self, point, model_options, options, basis):
+        from model.full.linear import transverse_frequencies
+
+        return self._per_wave_number(point, basis or model_options.order, options.modes, transverse_frequencies), []
+
+    def inplane_frequencies(self, point, model_options, options, basis):
+        from model.full.linear import inplane_frequencies
+
+        return self._per_wave_number(point, basis or model_options.order, options.modes, inplane_frequencies)
+
+    @staticmethod
+    def _per_wave_number(point, order, modes, solve):
+        state = full_prestretch_for(point.membrane, order)
+        omega = np.empty(len(modes))
+        by_n: dict[int, np.ndarray] = {}
+        for k, (m, signed_n) in enumerate(modes):
+            n = abs(signed_n)  # a sine companion has the frequencies of its cosine mode
+            if n not in by_n:
+                by_n[n] = solve(state, n, max(a for a, b in modes if abs(b) == n))
+            omega[k] = by_n[n][m - 1]
+        return omega
+
+
+FULL = FullModel()
