@@ -45,7 +45,7 @@ def render() -> str:
               "|---|---|---|"]
     for name in MODELS:
         model = models.get(name)
-        keys = ", ".join(f"`{k}`: {t}" for k, t in model.OPTIONS.items()) or "none (the ROM's `modes`, "\
+        keys = ", ".join(f"`{k}`: {t.replace('|', chr(92) + '|')}" for k, t in model.OPTIONS.items()) or "none (the ROM's `modes`, "\
             "`prestretch` and `steps` are the analysis' options)"
         lines.append(f"| `{name}` | {keys} | {', '.join(f'`{k}`' for k in model.required_grid) or 'none'} |")
     lines += ["", "## `[membrane]` law", "",

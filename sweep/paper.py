@@ -27,7 +27,7 @@ from .launch import find_mpiexec
 
 #: Job files (``jobs/<name>.toml``) that reproduce the paper's tables and figures.
 PAPER_JOBS = (
-    "table1", "table1-app1", "table1-app2", "table1-mooney-rivlin", "table1-gent", "table2",
+    "table1", "table1-app1", "table1-app2", "table1-mooney-rivlin", "table1-gent", "table2", "tables-fe",
     "fig02-03-static", "fig04-06-frequencies",
     "fig09-modes", "fig10-11-backbone", "fig12-inner-radius",
     "fig13-resonance", "fig14-bifurcation-omega", "fig15-bifurcation-p0", "fig15-bruteforce",
@@ -38,7 +38,7 @@ PAPER_JOBS = (
 #: Job files (``jobs/validation/<name>.toml``) of the checks in ``docs/validation.md`` beyond
 #: the paper: convergence in the basis, the modes and the RK4 steps, and brute-force checks.
 VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
-    "linear-basis", "full-static", "full-linear",
+    "linear-basis", "full-static", "full-linear", "fe-q1-576", "fe-q1-576-lumped",
     "forced-modes-omega", "forced-modes-omega-fine", "forced-modes-p0", "forced-modes-p0-fine",
     "families-viscous", "families-modal", "families-rayleigh",
     "families-1pct-viscous", "families-1pct-modal", "families-1pct-rayleigh", "family-check", "fig19a-basins-brute",

@@ -108,15 +108,17 @@ def test_integrators():
     assert names.count("project") == 4 and names.count("solve_ivp") == 4
     assert names.count("C") == (0 if "C reference skipped" in out else 4)
     assert all(float(diff) < 1e-5 for name, _, diff in rows if name != "project")
-    # The C program runs the project's controller: the same steps but for rounding, which
-    # moves an error estimate across 1 now and then (a regression bound: 2 steps of 12
-    # evaluations were seen in the smoke run, 2.2 % in the full one; allowed are 3 steps
-    # or 5 %).
+    # The C program runs the project's controller: the same steps but for rounding (both
+    # under fast-math, reassociated differently), which moves an error estimate across 1 now
+    # and then.  A regression bound: 2 steps of 12 evaluations were seen in the first smoke
+    # run, 2.2 % in the full one, 5 steps (60 of 1165 evaluations, 5.2 %) on an AMD EPYC;
+    # allowed are 3 steps or 10 %, below what another controller (safety factor, error
+    # norm, step limits) changes.
     evals = {}
     for name, count, _ in rows:
         evals.setdefault(name, []).append(int(count))
     for project, c in zip(evals["project"], evals.get("C", [])):
-        assert abs(c - project) <= max(36, 0.05 * project)
+        assert abs(c - project) <= max(36, 0.10 * project)
     assert len(re.findall(r"^  speed-up over solve_ivp \d+x", out, re.M)) == 4
 
 

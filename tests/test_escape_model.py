@@ -142,7 +142,7 @@ def test_rom_only_options_are_refused_for_another_model(monkeypatch):
     with pytest.raises(JobError, match="continuation.families = .* is invalid: needs the ROM's mode families; "
                                        "this job's model is 'escape'"):
         parse_job(CONTINUATION.replace("max_points = 600", "max_points = 600\nfamilies = {n = [1], radial = 2}"))
-    with pytest.raises(JobError, match="model.kind = 'duffing' is invalid: one of the available models: 'rom', 'full', "
+    with pytest.raises(JobError, match="model.kind = 'duffing' is invalid: one of the available models: 'rom', 'full', 'fe2d', "
                                        "'escape'"):
         parse_job(CONTINUATION.replace('kind = "escape"', 'kind = "duffing"'))
     # an analysis the model does not run (it has no free vibration, no static state)

@@ -440,8 +440,11 @@ def test_a_merge_of_more_logs_than_it_keeps_open_is_the_same(capsys, job, tmp_pa
 
 def test_pieces_run_side_by_side_and_a_whole_run_waits_for_them(tmp_path):
     job = tmp_path / "job.toml"
-    job.write_text(MPI_JOB.format(sleep=0.05))
-    reference = sweep("run", job, "-o", "ref.nc", ranks=0, cwd=tmp_path)
+    # each piece runs 16 tasks of 0.25 s: longer than a second run takes to start and find its lock
+    job.write_text(MPI_JOB.format(sleep=0.25))
+    fast = tmp_path / "fast.toml"
+    fast.write_text(MPI_JOB.format(sleep=0.0))  # the same results without the waits
+    reference = sweep("run", fast, "-o", "ref.nc", ranks=0, cwd=tmp_path)
     assert reference.returncode == 0, reference.stderr
     launch = [sys.executable, "-m", "sweep", "run", str(job), "-o", "mpi.nc", "--progress", "none"]
     pieces = [subprocess.Popen([*launch, "--chunks", f"{i}/3"], cwd=tmp_path, env=sweep_env(),

@@ -17,7 +17,7 @@ def test_missing_results_name_the_jobs(tmp_path):
              + validation.section_cusp(tmp_path) + validation.section_basins_modes(tmp_path)
              + validation.section_linear_convergence(tmp_path) + validation.section_forced_modes(tmp_path)
              + validation._family_convergence(tmp_path) + validation._family_check(tmp_path)
-             + validation.section_full_model(tmp_path))
+             + validation.section_full_model(tmp_path) + validation.section_fe_check(tmp_path))
     text = "\n".join(lines)
     for job in ("fig09-modes", "fig15-bifurcation-p0", "fig15-bruteforce", "fig19-basins",
                 "fig10-11-backbone", "fig12-inner-radius", "fig17-cusp", "fig16-17-damping",

@@ -42,15 +42,16 @@ class LinearAnalysis(Analysis):
     """Linear frequencies omega_mn by Galerkin (Eq. 25), Eq. (28) and Eq. (29)."""
 
     name = "linear"
-    model_needs = ("static_state", "natural_frequencies")
+    model_needs = ("natural_frequencies",)
     #: The option table ``[linear]``: key -> description (docs/options.md).
     OPTIONS = {
         "modes": opt.MODES_HELP,
         "prestretch": "analytic (Eq. 21) | numeric (Eq. 15, default) | fit (Eq. 18)",
         "basis": "radial functions per wave number n: the ROM's Bessel functions of the Galerkin basis "
                  "(default: adaptive, doubled from 32 until the frequencies change by less than 2e-6, at most "
-                 "256), the full model's Legendre functions per field (default: its [model] order); a list of "
-                 "sizes is a convergence study: omega (and omega_inplane) gain a dimension basis",
+                 "256), the full model's Legendre functions per field (default: its [model] order), the 2-D FE "
+                 "check's radial elements (default: its [model] radial); a list of sizes is a convergence "
+                 "study: omega (and omega_inplane) gain a dimension basis",
     }
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
@@ -82,7 +83,8 @@ class LinearAnalysis(Analysis):
                             "m-th in-plane natural frequency of wave number n")] if options.inplane else []
         return [
             Variable("omega", omega_dims, omega_shape, "f8", "rad s-1", "natural frequency, Galerkin solution of Eq. 25"),
-            Variable("omega_approx", ("mode",), (k,), "f8", "rad s-1", "approximate natural frequency, Eq. 28"),
+            Variable("omega_approx", ("mode",), (k,), "f8", "rad s-1",
+                     "approximate natural frequency, Eq. 28 (NaN for a model without a radial pre-stretch)"),
             Variable("omega_bound", ("mode",), (k,), "f8", "rad s-1",
                      "upper bound of the natural frequency, Eq. 29 (neo-Hookean law; NaN for the others)"),
         ] + inplane
@@ -96,7 +98,8 @@ class LinearAnalysis(Analysis):
 
     def compute(self, point, options, subtask):
         m = point.membrane
-        ps = point.model.static_state(point, options)
+        # Eq. 28 needs the pre-stretch's slope at the outer edge: NaN for a model without one
+        ps = point.model.static_state(point, options) if point.model.model().provides("static_state") else None
         K = len(options.modes)
         sizes = options.basis or (None,)
         omega = np.empty((len(sizes), K))
@@ -110,7 +113,7 @@ class LinearAnalysis(Analysis):
                 inplane[b] = point.model.inplane_frequencies(point, options, size)
         for k, (mm, signed_n) in enumerate(options.modes):
             alpha = bessel_roots(abs(signed_n), m.delta_o, mm)[-1]
-            out["omega_approx"][k] = approximate_frequency(ps, alpha)
+            out["omega_approx"][k] = approximate_frequency(ps, alpha) if ps is not None else np.nan
             out["omega_bound"][k] = frequency_bound(m, alpha)
             # Eq. 29 bounds every neo-Hookean frequency from above (the limit delta -> infinity);
             # the other laws have no bound (NaN)

@@ -3,7 +3,8 @@
 The sweep builds the model of every grid point through this registry: ``"rom"``, the
 Galerkin reduced-order model (:mod:`sweep.models.rom`), is the default; ``"full"``, the
 membrane with its in-plane displacements (:mod:`sweep.models.full`), runs ``static`` and
-``linear`` so far.  Models of one's
+``linear`` so far; ``"fe2d"``, the membrane on a two-dimensional finite-element mesh
+(:mod:`sweep.models.fe2d`), checks it in ``linear``.  Models of one's
 own are added through the environment variable ``SWEEP_EXTRA_MODELS``
 (comma-separated ``name=module:attribute`` items, the module on ``PYTHONPATH``), as
 ``tests/escape_model.py`` adds Thompson's escape oscillator (docs/architecture.md).
@@ -20,6 +21,7 @@ EXTRA_ENV = "SWEEP_EXTRA_MODELS"
 BUILTIN = {
     "rom": "sweep.models.rom:ROM",
     "full": "sweep.models.full:FULL",
+    "fe2d": "sweep.models.fe2d:FE2D",
 }
 
 _REGISTRY = Registry("models", "model.kind", BUILTIN, EXTRA_ENV)

@@ -3,6 +3,7 @@ attributes of the run(s) that wrote it."""
 
 from __future__ import annotations
 
+import dataclasses
 import datetime
 import json
 import math
@@ -364,6 +365,7 @@ def _attributes(job: Job, parts: Path) -> tuple[dict, dict]:
         "source_sha256": last["source_sha256"],
         **membrane_attributes(job.membrane, job.layout.dims),
         "model": job.model.kind,
+        **model_attributes(job.model),
         "damping_law": job.damping.law.name,
         **damping_attributes(job.damping),
         **job.analysis.attributes(job.options),
@@ -388,6 +390,15 @@ def _write_run_group(path: Path, attrs: dict) -> None:
 
     with netCDF4.Dataset(path, "a") as nc:
         nc.createGroup(RUN_GROUP).setncatts(attrs)
+
+
+def model_attributes(model) -> dict:
+    """``model_<key>`` for each option of the job's ``[model]`` table (the fields of the
+    model's parsed options, a dataclass; none for a model without options)."""
+    options = model.options
+    if options is None or not dataclasses.is_dataclass(options):
+        return {}
+    return {f"model_{f.name}": getattr(options, f.name) for f in dataclasses.fields(options)}
 
 
 def damping_attributes(damping) -> dict:
