@@ -25,6 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from skfem import (Basis, BilinearForm, ElementQuad1, ElementTriP2, ElementVector, LinearForm,
                    MeshQuad, MeshTri, MeshTri2)
@@ -80,7 +81,9 @@ class AnnulusMesh:
         # every edge midpoint at the midpoint of its ends in (r, theta): circles stay circles
         ends = linear.p[:, linear.facets]  # (2, 2, facets)
         rad = np.hypot(ends[0], ends[1]).mean(axis=0)
-        ang = np.arctan2(ends[1].sum(axis=0), ends[0].sum(axis=0))
+        start = np.arctan2(ends[1, 0], ends[0, 0])
+        turn = np.angle(np.exp(1j * (np.arctan2(ends[1, 1], ends[0, 1]) - start)))  # wrapped to (-pi, pi]
+        ang = start + 0.5 * turn
         doflocs = quadratic.doflocs.copy()
         doflocs[:, linear.p.shape[1]:] = rad * np.array([np.cos(ang), np.sin(ang)])
         return cls(membrane, radial, circumferential, element, grading, MeshTri2(doflocs, quadratic.t))
@@ -145,9 +148,7 @@ def solve_fe_prestretch(mesh: AnnulusMesh) -> FePrestretch:
 
     @BilinearForm
     def tangent(u, v, w):
-        A = at["A"]
-        return sum(A[..., 3 * j + i, 3 * l + k] * u.grad[k, l] * v.grad[i, j]
-                   for i in range(2) for j in range(2) for k in range(2) for l in range(2))
+        return _inplane_tangent(at["A"], u, v)
 
     X = basis.doflocs
     r = np.hypot(X[0], X[1])
@@ -172,6 +173,13 @@ def solve_fe_prestretch(mesh: AnnulusMesh) -> FePrestretch:
                           f"{mesh.radial} x {mesh.circumferential} {mesh.element} elements")
 
 
+def _inplane_tangent(A, u, v):
+    """``grad v : A : grad u`` for planar vector fields (``A`` from :func:`model.full.surface.hessian`,
+    component ``3 j + i`` for ``F_ij = dx_i/dX_j``)."""
+    return sum(A[..., 3 * j + i, 3 * l + k] * u.grad[k, l] * v.grad[i, j]
+               for i in range(2) for j in range(2) for k in range(2) for l in range(2))
+
+
 def _tangent_moduli(state: FePrestretch):
     """``A`` (``(elements, points, 6, 6)``) at the quadrature points of the state's mesh."""
     return surface.hessian(state.mesh.membrane.material, *_columns(state.basis.interpolate(state.d).grad))
@@ -179,42 +187,50 @@ def _tangent_moduli(state: FePrestretch):
 
 def _wave_numbers(basis, vectors, mesh: AnnulusMesh):
     """The dominant circumferential wave number of each column of ``vectors`` (a field of
-    ``basis``, 1 or 2 components): the largest Fourier coefficient of its values (its radial
-    and tangential components for a vector field) at the vertices of two circles of the mesh."""
-    parts = basis.split_indices() if isinstance(basis.elem, ElementVector) else [np.arange(basis.N)]
-    X = basis.doflocs[:, parts[0]]
+    ``basis``, 1 or 2 components) and, for in-plane fields, whether its ``n = 0`` content is
+    torsional (tangential) rather than radial: the largest Fourier coefficient of its values
+    (the radial and tangential components for a vector field) at the equally spaced vertices
+    of two circles of the mesh, their powers summed."""
+    nodal = basis.nodal_dofs  # (components, vertices)
+    X = mesh.mesh.doflocs[:, :nodal.shape[1]]  # the vertices come first
     radius = np.hypot(X[0], X[1])
     rings = np.unique(np.round(radius, 12))
-    power = 0.0
+    radial_power = tangential_power = 0.0
     for target in (0.4, 0.7):  # two circles: a mode with a nodal circle on one shows on the other
         ring = rings[np.argmin(np.abs(rings - (mesh.membrane.delta_o + target * (1 - mesh.membrane.delta_o))))]
         on = np.nonzero(np.abs(radius - ring) < 1e-9)[0]
-        on = on[np.argsort(np.arctan2(X[1, on], X[0, on]))]
-        angle = np.arctan2(X[1, on], X[0, on])[:, None]
-        values = [vectors[parts[c][on]] for c in range(len(parts))]
+        angle = np.arctan2(X[1, on], X[0, on])
+        on, angle = on[np.argsort(angle)], np.sort(angle)[:, None]
+        values = [vectors[nodal[c, on]] for c in range(nodal.shape[0])]
         if len(values) == 2:  # radial and tangential components
             values = [np.cos(angle) * values[0] + np.sin(angle) * values[1],
                       -np.sin(angle) * values[0] + np.cos(angle) * values[1]]
-        spectrum = sum(np.abs(np.fft.rfft(v, axis=0)) ** 2 for v in values)
-        power = power + spectrum / spectrum.sum(axis=0)
-    return np.argmax(power, axis=0)
+            tangential_power = tangential_power + np.abs(np.fft.rfft(values[1], axis=0)) ** 2
+        radial_power = radial_power + np.abs(np.fft.rfft(values[0], axis=0)) ** 2
+    n = np.argmax(radial_power + tangential_power, axis=0)
+    torsional = (n == 0) & (np.broadcast_to(tangential_power, radial_power.shape)[0] > radial_power[0])
+    return n, torsional
 
 
-def fe_frequencies(state: FePrestretch, fields: str, count: int, n_max: int = 3, mass: str = "consistent"):
-    """Natural frequencies (rad s-1) about the pre-stretched state: ``fields`` ``"W"`` (transverse)
-    or ``"UV"`` (in-plane).
+def fe_modes(state: FePrestretch, fields: str, count: int, n_max: int = 3, mass: str = "consistent"):
+    """Natural frequencies (rad s-1) and mode shapes about the pre-stretched state: ``fields``
+    ``"W"`` (transverse) or ``"UV"`` (in-plane).
 
     Returns
     -------
-    dict of int to numpy.ndarray
+    dict of int to (numpy.ndarray, numpy.ndarray)
         For each wave number ``n <= n_max`` the ``count`` lowest frequencies whose
-        eigenvectors have that wave number (a pair of cos/sin modes counted once).
+        eigenvectors have that wave number (a pair of cos/sin modes counted once; for in-plane
+        fields and ``n = 0`` the radial modes, the torsional ones left out), and those
+        eigenvectors as columns on the dofs of the basis of ``fields`` (``M``-normalised,
+        zero on the edges).
 
     Raises
     ------
     ValueError
-        On a lumped mass with quadratic elements (row sums give no positive mass there), or
-        when the mesh has fewer than ``count`` frequencies of some ``n <= n_max``.
+        On a lumped mass with quadratic elements (row sums give no positive mass there), a
+        wave number the mesh does not resolve (``2 n_max >= circumferential``), or when the
+        mesh has fewer than ``count`` frequencies of some ``n <= n_max``.
     """
     mesh = state.mesh
     if mass not in MASSES:
@@ -222,6 +238,9 @@ def fe_frequencies(state: FePrestretch, fields: str, count: int, n_max: int = 3,
     if mass == "lumped" and mesh.element != "Q1":
         raise ValueError(f"mass = 'lumped' is invalid for element = {mesh.element!r}: row-sum lumping needs "
                          "linear elements (Q1)")
+    if 2 * n_max >= mesh.circumferential:
+        raise ValueError(f"n = {n_max} is invalid on {mesh.circumferential} elements around: the mesh resolves "
+                         f"wave numbers below {mesh.circumferential / 2:g}")
     A = _tangent_moduli(state)
     if fields == "W":
         basis = mesh.basis(1)
@@ -238,8 +257,7 @@ def fe_frequencies(state: FePrestretch, fields: str, count: int, n_max: int = 3,
 
         @BilinearForm
         def stiffness(u, v, w):
-            return sum(A[..., 3 * j + i, 3 * l + k] * u.grad[k, l] * v.grad[i, j]
-                       for i in range(2) for j in range(2) for k in range(2) for l in range(2))
+            return _inplane_tangent(A, u, v)
 
         @BilinearForm
         def inertia(u, v, w):
@@ -248,8 +266,6 @@ def fe_frequencies(state: FePrestretch, fields: str, count: int, n_max: int = 3,
         raise ValueError(f"fields = {fields!r} is invalid: must be 'W' or 'UV'")
     K, M = stiffness.assemble(basis), inertia.assemble(basis)
     if mass == "lumped":
-        import scipy.sparse as sp
-
         M = sp.diags(np.asarray(M.sum(axis=1)).ravel()).tocsr()
     free = np.setdiff1d(np.arange(basis.N), basis.get_dofs().all())
     Kf, Mf = K[free][:, free].tocsc(), M[free][:, free].tocsc()
@@ -257,13 +273,20 @@ def fe_frequencies(state: FePrestretch, fields: str, count: int, n_max: int = 3,
     while True:  # more eigenpairs until every n <= n_max has its count (higher n interleave)
         k = min(k, free.size - 2)
         found = _by_wave_number(Kf, Mf, k, free, basis, mesh, n_max)
-        short = [n for n in range(n_max + 1) if found[n].size < count]
+        short = [n for n in range(n_max + 1) if found[n][0].size < count]
         if not short:
-            return {n: found[n][:count] for n in range(n_max + 1)}
+            return {n: (found[n][0][:count], found[n][1][:, :count]) for n in range(n_max + 1)}
         if k == free.size - 2:
-            raise ValueError(f"count = {count} is invalid: only {found[short[0]].size} frequencies of n = "
+            raise ValueError(f"count = {count} is invalid: only {found[short[0]][0].size} frequencies of n = "
                              f"{short[0]} on this mesh ({fields})")
         k *= 2
+
+
+def fe_frequencies(state: FePrestretch, fields: str, count: int, n_max: int = 3, mass: str = "consistent"):
+    """Natural frequencies (rad s-1) about the pre-stretched state: ``fields`` ``"W"`` (transverse)
+    or ``"UV"`` (in-plane); for each wave number ``n <= n_max`` the ``count`` lowest
+    (:func:`fe_modes` without the shapes)."""
+    return {n: omega for n, (omega, _) in fe_modes(state, fields, count, n_max, mass).items()}
 
 
 def _by_wave_number(K, M, k, free, basis, mesh, n_max):
@@ -272,12 +295,12 @@ def _by_wave_number(K, M, k, free, basis, mesh, n_max):
     lam, vec = lam[order], vec[:, order]
     full = np.zeros((basis.N, vec.shape[1]))
     full[free] = vec
-    n_of = _wave_numbers(basis, full, mesh)
+    n_of, torsional = _wave_numbers(basis, full, mesh)
     omega = np.sqrt(mesh.membrane.C1 / (mesh.membrane.Gamma * mesh.membrane.Re**2) * lam)
     out = {}
     for n in range(n_max + 1):
-        values = omega[n_of == n]
-        if n > 0 and values.size:  # the cos/sin pair of a mode: equal to round-off on the symmetric mesh
-            values = values[np.concatenate([[True], np.diff(values) > 1e-7 * values[1:]])]
-        out[n] = values
+        at = np.flatnonzero((n_of == n) & ~torsional)  # n = 0: the radial modes (torsional ones apart)
+        if n > 0 and at.size:  # the cos/sin pair of a mode: equal to round-off on the symmetric mesh
+            at = at[np.concatenate([[True], np.diff(omega[at]) > 1e-7 * omega[at][1:]])]
+        out[n] = (omega[at], full[:, at])
     return out

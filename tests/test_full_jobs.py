@@ -42,6 +42,10 @@ def test_full_linear_job_has_the_galerkin_and_the_inplane_frequencies(tmp_path):
         at = int(np.nonzero((fine.m.values == 1) & (fine.n.values == n))[0][0])
         np.testing.assert_allclose(fine.omega.isel(mode=at), rom.omega.isel(mode=k), rtol=2e-6)
     assert (fine.omega_inplane > 0).all()
+    # a sine companion has the frequencies of its cosine mode
+    companion = _run(tmp_path, "companion", text.replace("[1, 3]]", "[1, 3], [1, -3]]"))
+    np.testing.assert_array_equal(companion.omega.isel(mode=-1), companion.omega.isel(mode=-2))
+    np.testing.assert_array_equal(companion.omega_inplane.isel(mode=-1), companion.omega_inplane.isel(mode=-2))
     # the coarse order is a worse approximation, not a different problem
     change = np.abs(full.omega.isel(basis=0) / fine.omega - 1)
     assert 0 < float(change.max()) < 1e-3

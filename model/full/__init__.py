@@ -11,5 +11,7 @@ circumferential dependence is one Fourier harmonic per field for the linear prob
   and second derivatives in the surface's deformation gradient, for any law;
 * :mod:`model.full.radial` -- the radial basis and its quadrature;
 * :mod:`model.full.static` -- the pre-stretch as the minimum of the axisymmetric energy;
-* :mod:`model.full.linear` -- transverse and in-plane natural frequencies per wave number.
+* :mod:`model.full.linear` -- transverse and in-plane natural frequencies per wave number;
+* :mod:`model.full.axisymmetric` (compiled loops in :mod:`model.full.axisymmetric_kernels`) --
+  axisymmetric motion ``(u, w)``: energy, force, tangent, free motion.
 """

@@ -19,7 +19,8 @@ At the planar state ``A`` couples ``W`` with neither ``U`` nor ``V`` (``A`` has 
 a ``z`` component and an in-plane one there), so the problem splits into a transverse one --
 the same as Eq. (25), whose converged Galerkin frequencies it reproduces -- and an in-plane
 one in ``(U, V)``; for ``n = 0`` the in-plane one splits again into radial (``U``) and
-torsional (``V``) motion.  With ``K`` and ``M`` the Legendre-Galerkin matrices (scaled radii),
+torsional (``V``) motion, and only the radial one is driven by axisymmetric transverse motion
+(a torsion ``v`` changes sign under ``theta -> -theta``, which leaves such a motion alone).  With ``K`` and ``M`` the Legendre-Galerkin matrices (scaled radii),
 ``omega^2 = (C1 / (Gamma Re^2)) lambda`` for their generalised eigenvalues ``lambda``.
 """
 
@@ -41,7 +42,7 @@ def _tangent(state: FullPrestretch):
 
 def _variations(state: FullPrestretch, n: int, fields: str):
     """``(6, unknowns, points)``: the change of each component of ``F`` per basis coefficient
-    of the ``fields`` (a subset of ``"UVW"``, in that order), and the component parities."""
+    of the ``fields`` (a subset of ``"UVW"``, in that order)."""
     b = state.basis
     k, p = b.order, b.s.size
     zero = np.zeros((k, p))
@@ -52,8 +53,7 @@ def _variations(state: FullPrestretch, n: int, fields: str):
         "V": [zero, b.dphi, zero, -b.phi * inv_s, n * b.phi * inv_s, zero],
         "W": [zero, zero, b.dphi, zero, zero, -n * b.phi * inv_s],
     }
-    blocks = np.array([np.concatenate([by_field[f][c] for f in fields]) for c in range(6)])
-    return blocks
+    return np.array([np.concatenate([by_field[f][c] for f in fields]) for c in range(6)])
 
 
 #: Whether each component of ``F`` varies as ``cos(n theta)`` (True) or ``sin(n theta)``.
@@ -111,9 +111,8 @@ def transverse_frequencies(state: FullPrestretch, n: int, count: int) -> np.ndar
 
 
 def inplane_frequencies(state: FullPrestretch, n: int, count: int) -> np.ndarray:
-    """The ``count`` lowest in-plane frequencies (rad s-1) of harmonic ``n`` (radial and
-    torsional modes together for ``n = 0``, sorted)."""
-    if n == 0:
-        both = np.concatenate([frequencies(state, 0, count, "U"), frequencies(state, 0, count, "V")])
-        return np.sort(both)[:count]
-    return frequencies(state, n, count, "UV")
+    """The ``count`` lowest in-plane frequencies (rad s-1) of harmonic ``n``: the coupled
+    ``(U, V)`` modes for ``n > 0``, the radial (``U``) ones for ``n = 0`` -- those that an
+    axisymmetric transverse motion drives; the torsional ``n = 0`` modes (``V``, decoupled and
+    left alone by it, ``frequencies(state, 0, count, "V")``) are not among them."""
+    return frequencies(state, n, count, "U" if n == 0 else "UV")

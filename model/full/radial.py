@@ -59,11 +59,14 @@ class RadialBasis:
         return cls(s_in, s_out, order, 0.5 * (s_in + s_out) + half * x, half * w, phi, dphi / half)
 
     def evaluate(self, coef, s):
-        """``sum_k coef_k phi_k(s)`` and its ``s``-derivative at the radii ``s``."""
+        """``sum_k coef_k phi_k(s)`` and its ``s``-derivative at the radii ``s`` (``coef``
+        ``(..., order)``: the results ``(..., *s.shape)``)."""
         half = 0.5 * (self.s_out - self.s_in)
         s = np.asarray(s, float)
         phi, dphi = _values((s.ravel() - 0.5 * (self.s_in + self.s_out)) / half, self.order)
-        return (coef @ phi).reshape(s.shape), (coef @ dphi / half).reshape(s.shape)
+        coef = np.asarray(coef)
+        shape = coef.shape[:-1] + s.shape
+        return (coef @ phi).reshape(shape), (coef @ dphi / half).reshape(shape)
 
 
 def _values(x, order):

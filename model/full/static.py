@@ -9,8 +9,8 @@ energy as the ROM's pre-stretch (Eq. 14), discretised differently: the ROM collo
 Euler-Lagrange equation (Eq. 15) on Chebyshev points (:mod:`model.prestretch`), this module
 makes the energy stationary in the Galerkin sense with the gradient and Hessian of
 :mod:`model.full.surface`, the full model's own kinematics.  Newton from the Eq. (21)
-approximation, with the step halved while it raises the energy or leaves the stretches
-positive.
+approximation, with the step halved while it raises the energy or makes a stretch
+non-positive.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from . import surface
 from .radial import RadialBasis
 
 #: Default number of radial basis functions of the full model (the pre-stretch converges to
-#: round-off well below it: tests/test_full_static.py).
+#: round-off well below it: tests/test_full_model.py, docs/validation.md).
 DEFAULT_ORDER = 48
 
 
@@ -129,18 +129,21 @@ def solve_full_prestretch(membrane: Membrane, order: int = DEFAULT_ORDER, points
     for _ in range(60):
         g, H = _gradient_hessian(membrane, basis, coef)
         dc = -np.linalg.solve(H, g)
+        step = float(np.abs(dc).max())  # the full Newton step: the measure of convergence
+        if step < 1e-14 * (1.0 + np.abs(coef).max()):
+            break
         t = 1.0
-        while True:
+        while True:  # halve the step while it raises the energy (infinite where a stretch is not positive)
             trial = coef + t * dc
             e_trial = axisymmetric_energy(membrane, basis, trial)
             # near the minimum the energy changes by O(step^2) only, below its round-off
-            if e_trial <= e + 1e-14 * abs(e) or t < 1e-6:
+            if e_trial <= e + 1e-14 * abs(e):
                 break
             t *= 0.5
+            if t < 1e-6:
+                raise ArithmeticError(f"full-model pre-stretch not found at delta = {membrane.delta}, delta_o = "
+                                      f"{membrane.delta_o}: no descent along the Newton step (|step| = {step:.1e})")
         coef, e = trial, e_trial
-        step = float(np.abs(t * dc).max())
-        if step < 1e-14 * (1.0 + np.abs(coef).max()):
-            break
     if not step < 1e-11:
         raise ArithmeticError(f"full-model pre-stretch did not converge at delta = {membrane.delta}, delta_o = "
                               f"{membrane.delta_o} with order = {order} (last Newton step {step:.1e})")

@@ -82,7 +82,8 @@ class LinearAnalysis(Analysis):
         inplane = [Variable("omega_inplane", omega_dims, omega_shape, "f8", "rad s-1",
                             "m-th in-plane natural frequency of wave number n")] if options.inplane else []
         return [
-            Variable("omega", omega_dims, omega_shape, "f8", "rad s-1", "natural frequency, Galerkin solution of Eq. 25"),
+            Variable("omega", omega_dims, omega_shape, "f8", "rad s-1",
+                     "transverse natural frequency, the model's solution of Eq. 25"),
             Variable("omega_approx", ("mode",), (k,), "f8", "rad s-1",
                      "approximate natural frequency, Eq. 28 (NaN for a model without a radial pre-stretch)"),
             Variable("omega_bound", ("mode",), (k,), "f8", "rad s-1",
@@ -93,7 +94,8 @@ class LinearAnalysis(Analysis):
         coords = opt.mode_coords(options.modes)
         if options.basis_study:
             coords["basis"] = (("basis",), np.array(options.basis, np.int32),
-                               {"long_name": "radial functions per wave number in the Galerkin basis", "units": "1"})
+                               {"long_name": "radial resolution: functions per wave number (ROM, full model) or "
+                                                "radial elements (2-D mesh)", "units": "1"})
         return coords
 
     def compute(self, point, options, subtask):

@@ -6,7 +6,8 @@ polar reduction: an independent check of the full model.  It runs ``linear`` (tr
 in-plane frequencies, each eigenvector labelled with its wave number); ``omega_approx`` is
 NaN (it has no radial pre-stretch function for Eq. 28).  ``linear.basis`` sets the radial
 elements per task, the circumferential ones in the ratio of ``[model]`` (a list is a mesh
-refinement study).
+refinement study; the result's ``model_radial`` and ``model_circumferential`` are those of
+``[model]``, the meshes of the study scale them).
 """
 
 from __future__ import annotations
@@ -20,6 +21,10 @@ from model.fe_annulus import ELEMENTS, GRADINGS, MASSES
 from sweep.analyses import options as opt
 from sweep.job_errors import JobError, check_keys
 from sweep.models.base import Model
+
+
+#: Most elements around the annulus a task may use.
+MAX_AROUND = 2048
 
 
 @dataclass(frozen=True)
@@ -58,7 +63,8 @@ class FeModel(Model):
         check_keys(table, "model", ("kind", *self.OPTIONS))
         element = opt.choice(table, "model", "element", ELEMENTS, "P2")
         radial = opt.number(table, "model", "radial", 16, low=1, high=256, integer=True)
-        circumferential = opt.number(table, "model", "circumferential", 8 * radial, low=8, high=2048, integer=True)
+        circumferential = opt.number(table, "model", "circumferential", 8 * radial, low=8, high=MAX_AROUND,
+                                     integer=True)
         mass = opt.choice(table, "model", "mass", MASSES, "consistent")
         if mass == "lumped" and element != "Q1":
             raise JobError("model.mass", mass, "consistent with element = 'P2' (row-sum lumping needs Q1)")
@@ -76,7 +82,8 @@ class FeModel(Model):
         from model.fe_annulus import fe_frequencies
 
         radial = basis or o.radial
-        circumferential = o.circumferential if basis is None else max(8, round(basis * o.circumferential / o.radial))
+        circumferential = o.circumferential if basis is None else \
+            min(MAX_AROUND, max(8, round(basis * o.circumferential / o.radial)))
         state = fe_prestretch_for(point.membrane, radial, circumferential, o.element, o.grading)
         count = max(m for m, _ in modes)
         by_n = fe_frequencies(state, fields, count, n_max=max(abs(n) for _, n in modes), mass=o.mass)
