@@ -42,13 +42,18 @@ class AxisymmetricFull:
         m = state.membrane
         self.omega0_2 = m.C1 / (m.Gamma * m.Re**2)
         self.membrane = m
-        self._inv_mass = np.linalg.inv(mass)
-        self._kernel_tables = (m.material, b.phi, b.dphi, b.s, self._sw, b.weights, self.r0, self.dr0)
+        #: ``M^-1`` of one field (``(order, order)``), as the compiled motion takes it
+        self.inverse_mass = np.linalg.inv(mass)
+        #: what the compiled loops take before the state: the law, the basis and its derivative
+        #: at the quadrature points (``(points, order)``), ``s``, ``s`` times the weights, the
+        #: weights and the pre-stretch ``r_o``, ``r_o'``
+        self.kernel_tables = (m.material, np.ascontiguousarray(b.phi.T), np.ascontiguousarray(b.dphi.T), b.s,
+                              self._sw, b.weights, self.r0, self.dr0)
 
     def compiled_gradient(self, q) -> np.ndarray:
         """:meth:`gradient` by the compiled loop (:func:`axisymmetric_gradient`)."""
         out = np.empty(self.dof)
-        axisymmetric_gradient(*self._kernel_tables, np.ascontiguousarray(q, dtype=float), out)
+        axisymmetric_gradient(*self.kernel_tables, np.ascontiguousarray(q, dtype=float), out)
         return out
 
     def free_motion(self, y0, duration: float, steps: int, c: float = 0.0, every: int = 1):
@@ -57,7 +62,7 @@ class AxisymmetricFull:
         2 dof)``.  RK4 is stable for ``omega_max dt < 2.8`` with ``omega_max`` the highest
         frequency of the discretisation (:meth:`highest_frequency`)."""
         record = np.empty((steps // every + 1, 2 * self.dof))
-        rk4_free(*self._kernel_tables, self._inv_mass, self.omega0_2, c / (self.membrane.Gamma * self.membrane.h),
+        rk4_free(*self.kernel_tables, self.inverse_mass, self.omega0_2, c / (self.membrane.Gamma * self.membrane.h),
                  np.asarray(y0, float), duration / steps, steps, every, record)
         return record
 

@@ -14,23 +14,28 @@ import numpy as np
 
 from model import material_kernels  # noqa: F401  (the laws' overloads for compiled code)
 from model.materials import metric_derivatives
+from model.noalias import NoAliasCompiler
 from model.rk4 import combine, stage_offset, step_factor
 
 
-@nb.njit(cache=True, fastmath=True, error_model="numpy")
+@nb.njit(cache=True, fastmath=True, error_model="numpy", pipeline_class=NoAliasCompiler)
 def axisymmetric_gradient(law, phi, dphi, s, sw, w, r0, dr0, q, out):
     """``out[:] = d(int W/C1 s ds)/dq`` for the coordinates ``q = (U, W)`` (the numpy
-    :meth:`model.full.axisymmetric.AxisymmetricFull.gradient`, compiled)."""
-    order, points = phi.shape
+    :meth:`model.full.axisymmetric.AxisymmetricFull.gradient`, compiled).  ``phi``, ``dphi``:
+    the basis at the quadrature points, ``(points, order)`` (a point's values contiguous).
+
+    Compiled with :class:`model.noalias.NoAliasCompiler`: ``out`` must not overlap the other
+    arrays (the accumulation over the basis then vectorises)."""
+    points, order = phi.shape
     out[:] = 0.0
     for p in range(points):
         du = 0.0
         u = 0.0
         dw = 0.0
         for k in range(order):
-            du += q[k] * dphi[k, p]
-            u += q[k] * phi[k, p]
-            dw += q[order + k] * dphi[k, p]
+            du += q[k] * dphi[p, k]
+            u += q[k] * phi[p, k]
+            dw += q[order + k] * dphi[p, k]
         a1r = dr0[p] + du
         a2t = (r0[p] + u) / s[p]
         n1 = a1r * a1r + dw * dw
@@ -42,8 +47,8 @@ def axisymmetric_gradient(law, phi, dphi, s, sw, w, r0, dr0, q, out):
         g_r = f1 * a1r
         g_z = f1 * dw
         for k in range(order):
-            out[k] += g_r * dphi[k, p] + f2 * phi[k, p]
-            out[order + k] += g_z * dphi[k, p]
+            out[k] += g_r * dphi[p, k] + f2 * phi[p, k]
+            out[order + k] += g_z * dphi[p, k]
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")

@@ -1,0 +1,141 @@
+"""The full model's axisymmetric force and RK4 free motion (model/full/axisymmetric_kernels.py):
+the numba kernels against a C program of the same algorithms (the hardware reference), numpy
+(what a user would write for the force) and scipy's ``solve_ivp`` (for the motion).
+
+delta = 1.1, delta_o = 0.2, ``--order`` radial functions per field (default 24; 2 x order
+coordinates), the full model's quadrature (2 order + 24 points).  The force is evaluated on
+``--states`` random states (transverse coefficients up to 0.05, radial ones up to 0.005)
+``--repeats`` times per round; the free motion runs ``--steps`` RK4 steps of
+``1 / omega_max`` (the step the tests use; ``omega_max`` the highest frequency of the
+discretisation) from rest on the first transverse mode, 5 cm at ``rho = 0.5 Re``, with its
+quasi-static radial displacement, and ``solve_ivp`` (RK45, numpy force, rtol 1e-8) covers the
+same time.  The numba force is driven by a compiled loop; the C program,
+``benchmarks/c/full_axisymmetric.c``, is compiled here with ``cc -O3 -march=native
+-ffast-math`` (the numba kernels use fastmath too; skipped with a message without a compiler)
+and times its own loops.  Variants are interleaved in each of ``--rounds`` rounds (medians
+printed, compilation excluded); forces are compared with the numba force, final states with
+the numba RK4 (relative difference printed).
+Run: ``python benchmarks/bench_full_axisymmetric.py [--rounds 7] [--smoke]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numba as nb
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.linalg import eigh
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from benchmarks.c_reference import compile_reference  # noqa: E402
+from model.full.axisymmetric import AxisymmetricFull  # noqa: E402
+from model.full.axisymmetric_kernels import axisymmetric_gradient  # noqa: E402
+from model.full.linear import stiffness_mass  # noqa: E402
+from model.full.static import solve_full_prestretch  # noqa: E402
+from model.params import Membrane  # noqa: E402
+
+
+@nb.njit(cache=True)
+def _forces(Q, repeats, law, phi, dphi, s, sw, w, r0, dr0, G):
+    for _ in range(repeats):
+        for m in range(Q.shape[0]):
+            axisymmetric_gradient(law, phi, dphi, s, sw, w, r0, dr0, Q[m], G[m])
+
+
+def _rel(x, ref) -> float:
+    return float(np.max(np.abs(x - ref)) / np.max(np.abs(ref)))
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--order", type=int, default=24)
+    ap.add_argument("--states", type=int, default=64)
+    ap.add_argument("--repeats", type=int, default=200)
+    ap.add_argument("--steps", type=int, default=1000)
+    ap.add_argument("--rounds", type=int, default=7)
+    ap.add_argument("--smoke", action="store_true", help="tiny run for the test suite")
+    args = ap.parse_args(argv)
+    order, states, repeats, steps, rounds = ((12, 8, 2, 50, 1) if args.smoke else
+                                             (args.order, args.states, args.repeats, args.steps, args.rounds))
+    model = AxisymmetricFull(solve_full_prestretch(Membrane(delta=1.1, delta_o=0.2), order))
+    law, phi, dphi, s, sw, w, r0, dr0 = model.kernel_tables
+    P, N = phi.shape
+    rng = np.random.default_rng(0)
+    Q = np.column_stack([rng.uniform(-0.005, 0.005, (states, N)), rng.uniform(-0.05, 0.05, (states, N))])
+    dt = 1.0 / model.highest_frequency()
+    K, M = stiffness_mass(model.state, 0, "W")
+    mode = eigh(K, M)[1][:, 0]
+    mode /= model.state.basis.evaluate(mode, np.array([0.5]))[0][0]
+    y0 = np.concatenate([model.relaxed(-0.05 * mode), np.zeros(model.dof)])
+    Q[0] = y0[:model.dof]  # the C program starts its motion from the first state at rest
+    G = np.empty_like(Q)
+    _forces(Q[:1], 1, *model.kernel_tables, G)  # compile
+    model.free_motion(y0, dt, 1)
+    work = Path(tempfile.mkdtemp())
+    exe = compile_reference("full_axisymmetric", work, ("-ffast-math",))
+    np.concatenate([phi.ravel(), dphi.ravel(), s, sw, w, r0, dr0, model.inverse_mass.ravel(),
+                    [model.omega0_2, 0.0]]).tofile(work / "tables.bin")
+    Q.tofile(work / "q.bin")
+    names = ["numba force", "numpy force", "C force", "numba RK4", "C RK4"]
+    times = {name: [] for name in names}
+    scipy_times = []
+
+    def rhs(t, y):
+        return np.concatenate([y[model.dof:], model.acceleration(y[:model.dof], y[model.dof:])])
+
+    for _ in range(rounds):
+        t0 = time.perf_counter()
+        _forces(Q, repeats, *model.kernel_tables, G)
+        times["numba force"].append((time.perf_counter() - t0) / (states * repeats) * 1e9)
+        t0 = time.perf_counter()
+        numpy_g = np.array([model.gradient(q) for q in Q])
+        times["numpy force"].append((time.perf_counter() - t0) / states * 1e9)
+        t0 = time.perf_counter()
+        end = model.free_motion(y0, steps * dt, steps, every=steps)[-1]
+        times["numba RK4"].append((time.perf_counter() - t0) / steps * 1e9)
+        t0 = time.perf_counter()
+        ivp = solve_ivp(rhs, (0.0, steps * dt), y0, method="RK45", rtol=1e-8, atol=1e-12)
+        scipy_times.append(time.perf_counter() - t0)
+        if exe is not None:
+            out = subprocess.run([str(exe), str(work / "tables.bin"), str(N), str(P), str(work / "q.bin"),
+                                  str(repeats), str(steps), repr(dt), str(work / "out.bin")],
+                                 capture_output=True, text=True, check=True)
+            force_ns, step_ns = out.stdout.split()
+            times["C force"].append(float(force_ns))
+            times["C RK4"].append(float(step_ns))
+    err = {"numba force": 0.0, "numpy force": _rel(numpy_g, G), "numba RK4": 0.0}
+    if exe is not None:
+        c = np.fromfile(work / "out.bin")
+        err["C force"] = _rel(c[:states * model.dof].reshape(states, model.dof), G)
+        err["C RK4"] = _rel(c[states * model.dof:], end)
+    med = {k: statistics.median(v) for k, v in times.items() if v}
+    print(f"full-model axisymmetric force, order {N} ({2 * N} coordinates), {P} quadrature points, {states} states "
+          f"x {repeats} repeats; medians of {rounds} interleaved rounds")
+    for name in ("numba force", "numpy force", "C force"):
+        if name in med:
+            print(f"  {name:12s} {med[name]:9.1f} ns per call   (vs numba force: {err[name]:.1e} relative)")
+    if "C force" in med:
+        print(f"  ratio numba / C, force: {med['numba force'] / med['C force']:.2f} (target <= 1.5)")
+    print(f"  ratio numpy / numba, force: {med['numpy force'] / med['numba force']:.1f}")
+    print(f"full-model axisymmetric RK4, {steps} steps of 1/omega_max = {dt:.3e} s")
+    for name in ("numba RK4", "C RK4"):
+        if name in med:
+            print(f"  {name:12s} {med[name]:9.1f} ns per step   (vs numba RK4: {err[name]:.1e} relative)")
+    if "C RK4" in med:
+        print(f"  ratio numba / C, RK4 step: {med['numba RK4'] / med['C RK4']:.2f} (target <= 1.5)")
+    scipy_s = statistics.median(scipy_times)
+    print(f"  solve_ivp (RK45, numpy force, rtol 1e-8) over the same {steps * dt:.3e} s: {scipy_s * 1e3:.1f} ms, "
+          f"{ivp.nfev} evaluations; speed-up of numba RK4: {scipy_s / (med['numba RK4'] * 1e-9 * steps):.0f}x "
+          f"(final states differ by {_rel(ivp.y[:, -1], end):.1e} relative)")
+
+
+if __name__ == "__main__":
+    main()
