@@ -28,14 +28,18 @@ def axisymmetric_gradient(law, phi, dphi, s, sw, w, r0, dr0, q, out):
     arrays (the accumulation over the basis then vectorises)."""
     points, order = phi.shape
     out[:] = 0.0
+    # the two fields as views: offset indices (order + k) would carry numba's wraparound test
+    # for negative indices, which keeps the loops over the basis scalar
+    qu, qw = q[:order], q[order:]
+    gu, gw = out[:order], out[order:]
     for p in range(points):
         du = 0.0
         u = 0.0
         dw = 0.0
         for k in range(order):
-            du += q[k] * dphi[p, k]
-            u += q[k] * phi[p, k]
-            dw += q[order + k] * dphi[p, k]
+            du += qu[k] * dphi[p, k]
+            u += qu[k] * phi[p, k]
+            dw += qw[k] * dphi[p, k]
         a1r = dr0[p] + du
         a2t = (r0[p] + u) / s[p]
         n1 = a1r * a1r + dw * dw
@@ -47,8 +51,8 @@ def axisymmetric_gradient(law, phi, dphi, s, sw, w, r0, dr0, q, out):
         g_r = f1 * a1r
         g_z = f1 * dw
         for k in range(order):
-            out[k] += g_r * dphi[p, k] + f2 * phi[p, k]
-            out[order + k] += g_z * dphi[p, k]
+            gu[k] += g_r * dphi[p, k] + f2 * phi[p, k]
+            gw[k] += g_z * dphi[p, k]
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
