@@ -120,7 +120,9 @@ def _spectrum(ds, outdir, modes) -> Path:
 
 
 def mode_figure(ds, outdir) -> list[Path]:
-    """Fig. 7: the three lowest vibration modes (Eq. 26) on the undeformed annulus."""
+    """Fig. 7: the shapes of Eq. (26) of the three modes of lowest frequency on the undeformed
+    annulus (the paper's figure; the converged eigenfunctions differ from them a little, for
+    every model), titled with the frequencies of the result."""
     from model.modes import bessel_roots, mode_shape
 
     plt = pyplot()
@@ -145,5 +147,6 @@ def mode_figure(ds, outdir) -> list[Path]:
         ax.set_xticklabels([])
         ax.set_title(f"m={m}, n={n}: {float(omega[k]):.2f} rad/s", fontsize=9)
     delta = float(ds.delta[0]) if "delta" in ds.dims else float("nan")
-    fig.suptitle(rf"Vibration modes, $\delta_o$ = {delta_o:g}, $\delta$ = {delta:g} (normalised $w$)", y=1.04)
+    fig.suptitle(rf"Mode shapes of Eq. 26, $\delta_o$ = {delta_o:g}, $\delta$ = {delta:g} (normalised $w$; "
+                 f"frequencies: {ds.attrs.get('model', 'rom')} model)", y=1.04)
     return [save_figure(fig, outdir, "fig07_modes.png")]
