@@ -18,7 +18,6 @@ whole velocity per unit undeformed area (mass-proportional on both components).
 from __future__ import annotations
 
 import numpy as np
-from scipy.integrate import solve_ivp
 from scipy.linalg import cho_factor, cho_solve
 
 from . import surface
@@ -141,13 +140,6 @@ class AxisymmetricFull:
             if np.abs(step).max() < 1e-14 * (1.0 + np.abs(q).max()):
                 return q
         raise ArithmeticError("the in-plane displacement at the given deflection did not converge")
-
-    def integrate(self, y0, t_end: float, c: float = 0.0, rtol: float = 1e-10, **kwargs):
-        """The motion from ``y0 = (q, q')`` over ``[0, t_end]`` (s): ``solve_ivp`` (DOP853)."""
-        def rhs(t, y):
-            return np.concatenate([y[self.dof:], self.acceleration(y[:self.dof], y[self.dof:], c)])
-        return solve_ivp(rhs, (0.0, t_end), np.asarray(y0, float), method="DOP853", rtol=rtol,
-                         atol=rtol * 1e-3, **kwargs)
 
     def displacements(self, q, s):
         """``(u, w)`` (m) at scaled radii ``s``."""

@@ -16,7 +16,23 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any, ClassVar
 
+import numpy as np
+
 from sweep.job_errors import check_keys
+
+
+def per_wave_number(modes, solve) -> np.ndarray:
+    """The frequency of each mode ``(m, n)`` of ``modes``: the m-th of ``solve(|n|, count)``,
+    called once per wave number with ``count`` the largest m of that wave number (a sine
+    companion ``(m, -n)`` has the frequencies of its cosine mode)."""
+    by_n: dict[int, np.ndarray] = {}
+    omega = np.empty(len(modes))
+    for k, (m, signed_n) in enumerate(modes):
+        n = abs(signed_n)
+        if n not in by_n:
+            by_n[n] = solve(n, max(a for a, b in modes if abs(b) == n))
+        omega[k] = by_n[n][m - 1]
+    return omega
 
 
 class Model:

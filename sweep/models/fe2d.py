@@ -15,12 +15,10 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 
-import numpy as np
-
 from model.fe_annulus import ELEMENTS, GRADINGS, MASSES
 from sweep.analyses import options as opt
 from sweep.job_errors import JobError, check_keys
-from sweep.models.base import Model
+from sweep.models.base import Model, per_wave_number
 
 
 #: Most elements around the annulus a task may use.
@@ -85,9 +83,10 @@ class FeModel(Model):
         circumferential = o.circumferential if basis is None else \
             min(MAX_AROUND, max(8, round(basis * o.circumferential / o.radial)))
         state = fe_prestretch_for(point.membrane, radial, circumferential, o.element, o.grading)
-        count = max(m for m, _ in modes)
-        by_n = fe_frequencies(state, fields, count, n_max=max(abs(n) for _, n in modes), mass=o.mass)
-        return np.array([by_n[abs(n)][m - 1] for m, n in modes])
+        # one eigensolution gives every wave number
+        by_n = fe_frequencies(state, fields, max(m for m, _ in modes), n_max=max(abs(n) for _, n in modes),
+                              mass=o.mass)
+        return per_wave_number(modes, lambda n, count: by_n[n])
 
 
 FE2D = FeModel()

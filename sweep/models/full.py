@@ -13,12 +13,10 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 
-import numpy as np
-
 from model.full.static import DEFAULT_ORDER
 from sweep.analyses import options as opt
 from sweep.job_errors import check_keys
-from sweep.models.base import Model
+from sweep.models.base import Model, per_wave_number
 
 #: Largest radial order a job may ask for.
 MAX_ORDER = 256
@@ -60,24 +58,14 @@ class FullModel(Model):
     def natural_frequencies(self, point, model_options, options, basis):
         from model.full.linear import transverse_frequencies
 
-        return self._per_wave_number(point, basis or model_options.order, options.modes, transverse_frequencies), []
+        state = full_prestretch_for(point.membrane, basis or model_options.order)
+        return per_wave_number(options.modes, lambda n, count: transverse_frequencies(state, n, count)), []
 
     def inplane_frequencies(self, point, model_options, options, basis):
         from model.full.linear import inplane_frequencies
 
-        return self._per_wave_number(point, basis or model_options.order, options.modes, inplane_frequencies)
-
-    @staticmethod
-    def _per_wave_number(point, order, modes, solve):
-        state = full_prestretch_for(point.membrane, order)
-        omega = np.empty(len(modes))
-        by_n: dict[int, np.ndarray] = {}
-        for k, (m, signed_n) in enumerate(modes):
-            n = abs(signed_n)  # a sine companion has the frequencies of its cosine mode
-            if n not in by_n:
-                by_n[n] = solve(state, n, max(a for a, b in modes if abs(b) == n))
-            omega[k] = by_n[n][m - 1]
-        return omega
+        state = full_prestretch_for(point.membrane, basis or model_options.order)
+        return per_wave_number(options.modes, lambda n, count: inplane_frequencies(state, n, count))
 
 
 FULL = FullModel()

@@ -12,9 +12,7 @@ from __future__ import annotations
 
 import functools
 
-import numpy as np
-
-from sweep.models.base import Model
+from sweep.models.base import Model, per_wave_number
 
 
 @functools.lru_cache(maxsize=8)
@@ -84,19 +82,16 @@ class RomModel(Model):
         from model.linear import CHANGE_TOL, MAX_BASIS, galerkin_frequencies
 
         ps = prestretch_for(point.membrane, options.prestretch)
-        omega = np.empty(len(options.modes))
-        by_n: dict[int, np.ndarray] = {}
         problems = []
-        for k, (m, signed_n) in enumerate(options.modes):
-            n = abs(signed_n)  # a sine companion has the frequency of its cosine mode
-            if n not in by_n:
-                count = max(a for a, b in options.modes if abs(b) == n)
-                by_n[n], _, change = galerkin_frequencies(ps, n, count, basis=basis, full_output=True)
-                if change >= CHANGE_TOL:
-                    problems.append(f"n = {n}: basis not converged at {MAX_BASIS} functions "
-                                    f"(last relative change {change:.1e})")
-            omega[k] = by_n[n][m - 1]
-        return omega, problems
+
+        def solve(n, count):
+            omega, _, change = galerkin_frequencies(ps, n, count, basis=basis, full_output=True)
+            if change >= CHANGE_TOL:
+                problems.append(f"n = {n}: basis not converged at {MAX_BASIS} functions "
+                                f"(last relative change {change:.1e})")
+            return omega
+
+        return per_wave_number(options.modes, solve), problems
 
 
 ROM = RomModel()
