@@ -20,6 +20,12 @@ light damping ``|mu| ~ 0.998`` per period (c = 0.05), so the default ``tol = 1e-
 a momentary small residual of a trajectory that is still moving (e.g. near a turning point
 of a spiralling transient).  A value that has not settled after ``max_periods`` periods is
 reported as not converged, and the sweep continues from where it stopped.
+
+A brute-force bifurcation diagram (``poincare`` > 0 in :func:`stepped_sweep`): after the
+settling (which then acts as the transient; a response that is not periodic uses all of
+``max_periods``), ``poincare`` more periods are iterated with the Lyapunov spectrum along
+them and the response classified (:mod:`model.lyapunov`); the next value starts from the
+last of these points.
 """
 
 from __future__ import annotations
@@ -29,9 +35,43 @@ from typing import NamedTuple
 import numba as nb
 import numpy as np
 
-from .protocol import PARAMETERS, StroboscopicMap
 from .integrate import rk4_steps
-from .protocol import kernel_arguments
+from .lyapunov import classify, lyapunov_spectrum
+from .protocol import PARAMETERS, StroboscopicMap, kernel_arguments
+
+#: Blocks of the Lyapunov exponents' error estimate in a bifurcation diagram
+#: (:func:`model.lyapunov.lyapunov_spectrum`): ``poincare`` is a multiple of it.
+LYAPUNOV_BLOCKS = 10
+
+
+class PoincareRecord(NamedTuple):
+    """The bifurcation diagram of a stepped sweep; axes 0, 1 as in :class:`SweepResult`.
+
+    Attributes
+    ----------
+    points : (2, N, P, 2K) array
+        The ``P`` Poincare points after the transient at each value.
+    exponents, error : (2, N, 2K) arrays
+        The Lyapunov spectrum along them (s-1, decreasing) and its statistical error.
+    kind : (2, N) int8 array
+        :data:`model.lyapunov.KIND_NAMES` index.
+    least_period : (2, N) int array
+        Period in forcing periods of a periodic response (0 otherwise).
+    rotation_number : (2, N) array
+        Of a quasi-periodic response (NaN otherwise).
+    """
+
+    points: np.ndarray
+    exponents: np.ndarray
+    error: np.ndarray
+    kind: np.ndarray
+    least_period: np.ndarray
+    rotation_number: np.ndarray
+
+    @classmethod
+    def empty(cls, N: int, P: int, n: int) -> PoincareRecord:
+        return cls(np.full((2, N, P, n), np.nan), np.full((2, N, n), np.nan), np.full((2, N, n), np.nan),
+                   np.full((2, N), -1, np.int8), np.zeros((2, N), np.int64), np.full((2, N), np.nan))
 
 
 class SweepResult(NamedTuple):
@@ -48,7 +88,9 @@ class SweepResult(NamedTuple):
     converged : (2, N) bool array
         The criterion was met within ``max_periods``.
     periods : (2, N) int array
-        Forcing periods integrated at each value.
+        Forcing periods integrated at each value (without the Poincare points).
+    poincare : PoincareRecord or None
+        The bifurcation diagram, when asked for.
     """
 
     values: np.ndarray
@@ -56,6 +98,7 @@ class SweepResult(NamedTuple):
     state: np.ndarray
     converged: np.ndarray
     periods: np.ndarray
+    poincare: PoincareRecord | None = None
 
 
 @nb.njit(cache=True)
@@ -114,7 +157,7 @@ def _settle_at(fmap, y, tol, atol, consecutive, min_periods, max_periods, work, 
 
 def stepped_sweep(fmap: StroboscopicMap, parameter: str, values, tol: float = 1e-6, consecutive: int = 20,
                   min_periods: int = 20, max_periods: int = 30000, atol: float = 1e-12,
-                  initial=None) -> SweepResult:
+                  initial=None, poincare: int = 0, max_period: int = 16, perturbation: float = 0.0) -> SweepResult:
     """Steady-state amplitudes for ``parameter`` stepped up through ``values`` and back down.
 
     Parameters
@@ -129,6 +172,15 @@ def stepped_sweep(fmap: StroboscopicMap, parameter: str, values, tol: float = 1e
         The convergence criterion of the module docstring.
     initial : (2K,) array, optional
         State at the first (smallest) value; default rest.
+    poincare : int
+        Poincare points per value of the bifurcation diagram (module docstring), a
+        multiple of :data:`LYAPUNOV_BLOCKS`; 0: none.
+    max_period : int
+        Longest period the diagram's classification looks for.
+    perturbation : float
+        Added to every coordinate (m) at the start of each value: a state with no part in
+        some coordinates (rest, or an axisymmetric response of a ROM with asymmetric modes)
+        keeps none by symmetry, so without it a symmetry-breaking instability is never seen.
 
     Returns
     -------
@@ -142,6 +194,9 @@ def stepped_sweep(fmap: StroboscopicMap, parameter: str, values, tol: float = 1e
     if parameter == "Omega" and vals[0] <= 0 or parameter == "P0" and vals[0] < 0:
         raise ValueError(f"values = {values!r} is invalid: {parameter} must be "
                          + ("> 0" if parameter == "Omega" else ">= 0"))
+    if poincare < 0 or poincare % LYAPUNOV_BLOCKS or 0 < poincare < 2 * max_period:
+        raise ValueError(f"poincare = {poincare!r} is invalid: need 0 or a multiple of {LYAPUNOV_BLOCKS} "
+                         f"of at least 2 max_period = {2 * max_period}")
     if tol <= 0 or consecutive < 1 or min_periods < 1 or max_periods < min_periods:
         raise ValueError(f"(tol, consecutive, min_periods, max_periods) = ({tol}, {consecutive}, {min_periods}, "
                          f"{max_periods}) is invalid: need tol > 0, consecutive >= 1, "
@@ -157,14 +212,30 @@ def stepped_sweep(fmap: StroboscopicMap, parameter: str, values, tol: float = 1e
     periods = np.zeros((2, N), dtype=np.int64)
     work = np.empty((6, n))
     prev = np.empty(n)
+    diagram = PoincareRecord.empty(N, poincare, n) if poincare else None
     for d, order in enumerate((range(N), range(N - 1, -1, -1))):
         for i in order:
             at = fmap.varied(parameter, vals[i])
+            y[:fmap.dof] += perturbation
             periods[d, i], conv[d, i] = _settle_at(at, y, tol, atol, consecutive, min_periods, max_periods,
                                                    work, prev)
+            if diagram is not None:
+                y[:] = _poincare_at(at, y, poincare, max_period, diagram, d, i)
             states[d, i] = y
             amp[d, i] = at.amplitude(y)
-    return SweepResult(vals, amp, states, conv, periods)
+    return SweepResult(vals, amp, states, conv, periods, diagram)
+
+
+def _poincare_at(fmap, y, points, max_period, diagram: PoincareRecord, d, i) -> np.ndarray:
+    # The Poincare points, Lyapunov spectrum and kind of the response from y into the
+    # diagram's [d, i]; returns the last point (the state the sweep goes on from).
+    record = lyapunov_spectrum(fmap, y, points, LYAPUNOV_BLOCKS)
+    kind = classify(fmap, record, max_period=max_period)
+    diagram.points[d, i] = record.points
+    diagram.exponents[d, i] = record.exponents
+    diagram.error[d, i] = record.standard_error
+    diagram.kind[d, i], diagram.least_period[d, i], diagram.rotation_number[d, i] = kind
+    return record.points[-1]
 
 
 def refine_jumps(fmap: StroboscopicMap, parameter: str, sweep: SweepResult, max_jumps: int = 2,

@@ -1,6 +1,7 @@
-"""A textbook forced oscillator behind the map protocol (model.protocol.StroboscopicMap).
+"""Textbook forced oscillators behind the map protocol (model.protocol.StroboscopicMap).
 
-Thompson's escape equation ``x'' + beta x' + x - x^2 = F sin(Omega t)`` (J. M. T. Thompson,
+``x'' + beta x' + k1 x + k2 x^2 + k3 x^3 = F sin(Omega t)``, by default (k1, k2, k3) =
+(1, -1, 0): Thompson's escape equation ``x'' + beta x' + x - x^2 = F sin(Omega t)`` (J. M. T. Thompson,
 Proc. R. Soc. Lond. A 421, 1989): a softening, asymmetric one-well oscillator whose periodic
 responses period-double on the way to escape.  The membrane ROM is odd in its coordinates,
 and its symmetric (w(t + T/2) = -w(t)) responses cannot period-double (docs/model.md,
@@ -8,6 +9,10 @@ and its symmetric (w(t + T/2) = -w(t)) responses cannot period-double (docs/mode
 continuation code (``model.continuation.continue_orbits`` takes any object with this
 interface).  ``P0`` is the amplitude ``F``; the damping ``beta`` is the map's parameter
 ``c`` (its viscous law), so that job files spell it as for the membrane.
+
+With (k1, k2, k3) = (0, 0, 1) it is Ueda's oscillator (Y. Ueda, J. Stat. Phys. 20, 1979;
+``ueda_map``), chaotic at beta = 0.05, F = 7.5, Omega = 1 (his forcing is ``cos t``, a
+shift of the time origin by a quarter period, which leaves its exponents alone).
 """
 
 from collections import namedtuple
@@ -20,7 +25,7 @@ Forcing = namedtuple("Forcing", "damping_rate P0 Omega")
 
 
 @nb.njit(cache=True)
-def _rk4(y, beta, F, omega, h, steps, variational, which):
+def _rk4(y, beta, F, omega, h, steps, variational, which, k1, k2, k3):
     # RK4 steps of the state and, when asked, of the variational matrix (2 x 3: the third
     # column the derivative in Omega (which = 1, at fixed steps per period) or F (2)).
     x, v = y[0], y[1]
@@ -36,11 +41,11 @@ def _rk4(y, beta, F, omega, h, steps, variational, which):
             cp = phi + f * kp[s - 1] if s else phi
             forcing = np.sin(omega * (t + f))
             kx[s] = cv
-            kv[s] = -beta * cv - cx + cx * cx + F * forcing
+            kv[s] = -beta * cv - (k1 + (k2 + k3 * cx) * cx) * cx + F * forcing
             if variational:
                 for c in range(3):
                     kp[s, 0, c] = cp[1, c]
-                    kp[s, 1, c] = (2.0 * cx - 1.0) * cp[0, c] - beta * cp[1, c]
+                    kp[s, 1, c] = -(k1 + (2.0 * k2 + 3.0 * k3 * cx) * cx) * cp[0, c] - beta * cp[1, c]
                 if which == 1:
                     kp[s, 0, 2] -= kx[s] / omega
                     kp[s, 1, 2] -= kv[s] / omega
@@ -54,10 +59,10 @@ def _rk4(y, beta, F, omega, h, steps, variational, which):
 
 
 @nb.njit(cache=True)
-def _rk4_from(y, beta, F, omega, h, t):
+def _rk4_from(y, beta, F, omega, h, t, k1, k2, k3):
     # One RK4 step of the state from time t.
     def f(t, x, v):
-        return v, -beta * v - x + x * x + F * np.sin(omega * t)
+        return v, -beta * v - (k1 + (k2 + k3 * x) * x) * x + F * np.sin(omega * t)
     x, v = y[0], y[1]
     k1x, k1v = f(t, x, v)
     k2x, k2v = f(t + 0.5 * h, x + 0.5 * h * k1x, v + 0.5 * h * k1v)
@@ -66,18 +71,21 @@ def _rk4_from(y, beta, F, omega, h, t):
     return np.array([x + h / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x), v + h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v)])
 
 
-def rhs(beta, F, omega):
+def rhs(beta, F, omega, stiffness=(1.0, -1.0, 0.0)):
     """The right-hand side for scipy's ``solve_ivp``."""
-    return lambda t, y: [y[1], -beta * y[1] - y[0] + y[0] ** 2 + F * np.sin(omega * t)]
+    k1, k2, k3 = stiffness
+    return lambda t, y: [y[1], -beta * y[1] - (k1 + (k2 + k3 * y[0]) * y[0]) * y[0] + F * np.sin(omega * t)]
 
 
 @dataclass(frozen=True)
 class EscapeMap:
-    """Stroboscopic map of the escape equation (RK4, ``steps`` per period)."""
+    """Stroboscopic map of the oscillator (RK4, ``steps`` per period); ``stiffness`` is
+    (k1, k2, k3), the escape equation's by default."""
 
     beta: float
     forcing: Forcing
     steps: int = 128
+    stiffness: tuple = (1.0, -1.0, 0.0)
     dof = 1
     parameters = ("Omega", "P0", "c")
 
@@ -99,7 +107,7 @@ class EscapeMap:
     def _flow(self, y, variational, which=0):
         f = self.forcing
         return _rk4(np.asarray(y, dtype=float), self.beta, f.P0, f.Omega, self.period / self.steps, self.steps,
-                    variational, which)
+                    variational, which, *self.stiffness)
 
     def monodromy(self, y):
         yT, phi = self._flow(y, True)
@@ -127,6 +135,11 @@ class EscapeMap:
         h = self.period / self.steps
         z = np.asarray(y, dtype=float)
         for i in range(periods * self.steps):
-            z = _rk4_from(z, self.beta, self.forcing.P0, self.forcing.Omega, h, i * h)
+            z = _rk4_from(z, self.beta, self.forcing.P0, self.forcing.Omega, h, i * h, *self.stiffness)
             best = max(best, abs(float(z[0])))
         return best
+
+
+def ueda_map(steps: int = 256) -> EscapeMap:
+    """Ueda's chaotic oscillator ``x'' + 0.05 x' + x^3 = 7.5 sin t``."""
+    return EscapeMap(0.05, Forcing(0.0, 7.5, 1.0), steps, (0.0, 0.0, 1.0))

@@ -115,6 +115,8 @@ MEMBRANE = Membrane()
      "response.tol = -1.0 is invalid: must be > 0.0"),
     ({"parameter": "Omega", "values": {"start": 30.0, "stop": 35.0, "num": 3}, "x": 1}, GRID,
      "response.x = 1 is invalid: unknown key"),
+    ({"parameter": "Omega", "values": {"start": 30.0, "stop": 35.0, "num": 3}, "poincare_points": 15}, GRID,
+     "response.poincare_points = 15 is invalid: 0 or a multiple of 10 of at least 2 max_period = 32"),
 ])
 def test_option_errors_name_key_value_and_rule(table, grid, message):
     with pytest.raises(JobError) as err:
@@ -135,3 +137,23 @@ def test_compute_returns_declared_shapes():
     rom = rom_for(point.membrane, options.prestretch, options.modes)
     w = np.abs(out["modal_coordinate"] @ rom.tables.probe)
     assert np.all(w <= out["amplitude"] * (1 + 1e-9)) and np.all(w > 0)
+
+
+def test_a_bifurcation_diagram_of_a_linear_response_is_periodic_with_the_damping_exponents():
+    # P0 = 1e-5 Pa: a linear, strongly damped (c = 2) response.  Every value is period one,
+    # its Poincare points are the stroboscopic state, and the exponents of the linear map
+    # sum to -rate per mode (Liouville) with the mean -rate / 2 (tests/test_lyapunov.py).
+    options = RESPONSE.parse_options({"parameter": "Omega", "values": {"start": 30.0, "stop": 34.0, "num": 3},
+                                      "poincare_points": 40}, GRID, MEMBRANE)
+    point = grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "P0": 1e-5, "c": 2.0})
+    out = RESPONSE.compute(point, options, 0)
+    for v in RESPONSE.variables(options):
+        assert np.shape(out[v.name]) == v.shape
+    assert out["status"] == 0
+    assert (out["response_kind"] == 1).all() and (out["response_period"] == 1).all()
+    assert np.isnan(out["rotation_number"]).all()
+    last = out["poincare_coordinate"][:, :, -1]
+    assert last == pytest.approx(out["modal_coordinate"], rel=1e-12)
+    assert np.all(np.ptp(out["poincare_coordinate"], axis=2) <= 1e-5 * np.abs(last))
+    rate = point.membrane.damping_rate(2.0)
+    assert out["lyapunov_exponent"].sum(axis=-1) == pytest.approx(np.full((3, 2), -rate), rel=1e-6)

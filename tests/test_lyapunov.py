@@ -1,0 +1,122 @@
+"""Lyapunov exponents, rotation numbers and the kind of a response (model/lyapunov.py).
+
+Against closed forms and published values: a linear damped system (the ROM about rest, the
+discrete map's exponents in closed form), Liouville's sum rule of the viscous law on a forced
+nonlinear orbit, Ueda's chaotic oscillator, the rotation of an undamped linear oscillator,
+and the period doubling of the escape oscillator located independently by continuation.
+"""
+
+import numpy as np
+import pytest
+
+from escape_oscillator import EscapeMap, Forcing, ueda_map
+from model.continuation import PERIOD_DOUBLING, continue_orbits
+from model.forced import ForcedMap
+from model.lyapunov import (CHAOTIC, DIVERGED, PERIODIC, QUASI_PERIODIC, classify, lyapunov_spectrum,
+                            rotation_number)
+from model.params import Loading, Membrane
+from sweep.models.rom import rom_for
+
+
+def _rom_map(P0, Omega=34.0, modes=((1, 0), (2, 0)), steps=128):
+    rom = rom_for(Membrane(delta=1.1, delta_o=0.2), "numeric", modes)
+    return ForcedMap.from_loading(rom, Loading(Omega, P0, 0.05), steps=steps)
+
+
+def test_linear_damped_exponents_are_those_of_the_discrete_map_and_minus_alpha():
+    # About rest the ROM is q'' + rate q' + omega_j^2 q = 0: every exponent of the flow is
+    # -rate/2 (mass-proportional damping).  The RK4 map's exponents are log|R(h s)| / h with
+    # s = -rate/2 +- i omega_d and R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24; the eigenvalues of
+    # the map's matrix give s.  The finite run's estimates differ from the limits by at most
+    # log(cond V) / (N T) (V the eigenvectors in the frame's norm).
+    fmap = _rom_map(0.0)
+    N, T, h = 2000, fmap.period, fmap.period / fmap.steps
+    rec = lyapunov_spectrum(fmap, np.full(4, 1e-12), N, 10)
+    phi = fmap.monodromy(np.zeros(4))[1]
+    scale = fmap.state_scale()
+    mu, V = np.linalg.eig(scale[:, None] * phi / scale[None, :])
+    s = np.log(mu.astype(complex)) / T  # one period of steps: s per second of the discrete map
+    omega_d = np.abs(s.imag)
+    z = h * (-0.5 * fmap.forcing.damping_rate + 1j * omega_d)
+    discrete = np.log(np.abs(1 + z + z**2 / 2 + z**3 / 6 + z**4 / 24)) / h
+    bound = np.log(np.linalg.cond(V)) / (N * T)
+    assert np.sort(rec.exponents) == pytest.approx(np.sort(discrete), abs=bound + 1e-12)
+    # and the discrete map's exponents are the flow's, -rate/2, to RK4's error (h omega)^5/120
+    alpha = 0.5 * fmap.forcing.damping_rate
+    assert np.max(np.abs(discrete + alpha)) <= np.max((h * omega_d) ** 5) / 120 / h
+
+
+def test_the_sum_is_log_det_and_liouvilles_contraction_on_a_forced_nonlinear_orbit():
+    # The spectrum's sum equals the mean log|det dP/dy| exactly (orthogonal frames); for
+    # the viscous law the flow's divergence is -rate per mode whatever the nonlinearity,
+    # so the sum is -K rate, to the RK4 error of the determinant (halved by 2^4 per halved step).
+    gaps = []
+    for steps in (128, 256):
+        fmap = _rom_map(1.0, steps=steps)
+        y = fmap.advance(np.zeros(4), 50)
+        rec = lyapunov_spectrum(fmap, y, 20, 10)
+        assert rec.exponents.sum() == pytest.approx(rec.log_det / rec.period, rel=1e-12)
+        gaps.append(abs(rec.exponents.sum() + 2 * fmap.forcing.damping_rate))
+    assert gaps[1] <= 1e-3 * 2 * fmap.forcing.damping_rate
+    assert gaps[1] <= gaps[0] / 8  # fourth order: 16 in theory
+
+
+def test_ueda_oscillator_is_chaotic_with_its_published_exponent():
+    # x'' + 0.05 x' + x^3 = 7.5 cos t: lambda = (0.0999, 0, -0.1499) per unit time
+    # (Sprott's, RK4 step 1e-3, of the flow with the time as a state; the stroboscopic map
+    # drops the zero).  5 %: 40000 periods give 0.1029 +- 0.0007 here, 3 % above it.
+    fmap = ueda_map(128)
+    y = fmap.advance(np.array([0.1, 0.0]), 100)
+    rec = lyapunov_spectrum(fmap, y, 4000, 20)
+    assert rec.exponents[0] == pytest.approx(0.0999, rel=0.05)
+    assert rec.exponents.sum() == pytest.approx(-0.05, rel=1e-3)
+    assert classify(fmap, rec).kind == CHAOTIC
+
+
+def test_an_undamped_linear_oscillator_is_quasi_periodic_with_its_rotation_number():
+    # x'' + x = F sin(Omega t): the free part turns by 2 pi / Omega per forcing period on an
+    # ellipse about the forced response, rotation number frac(1 / Omega) folded into [0, 1/2].
+    # The mean angle step on an ellipse is off by less than the angle's distortion (< pi/2)
+    # twice over N steps: 1 / (2 N).
+    ratio = 1.3819660112501051
+    fmap = EscapeMap(0.0, Forcing(0.0, 0.1, 1.0 / ratio), 256, (1.0, 0.0, 0.0))
+    N = 400
+    rec = lyapunov_spectrum(fmap, np.array([0.3, 0.0]), N, 10)
+    kind = classify(fmap, rec)
+    assert kind.kind == QUASI_PERIODIC
+    assert kind.rotation_number == pytest.approx(min(ratio % 1, 1 - ratio % 1), abs=1 / (2 * N))
+
+
+def test_rotation_number_refuses_points_not_on_a_circle():
+    rng = np.random.default_rng(1)
+    assert np.isnan(rotation_number(rng.normal(size=(50, 2)), np.ones(2)))
+
+
+@pytest.fixture(scope="module")
+def period_doubling():
+    # The escape equation's period doubling in F at beta = 0.1, Omega = 1, located by continuation
+    fmap = EscapeMap(0.1, Forcing(0.1, 0.0, 1.0), 128)
+    br = continue_orbits(fmap, "P0", 0.0, 0.3, ds_max=0.1, max_points=400)
+    i = int(br.special(PERIOD_DOUBLING)[0])
+    return fmap, br.value[i], br.state[i]
+
+
+@pytest.mark.parametrize("side, period", [(-1, 1), (1, 2)])
+def test_classification_finds_period_one_below_and_two_above_the_located_doubling(period_doubling, side, period):
+    fmap, F, y = period_doubling
+    at = fmap.varied("P0", F * (1 + 0.02 * side))
+    y = at.advance(y + 1e-3, 400)
+    kind = classify(at, lyapunov_spectrum(at, y, 40, 10))
+    assert (kind.kind, kind.period) == (PERIODIC, period)
+
+
+def test_an_escape_is_diverged():
+    fmap = EscapeMap(0.1, Forcing(0.0, 0.3, 0.85), 128)
+    rec = lyapunov_spectrum(fmap, np.zeros(2), 100, 10)
+    assert not rec.finite and np.all(np.isnan(rec.exponents))
+    assert classify(fmap, rec).kind == DIVERGED
+
+
+def test_bad_run_lengths_are_refused():
+    with pytest.raises(ValueError, match="periods, blocks"):
+        lyapunov_spectrum(ueda_map(), np.zeros(2), 15, 10)
