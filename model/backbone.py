@@ -11,12 +11,19 @@ members of :class:`model.protocol.FreeVibration` (the ROM's: :class:`model.free.
   ``omega = 2 pi / (T2 - T1)`` and ``A = |w(Tm) - (w(T1) + w(T2))/2| / 2`` (the paper
   prints ``omega = 1/(T1 - T2)``, a frequency in Hz with the sign lost; we report rad/s).
   The samples, one per half cycle, are then interpolated at the requested amplitudes.
-* :func:`continue_free_orbits` -- continuation in amplitude of the free periodic orbits of the
-  conservative system (``c = 0``).  The potential is even in ``q`` and the system
+* :func:`backbone_branch` -- pseudo-arclength continuation of the free periodic orbits of the
+  conservative system (``c = 0``) in the unknowns ``(q(0), T/4, A)``, through turning
+  points of the amplitude (an internal resonance makes the branch turn back: near it two
+  or more orbits share an amplitude); :func:`continue_free_orbits` solves the orbits at
+  requested amplitudes on its stretch from the linear limit to the first turning point.  The potential is even in ``q`` and the system
   reversible, so the fundamental orbit that starts at rest, ``q'(0) = 0``, satisfies
   ``q(t + T/2) = -q(t)`` and hence ``q(T/4) = 0``: Newton on ``(q(0), T/4)`` with
   ``w(0) = -A``, the Jacobian from the variational equations of the RK4 scheme
-  (the model's ``flow``).
+  (the model's ``flow``).  A model whose energy is even in some coordinates only (the
+  full model: in ``W`` at fixed in-plane ``U``) marks those that change sign in ``odd``
+  (optional, with ``acceleration(q, v)``): its orbit satisfies ``q(t + T/2) = S q(t)``,
+  and the conditions at ``T/4`` are ``q_i = 0`` for the odd and ``q_i' = 0`` for the
+  others.
 
 Sign conventions.  ``w(0.5 Re, 0) = probe @ q``; the paper's ``phi_10`` is negative
 inside the annulus, so ``w`` and ``q_10`` have opposite signs.  The *modal amplitude*
@@ -31,6 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .continuation import bordered_newton, step, unit_tangent
 from .protocol import FreeVibration
 
 
@@ -106,6 +114,8 @@ def free_orbit(free: FreeVibration, amplitude: float, q_guess, quarter_guess: fl
     """
     K = free.dof
     probe = free.probe
+    odd = _odd(free)
+    rows = np.where(odd, np.arange(K), K + np.arange(K))  # q_i(T/4) for odd i, q_i'(T/4) for the others
     q0 = np.array(q_guess, dtype=float)
     tau = float(quarter_guess)
     y0 = np.zeros(2 * K)
@@ -116,10 +126,11 @@ def free_orbit(free: FreeVibration, amplitude: float, q_guess, quarter_guess: fl
             break
         y0[:K] = q0
         yq, phi = free.flow(y0, tau, steps)
-        res[:K] = yq[:K]
+        rate = yq[K:] if odd.all() else np.concatenate([yq[K:], free.acceleration(yq[:K], yq[K:])])
+        res[:K] = yq[rows]
         res[K] = probe @ q0 + amplitude
-        jac[:K, :K] = phi[:K, :K]
-        jac[:K, K] = yq[K:]
+        jac[:K, :K] = phi[rows, :K]
+        jac[:K, K] = rate[rows]
         jac[K, :K] = probe
         try:
             dx = np.linalg.solve(jac, -res)
@@ -132,12 +143,129 @@ def free_orbit(free: FreeVibration, amplitude: float, q_guess, quarter_guess: fl
     return q0, 4.0 * tau, False
 
 
-def continue_free_orbits(free: FreeVibration, amplitudes, steps: int = 256, max_halvings: int = 6) -> Backbone:
-    """Backbone by continuation of free periodic orbits (``c = 0``, ``P0 = 0``).
+def _odd(free: FreeVibration) -> np.ndarray:
+    """The coordinates that change sign under the orbit's half-period symmetry (all of
+    them unless the model says otherwise with ``odd``)."""
+    odd = getattr(free, "odd", None)
+    return np.ones(free.dof, bool) if odd is None else np.asarray(odd, bool)
 
-    Natural-parameter continuation in the amplitude, from the linear mode at the smallest
-    target upwards; a failed Newton halves the amplitude step (at most ``max_halvings``
-    times) before the rest of the branch is marked not converged.
+
+class BackboneBranch(NamedTuple):
+    """A branch of free periodic orbits followed by pseudo-arclength from the linear limit.
+
+    Attributes
+    ----------
+    amplitude : (N,) ndarray
+        ``-w(rho_probe, 0, 0)`` (m) at the turning point of each orbit.
+    omega : (N,) ndarray
+        Frequency (rad s-1).
+    q0 : (N, K) ndarray
+        Turning points (``q'(0) = 0``).
+    turning : (N,) bool ndarray
+        The amplitude turns back between this point and the next (the amplitude
+        component of the tangent changes sign).
+    """
+
+    amplitude: np.ndarray
+    omega: np.ndarray
+    q0: np.ndarray
+    turning: np.ndarray
+
+    @property
+    def first_stretch(self) -> int:
+        """Points from the linear limit to the first turning point (inclusive)."""
+        turns = np.flatnonzero(self.turning)
+        return int(turns[0]) + 1 if turns.size else self.amplitude.size
+
+
+def _quarter_conditions(free: FreeVibration, q0, tau, steps):
+    """The conditions at ``T/4`` of an orbit from rest at ``q0`` (module docstring) and their
+    derivatives in ``q0`` and ``T/4``."""
+    K = free.dof
+    odd = _odd(free)
+    rows = np.where(odd, np.arange(K), K + np.arange(K))  # q_i(T/4) for odd i, q_i'(T/4) for the others
+    yq, phi = free.flow(np.concatenate([q0, np.zeros(K)]), tau, steps)
+    rate = yq[K:] if odd.all() else np.concatenate([yq[K:], free.acceleration(yq[:K], yq[K:])])
+    return yq[rows], phi[rows, :K], rate[rows]
+
+
+def backbone_branch(free: FreeVibration, a_max: float, steps: int = 256, ds_max: float = 0.05,
+                    max_points: int = 400, tol: float = 1e-10) -> BackboneBranch:
+    """The backbone branch from the linear limit until the amplitude reaches ``a_max`` (m).
+
+    Pseudo-arclength (predictor along the unit tangent, Newton on the bordered system,
+    :func:`model.continuation.step`) in the scaled unknowns ``x = (|probe| q(0) / a_max,
+    4 omega_lin T/4 / (2 pi), A / a_max)``: the conditions at ``T/4`` of
+    :func:`free_orbit` (velocities scaled by the linear period) and ``probe . q(0) + A = 0``.
+    The step ``ds`` (scaled arclength) grows by 1.5 after an easy corrector up to
+    ``ds_max`` and is halved on failure, down to ``ds_max / 2^12``.  The branch starts at
+    ``A = a_max / 1000``.  It ends at ``a_max``, after ``max_points``, when ``ds`` falls
+    below its minimum, or when the amplitude returns to zero.
+    """
+    if not (np.isfinite(a_max) and a_max > 0.0):
+        raise ValueError(f"a_max = {a_max!r} is invalid: need a finite amplitude > 0 (m)")
+    K = free.dof
+    w_lin, v = linear_mode(free)
+    tau_lin = 0.5 * np.pi / w_lin
+    qs = float(np.abs(free.probe).max()) / a_max  # scaled q per unit q
+    odd = _odd(free)
+    row_scale = np.where(odd, qs, qs * tau_lin)
+    scale = np.concatenate([np.full(K, qs), [1.0 / tau_lin, 1.0 / a_max]])
+
+    def evaluate(x):
+        q0, tau, amp = x[:K] / qs, x[K] / scale[K], x[K + 1] * a_max
+        res, dq, dtau = _quarter_conditions(free, q0, tau, steps)
+        g = np.concatenate([row_scale * res, [(free.probe @ q0 + amp) / a_max]])
+        jac = np.zeros((K + 1, K + 2))
+        jac[:K, :K] = row_scale[:, None] * dq / qs
+        jac[:K, K] = row_scale * dtau / scale[K]
+        jac[K, :K] = free.probe / (qs * a_max)
+        jac[K, K + 1] = 1.0
+        if not np.all(np.isfinite(g)) or not np.all(np.isfinite(jac)):
+            raise np.linalg.LinAlgError("an orbit that is not finite")
+        return g, jac
+
+    def correct(x0, normal, anchor, sigma, tol):
+        try:
+            found = bordered_newton(evaluate, x0, normal, anchor, sigma, tol, 12)
+        except np.linalg.LinAlgError:
+            return None
+        return None if found is None else (found[0], found[1][1], found[2])
+
+    a0 = 1e-3 * a_max
+    q0, period, ok = free_orbit(free, a0, v * a0, tau_lin, steps)
+    if not ok:
+        raise ArithmeticError(f"no free periodic orbit of {free} at the smallest amplitude {a0:g} m")
+    x = np.concatenate([q0, [period / 4.0, a0]]) * scale
+    e_amp = np.zeros(K + 2)
+    e_amp[-1] = 1.0
+    t = unit_tangent(evaluate(x)[1], e_amp)
+    points, ds, ds_min = [x], ds_max, ds_max / 2**12
+    tangents = [t]
+    while len(points) < max_points and x[K + 1] < 1.0:
+        res, t_new, used = step(correct, unit_tangent, x, t, ds, ds_min, tol)
+        if res is None or not (res[0][K + 1] > 0.0 and res[0][K] > 0.0):
+            break
+        x, t = res[0], t_new
+        points.append(x)
+        tangents.append(t)
+        ds = min(ds_max, 1.5 * used) if res[2] <= 3 else used
+    X = np.array(points) / scale
+    T = np.array(tangents)
+    turning = np.zeros(len(points), bool)
+    turning[:-1] = np.sign(T[1:, K + 1]) != np.sign(T[:-1, K + 1])
+    return BackboneBranch(X[:, K + 1], 2.0 * np.pi / (4.0 * X[:, K]), X[:, :K], turning)
+
+
+def continue_free_orbits(free: FreeVibration, amplitudes, steps: int = 256, ds_max: float = 0.05,
+                         branch: BackboneBranch | None = None) -> tuple[Backbone, BackboneBranch]:
+    """Backbone at requested amplitudes: free periodic orbits of the undamped model.
+
+    The orbits are solved (:func:`free_orbit`) at each target from the interpolated orbits
+    of the pseudo-arclength branch (:func:`backbone_branch`, up to the largest target) on
+    its stretch from the linear limit to the first turning point of the amplitude; targets
+    beyond it (or beyond the branch's end) are not converged (NaN): the branch itself says
+    what happens there.
 
     Parameters
     ----------
@@ -146,45 +274,43 @@ def continue_free_orbits(free: FreeVibration, amplitudes, steps: int = 256, max_
         Targets of ``max |w(rho_probe, 0, t)|`` (m), > 0, any order.
     steps : int
         RK4 steps per quarter period of the shooting.
+    ds_max : float
+        Largest step of the branch (scaled arclength, :func:`backbone_branch`).
+    branch : BackboneBranch, optional
+        A branch already followed to at least the largest target.
 
     Returns
     -------
     Backbone
         ``amplitude`` in the order given.  The amplitude of an orbit is ``|w|`` at its
         turning point, the maximum of ``|w|`` over the orbit.
+    BackboneBranch
     """
     amps = np.asarray(amplitudes, dtype=float).ravel()
     if amps.size == 0 or not np.all(np.isfinite(amps)) or np.any(amps <= 0.0):
         raise ValueError(f"amplitudes = {amplitudes!r} is invalid: need finite values > 0 (m)")
     K = free.dof
+    if branch is None:
+        branch = backbone_branch(free, float(amps.max()), steps, ds_max)
     omega = np.full(amps.size, np.nan)
     modal = np.full((amps.size, K), np.nan)
     done = np.zeros(amps.size, dtype=bool)
-    w_lin, v = linear_mode(free)
-    a_prev, q_prev, tau_prev = 0.0, v, 0.5 * np.pi / w_lin
-    for idx in np.argsort(amps, kind="stable"):
-        target = amps[idx]
-        ok = True
-        while a_prev < target and ok:
-            a_try, halvings = target, 0
-            while True:
-                # Scale the previous orbit (the linear mode at the start) to the new amplitude.
-                guess = q_prev * (a_try / a_prev) if a_prev > 0.0 else v * a_try
-                q0, period, conv = free_orbit(free, a_try, guess, tau_prev, steps)
-                if conv:
-                    a_prev, q_prev, tau_prev = a_try, q0, period / 4.0
-                    break
-                halvings += 1
-                if halvings > max_halvings:
-                    ok = False
-                    break
-                a_try = a_prev + 0.5 * (a_try - a_prev)
-        if not ok:
-            break
-        omega[idx] = 2.0 * np.pi / (4.0 * tau_prev)
-        modal[idx] = q_prev
-        done[idx] = True
-    return Backbone(amps, omega, modal, done)
+    n = branch.first_stretch
+    a, q, tau = branch.amplitude[:n], branch.q0[:n], 0.5 * np.pi / branch.omega[:n]
+    power = np.where(_odd(free), 1.0, 2.0)
+    for j, target in enumerate(amps):
+        if target > a[-1] * (1.0 + 1e-12):
+            continue
+        if target <= a[0]:  # below the branch's start: its first orbit, scaled
+            guess, tau_guess = q[0] * (target / a[0]) ** power, tau[0]
+        else:
+            i = int(np.searchsorted(a, target))
+            f = (target - a[i - 1]) / (a[i] - a[i - 1])
+            guess, tau_guess = q[i - 1] + f * (q[i] - q[i - 1]), tau[i - 1] + f * (tau[i] - tau[i - 1])
+        q0, period, conv = free_orbit(free, target, guess, tau_guess, steps)
+        if conv:
+            omega[j], modal[j], done[j] = 2.0 * np.pi / period, q0, True
+    return Backbone(amps, omega, modal, done), branch
 
 
 def decay_samples(times, states, probe):
@@ -223,8 +349,20 @@ def decay_samples(times, states, probe):
     return amplitude, omega, modal
 
 
-def peak_to_peak(free: FreeVibration, amplitudes, c: float = 0.05, cycles: int = 8, rtol: float = 1e-10,
-                 steps: int = 256) -> Backbone:
+#: Cycles of each decay recorded by :func:`peak_to_peak`.
+PEAK_CYCLES = 8
+
+
+def decay_start(free: FreeVibration, amplitudes, c: float, cycles: int) -> np.ndarray:
+    """Amplitudes (m) at which :func:`peak_to_peak` starts its decays: about half of the
+    ``cycles`` recorded cycles above each target, decaying at half of ``free.decay_rate(c)``
+    over the linear period."""
+    w_lin = linear_mode(free)[0]
+    return np.asarray(amplitudes, float) * np.exp(0.5 * free.decay_rate(c) * 0.5 * cycles * 2.0 * np.pi / w_lin)
+
+
+def peak_to_peak(free: FreeVibration, amplitudes, c: float = 0.05, cycles: int = PEAK_CYCLES, rtol: float = 1e-10,
+                 steps: int = 256, branch: BackboneBranch | None = None) -> Backbone:
     """Backbone by the peak-to-peak method on lightly damped free decays.
 
     One decay per target amplitude, all integrated in one batched call (the model's
@@ -253,6 +391,9 @@ def peak_to_peak(free: FreeVibration, amplitudes, c: float = 0.05, cycles: int =
         Relative tolerance of the DOP853 integration.
     steps : int
         RK4 steps per quarter period of the shooting for the starting shapes.
+    branch : BackboneBranch, optional
+        The backbone branch (:func:`backbone_branch`) followed to at least the largest start
+        (:func:`decay_start`), shared with :func:`continue_free_orbits`.
 
     Returns
     -------
@@ -268,13 +409,11 @@ def peak_to_peak(free: FreeVibration, amplitudes, c: float = 0.05, cycles: int =
     cycles = int(cycles)
     K = free.dof
     w_lin, v = linear_mode(free)
-    rate = free.decay_rate(c)
-    # Start so that the target is reached about half-way through the recorded cycles.
-    start = amps * np.exp(0.5 * rate * 0.5 * cycles * 2.0 * np.pi / w_lin)
+    start = decay_start(free, amps, c, cycles)
     if K == 1:
         q0, ok = v[None, :] * start[:, None], np.ones(amps.size, dtype=bool)
     else:
-        orbits = continue_free_orbits(free, start, steps)
+        orbits, _ = continue_free_orbits(free, start, steps, branch=branch)
         q0, ok = orbits.modal, orbits.converged
     y0 = np.zeros((amps.size, 2 * K))
     y0[:, :K] = np.where(ok[:, None], q0, 0.0)

@@ -112,6 +112,13 @@ class FreeVibration(Protocol):
         the largest ``|w|`` over an orbit.
     length : float
         A length scale of the model (m), for absolute tolerances.
+
+    Optional capabilities (read with ``getattr``): ``odd``, a ``(dof,)`` bool mask of the
+    coordinates that change sign under the orbits' half-period symmetry (all of them when
+    absent: ``q(t + T/2) = -q(t)``); ``acceleration(q, v)``, ``q''`` of the undamped motion,
+    needed when some coordinates are not odd; ``extent(q0, period)``, the largest
+    ``(|u|, |v|, |w|)`` (m) over the orbit from rest at ``q0`` and the membrane (a model
+    with in-plane motion); ``frequency_bound()``, an upper bound of the backbone's frequency.
     """
 
     dof: int

@@ -22,6 +22,8 @@ RESULTS = {
     "fig10-11-backbone.nc": ("fig10-11-backbone", {"delta = [1.1, 1.2, 1.5, 2.0]": "delta = [1.1, 2.0]",
                                                    "num = 40": "num = 6"}),
     "fig09-modes.nc": ("fig09-modes", {"num = 60": "num = 8"}),
+    "full-backbone.nc": ("validation/full-backbone", {"delta = [1.1, 1.5, 2.0]": "delta = [1.1, 2.0]",
+                                                      "num = 40": "num = 6", "order = 16": "order = 8"}),
     "erosion-profile.nc": ("erosion-profile", {"num = 8": "num = 2", "num = 60": "num = 12"}),
     "backbone-a.nc": ("fig10-11-backbone", {"delta = [1.1, 1.2, 1.5, 2.0]": "delta = [1.1]", "num = 40": "num = 4"}),
     "backbone-b.nc": ("fig10-11-backbone", {"delta = [1.1, 1.2, 1.5, 2.0]": "delta = [2.0]", "num = 40": "num = 4"}),
@@ -44,6 +46,7 @@ def results(tmp_path_factory):
         for old, new in replace.items():
             assert old in text, f"jobs/{job}.toml no longer contains {old!r}: update RESULTS"
             text = text.replace(old, new)
+        (base / f"{job}.toml").parent.mkdir(parents=True, exist_ok=True)
         (base / f"{job}.toml").write_text(text)
         assert cli.main(["run", str(base / f"{job}.toml"), "-o", str(base / name)]) == 0
     return base

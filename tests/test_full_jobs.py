@@ -1,5 +1,5 @@
-"""The full model as a job's model (``[model] kind = "full"``): its static and linear jobs
-end to end against the ROM's jobs on the same membranes, and what it refuses."""
+"""The full model as a job's model (``[model] kind = "full"``): its static, linear and backbone
+jobs end to end against the ROM's jobs on the same membranes, and what it refuses."""
 
 from pathlib import Path
 
@@ -51,6 +51,33 @@ def test_full_linear_job_has_the_galerkin_and_the_inplane_frequencies(tmp_path):
     assert 0 < float(change.max()) < 1e-3
 
 
+def test_full_backbone_job_is_softer_than_the_rom_and_its_methods_agree(tmp_path):
+    # 8 radial functions, 1 and 2 cm (the validation job: 16 functions, up to 0.4 m)
+    text = (JOBS / "validation/full-backbone.toml").read_text()
+    text = text.replace("order = 16", "order = 8").replace("delta = [1.1, 1.5, 2.0]", "delta = [1.1]")
+    full = _run(tmp_path, "full", text.replace("start = 0.001, stop = 0.4, num = 40", "start = 0.01, stop = 0.02, num = 2")).squeeze()
+    rom_text = (JOBS / "fig10-11-backbone.toml").read_text().replace("delta = [1.1, 1.2, 1.5, 2.0]", "delta = [1.1]")
+    rom = _run(tmp_path, "rom", rom_text.replace("start = 0.001, stop = 0.4, num = 40",
+                                                "start = 0.01, stop = 0.02, num = 2")).squeeze()
+    assert (full.status == 0).all() and "modal_amplitude" not in full and "mode" not in full.dims
+    # transverse and in-plane motion decouple about the flat state: the linear limit is the
+    # converged Galerkin frequency, which the ROM's three Bessel shapes bound from above (Ritz)
+    assert float(full.omega_linear) < float(rom.omega_linear) < float(full.omega_linear) * (1 + 1e-3)
+    # shooting and damped decays are independent methods (the ROM's 3-mode bound)
+    np.testing.assert_allclose(full.omega_peak, full.omega_nl, rtol=1e-4)
+    # u = v = 0 is a constraint, and a constraint only stiffens: the full model's hardening
+    # is below the ROM's (by about a third at these amplitudes)
+    assert ((full.omega_nl - full.omega_linear) < (rom.omega_nl - rom.omega_linear)).all()
+    assert ((full.omega_nl - full.omega_linear) > 0).all()
+    # the probe is one point of the membrane; the motion is axisymmetric (v = 0); the radial
+    # displacement is driven by w'^2, of second order, so max|u| / max|w| doubles with the amplitude
+    assert (full.max_abs_w >= full.amplitude).all() and (full.max_abs_w < 1.1 * full.amplitude).all()
+    assert (full.max_abs_v == 0).all()
+    ratio = full.max_abs_u / full.max_abs_w
+    assert float(ratio[1] / ratio[0]) == pytest.approx(2.0, rel=0.05)
+    assert np.isnan(full.turn_amplitude) and np.isnan(full.turn_omega)  # no internal resonance below 2 cm
+
+
 @pytest.mark.parametrize("table, message", [
     ('[model]\nkind = "full"\norder = 2\n', "model.order = 2 is invalid: must be >= 4"),
     ('[model]\nkind = "full"\nmodes = 3\n', "model.modes"),
@@ -65,6 +92,7 @@ def test_full_model_options_are_checked(tmp_path, capsys, table, message):
 @pytest.mark.parametrize("job_name, message", [
     ("fig13-resonance", "an analysis that model 'full' can run (this one needs its forced_map"),
     ("table1-app2", "linear.prestretch = 'analytic' is invalid: must be one of numeric"),
+    ("fig10-11-backbone", "backbone.modes = [[1, 0], [2, 0], [3, 0]] is invalid: needs the ROM's mode families"),
 ])
 def test_what_the_full_model_does_not_do_is_refused(tmp_path, capsys, job_name, message):
     job = tmp_path / "bad.toml"

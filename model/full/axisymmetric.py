@@ -21,7 +21,7 @@ import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
 from . import surface
-from .axisymmetric_kernels import axisymmetric_gradient, rk4_free
+from .axisymmetric_kernels import axisymmetric_gradient, axisymmetric_hessian, rk4_free
 from .static import FullPrestretch
 
 
@@ -53,6 +53,12 @@ class AxisymmetricFull:
         """:meth:`gradient` by the compiled loop (:func:`axisymmetric_gradient`)."""
         out = np.empty(self.dof)
         axisymmetric_gradient(*self.kernel_tables, np.ascontiguousarray(q, dtype=float), out)
+        return out
+
+    def compiled_hessian(self, q) -> np.ndarray:
+        """:meth:`hessian` by the compiled loop (:func:`axisymmetric_hessian`)."""
+        out = np.empty((self.dof, self.dof))
+        axisymmetric_hessian(*self.kernel_tables, np.ascontiguousarray(q, dtype=float), out)
         return out
 
     def free_motion(self, y0, duration: float, steps: int, c: float = 0.0, every: int = 1):

@@ -18,6 +18,19 @@ from model.noalias import NoAliasCompiler
 from model.rk4 import combine, stage_offset, step_factor
 
 
+@nb.njit(cache=True, fastmath=True, error_model="numpy", inline="always")
+def _fields_at(phi, dphi, qu, qw, p):
+    """``(u', u, w')`` (over ``Re``) at quadrature point ``p`` from the coefficients ``qu``, ``qw``."""
+    du = 0.0
+    u = 0.0
+    dw = 0.0
+    for k in range(qu.size):
+        du += qu[k] * dphi[p, k]
+        u += qu[k] * phi[p, k]
+        dw += qw[k] * dphi[p, k]
+    return du, u, dw
+
+
 @nb.njit(cache=True, fastmath=True, error_model="numpy", pipeline_class=NoAliasCompiler)
 def axisymmetric_gradient(law, phi, dphi, s, sw, w, r0, dr0, q, out):
     """``out[:] = d(int W/C1 s ds)/dq`` for the coordinates ``q = (U, W)`` (the numpy
@@ -33,13 +46,7 @@ def axisymmetric_gradient(law, phi, dphi, s, sw, w, r0, dr0, q, out):
     qu, qw = q[:order], q[order:]
     gu, gw = out[:order], out[order:]
     for p in range(points):
-        du = 0.0
-        u = 0.0
-        dw = 0.0
-        for k in range(order):
-            du += qu[k] * dphi[p, k]
-            u += qu[k] * phi[p, k]
-            dw += qw[k] * dphi[p, k]
+        du, u, dw = _fields_at(phi, dphi, qu, qw, p)
         a1r = dr0[p] + du
         a2t = (r0[p] + u) / s[p]
         n1 = a1r * a1r + dw * dw
@@ -94,3 +101,108 @@ def rk4_free(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, damping, y0,
         if (step + 1) % every == 0:
             record[(step + 1) // every] = y
     return y
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy")
+def axisymmetric_hessian(law, phi, dphi, s, sw, w, r0, dr0, q, out):
+    """``out[:, :] = d^2(int W/C1 s ds)/dq^2`` for the coordinates ``q = (U, W)`` (the numpy
+    :meth:`model.full.axisymmetric.AxisymmetricFull.hessian`, compiled).
+
+    With ``x = (a1_r, a1_z, a2_theta)``, ``n1 = |a1|^2``, ``n2 = |a2|^2``, ``T = n1 + n2`` and
+    ``Delta = n1 n2``: ``d2W/dx2 = W_TT tT tT' + W_TD (tT tD' + tD tT') + W_DD tD tD' + 2 W_T I
+    + W_D d2Delta`` with ``tT = 2 x``, ``tD = 2 (a1_r n2, a1_z n2, a2_theta n1)``; ``U_k``
+    moves ``x`` by ``(phi_k', 0, phi_k / s)`` and ``W_k`` by ``(0, phi_k', 0)``."""
+    points, order = phi.shape
+    out[:, :] = 0.0
+    qu, qw = q[:order], q[order:]
+    tT = np.empty(3)
+    tD = np.empty(3)
+    d = np.empty((3, 3))
+    for p in range(points):
+        du, u, dw = _fields_at(phi, dphi, qu, qw, p)
+        x0 = dr0[p] + du
+        x1 = dw
+        x2 = (r0[p] + u) / s[p]
+        n1 = x0 * x0 + x1 * x1
+        n2 = x2 * x2
+        delta = n1 * n2
+        w_t, w_d, w_tt, w_td, w_dd = metric_derivatives(law, n1 + n2, delta, 1.0 / delta)
+        tT[0] = 2.0 * x0
+        tT[1] = 2.0 * x1
+        tT[2] = 2.0 * x2
+        tD[0] = 2.0 * x0 * n2
+        tD[1] = 2.0 * x1 * n2
+        tD[2] = 2.0 * x2 * n1
+        for i in range(3):
+            for j in range(3):
+                d[i, j] = w_tt * tT[i] * tT[j] + w_td * (tT[i] * tD[j] + tD[i] * tT[j]) + w_dd * tD[i] * tD[j]
+            d[i, i] += 2.0 * w_t
+        d[0, 0] += w_d * 2.0 * n2
+        d[1, 1] += w_d * 2.0 * n2
+        d[2, 2] += w_d * 2.0 * n1
+        d[0, 2] += w_d * 4.0 * x0 * x2
+        d[2, 0] += w_d * 4.0 * x0 * x2
+        d[1, 2] += w_d * 4.0 * x1 * x2
+        d[2, 1] += w_d * 4.0 * x1 * x2
+        c = sw[p]
+        inv_s = 1.0 / s[p]
+        for k in range(order):
+            ak = dphi[p, k]
+            bk = phi[p, k] * inv_s
+            # row k of U: d/dU_k x = (ak, 0, bk); row k of W: (0, ak, 0)
+            ru0 = c * (d[0, 0] * ak + d[2, 0] * bk)
+            ru1 = c * (d[0, 1] * ak + d[2, 1] * bk)
+            ru2 = c * (d[0, 2] * ak + d[2, 2] * bk)
+            rw0 = c * d[1, 0] * ak
+            rw1 = c * d[1, 1] * ak
+            rw2 = c * d[1, 2] * ak
+            for m in range(order):
+                al = dphi[p, m]
+                bl = phi[p, m] * inv_s
+                out[k, m] += ru0 * al + ru2 * bl
+                out[k, order + m] += ru1 * al
+                out[order + k, m] += rw0 * al + rw2 * bl
+                out[order + k, order + m] += rw1 * al
+
+
+@nb.njit(cache=True, error_model="numpy")
+def rk4_variational(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, y0, dt, steps):
+    """``steps`` RK4 steps of ``dt`` (s) of the undamped free motion from ``y0`` with the
+    variational equations ``dq' = dv``, ``dv' = -omega_0^2 M^-1 H(q) dq``: the final state
+    and its derivative in ``y0`` (``(2 dof, 2 dof)``, exact for the discrete scheme)."""
+    n = y0.size
+    dof = n // 2
+    order = dof // 2
+    y = y0.copy()
+    big = np.eye(n)
+    k = np.empty((4, n))
+    kp = np.empty((4, n, n))
+    stage = np.empty(n)
+    pstage = np.empty((n, n))
+    g = np.empty(dof)
+    hess = np.empty((dof, dof))
+    hess_blocks = hess.reshape((2, order, dof))  # the u and w rows, contiguous for '@'
+    stiff = np.empty((dof, dof))
+    pstage_blocks = pstage.reshape((2, dof, n))  # the displacement and velocity rows
+    for step in range(steps):
+        for i in range(4):
+            if i == 0:
+                stage[:] = y
+                pstage[:, :] = big
+            else:
+                f = stage_offset(i, dt)
+                stage[:] = y + f * k[i - 1]
+                pstage[:, :] = big + f * kp[i - 1]
+            axisymmetric_gradient(law, phi, dphi, s, sw, w, r0, dr0, stage[:dof], g)
+            axisymmetric_hessian(law, phi, dphi, s, sw, w, r0, dr0, stage[:dof], hess)
+            stiff[:order, :] = -omega0_2 * (inv_mass @ hess_blocks[0])
+            stiff[order:, :] = -omega0_2 * (inv_mass @ hess_blocks[1])
+            k[i, :dof] = stage[dof:]
+            k[i, dof:order + dof] = -omega0_2 * (inv_mass @ g[:order])
+            k[i, dof + order:] = -omega0_2 * (inv_mass @ g[order:])
+            kp[i, :dof, :] = pstage_blocks[1]
+            kp[i, dof:, :] = stiff @ pstage_blocks[0]
+        for j in range(n):
+            y[j] += step_factor(dt) * combine(k[0, j], k[1, j], k[2, j], k[3, j])
+        big += step_factor(dt) * (kp[0] + 2.0 * kp[1] + 2.0 * kp[2] + kp[3])
+    return y, big

@@ -10,12 +10,19 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   applies to its finite element model (section 4.2);
 * ``modal_amplitude`` (``point``, ``mode``) -- the modal amplitudes ``A_mn`` of the orbit in
   the paper's normalisation (Fig. 9), ``(q_k(trough of w) - q_k(peak of w)) / 2``, so that
-  ``A_10 > 0``;
-* ``omega_linear`` -- the small-amplitude limit of the ROM, and ``omega_bound`` -- the
-  upper bound of Eq. (29) for the backbone's mode.
+  ``A_10 > 0`` (models with modes: the ROM);
+* ``max_abs_u``, ``max_abs_v``, ``max_abs_w`` (``point``) -- the largest ``|u|``, ``|v|``,
+  ``|w|`` (m) over the orbit and the membrane (models with in-plane motion: the full model);
+* ``turn_amplitude``, ``turn_omega`` -- where the pseudo-arclength branch of free orbits
+  (:func:`model.backbone.backbone_branch`) first turns back in amplitude (an internal
+  resonance), NaN when it reaches the largest target without turning; targets beyond it
+  are NaN;
+* ``omega_linear`` -- the small-amplitude limit of the model, and ``omega_bound`` -- the
+  upper bound of Eq. (29) for the backbone's mode (the ROM's neo-Hookean law).
 
-Options: :attr:`BackboneAnalysis.OPTIONS` (``docs/options.md``).  The status is ``not_converged`` when some target has no ``omega_nl`` or no
-``omega_peak``; those entries are NaN.
+Options: :attr:`BackboneAnalysis.OPTIONS` (``docs/options.md``).  The status is
+``not_converged`` when some target has no ``omega_nl`` or no ``omega_peak``; those entries
+are NaN, and the message says where the branch turned.
 """
 
 from __future__ import annotations
@@ -25,7 +32,7 @@ from functools import partial
 
 import numpy as np
 
-from model.backbone import continue_free_orbits, linear_mode, peak_to_peak
+from model.backbone import PEAK_CYCLES, backbone_branch, continue_free_orbits, decay_start, linear_mode, peak_to_peak
 from model.free import FreeRom
 from model.params import Membrane
 
@@ -46,6 +53,10 @@ class BackboneOptions:
     peak_damping: float
     #: the job's material law (``[membrane] law``): the warmups compile its kernels
     material: str = "neo-hookean"
+    #: whether the model has modes (``modal_amplitude``; the ROM)
+    modal: bool = True
+    #: whether the model has in-plane motion (``max_abs_u``, ``max_abs_v``, ``max_abs_w``)
+    inplane: bool = False
 
     @property
     def targets(self) -> np.ndarray:
@@ -69,13 +80,17 @@ class BackboneAnalysis(Analysis):
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
         check_keys(table, self.name, tuple(self.OPTIONS))
+        opt.rom_only(table, self.name, context.model, ("modes",))
+        model = context.model.model()
         return BackboneOptions(
             modes=opt.modes(table, self.name),
             prestretch=opt.prestretch(table, self.name, context),
             amplitude=opt.linspace(table, self.name, "amplitude", DEFAULT_AMPLITUDE, low=0.0,
                                    low_open=True, max_num=10_000),
             peak_damping=opt.number(table, self.name, "peak_damping", 0.05, low=0.0, low_open=True),
-            material=membrane.law)
+            material=membrane.law,
+            modal=model.rom_features,
+            inplane=model.provides("inplane_frequencies"))
 
     def variables(self, options):
         P, K = options.amplitude[2], len(options.modes)
@@ -86,19 +101,26 @@ class BackboneAnalysis(Analysis):
                      "nonlinear free-vibration frequency, continuation of free periodic orbits"),
             Variable("omega_peak", ("point",), (P,), "f8", "rad s-1",
                      "nonlinear free-vibration frequency, peak-to-peak method on damped decays"),
-            Variable("modal_amplitude", ("point", "mode"), (P, K), "f8", "m",
-                     "modal amplitude A_mn of the free periodic orbit (Eq. 31 normalisation)"),
             Variable("omega_linear", (), (), "f8", "rad s-1",
-                     "small-amplitude limit of the backbone (linearised ROM)"),
+                     "small-amplitude limit of the backbone (linearised model)"),
             Variable("omega_bound", (), (), "f8", "rad s-1",
-                     "upper bound of the frequency of the backbone's mode, Eq. 29 (neo-Hookean law; NaN for "
-                     "the others)"),
-        ]
+                     "upper bound of the frequency of the backbone's mode, Eq. 29 (the ROM's neo-Hookean law; "
+                     "NaN otherwise)"),
+            Variable("turn_amplitude", (), (), "f8", "m",
+                     "amplitude where the branch of free periodic orbits first turns back (NaN: no turn "
+                     "below the largest target)"),
+            Variable("turn_omega", (), (), "f8", "rad s-1", "frequency there"),
+        ] + ([Variable("modal_amplitude", ("point", "mode"), (P, K), "f8", "m",
+                       "modal amplitude A_mn of the free periodic orbit (Eq. 31 normalisation)")]
+             if options.modal else []) + (
+            [Variable(f"max_abs_{f}", ("point",), (P,), "f8", "m",
+                      f"largest |{f}| over the free periodic orbit and the membrane") for f in "uvw"]
+            if options.inplane else [])
 
     def coords(self, options):
         return {"point": (("point",), np.arange(options.amplitude[2], dtype=np.int32),
                           {"long_name": "index of the target amplitude", "units": "1"}),
-                **opt.mode_coords(options.modes)}
+                **(opt.mode_coords(options.modes) if options.modal else {})}
 
     def warmups(self, options):
         return [partial(_compile_backbone, options.material)]
@@ -106,18 +128,33 @@ class BackboneAnalysis(Analysis):
     def compute(self, point, options, subtask):
         free = point.model.free_vibration(point, options)
         targets = options.targets
-        orbits = continue_free_orbits(free, targets)
-        peaks = peak_to_peak(free, targets, c=options.peak_damping)
+        c = options.peak_damping
+        branch = backbone_branch(free, float(decay_start(free, targets.max(), c, PEAK_CYCLES)))
+        orbits, _ = continue_free_orbits(free, targets, branch=branch)
+        peaks = peak_to_peak(free, targets, c=c, branch=branch)
+        turns = np.flatnonzero(branch.turning)
+        turn = (branch.amplitude[turns[0]], branch.omega[turns[0]]) if turns.size else (np.nan, np.nan)
         ok = bool(orbits.converged.all() and peaks.converged.all())
-        why = {} if ok else {"message": f"{np.count_nonzero(~orbits.converged)} target(s) without a free periodic "
-                                        f"orbit, {np.count_nonzero(~peaks.converged)} without a peak-to-peak sample"}
-        return {**why, "amplitude": targets,
-                "omega_nl": orbits.omega,
-                "omega_peak": peaks.omega,
-                "modal_amplitude": orbits.modal,
-                "omega_linear": linear_mode(free)[0],
-                "omega_bound": getattr(free, "frequency_bound", lambda: np.nan)(),
-                "status": STATUS_OK if ok else STATUS_NOT_CONVERGED}
+        out = {"amplitude": targets,
+               "omega_nl": orbits.omega,
+               "omega_peak": peaks.omega,
+               "omega_linear": linear_mode(free)[0],
+               "omega_bound": getattr(free, "frequency_bound", lambda: np.nan)(),
+               "turn_amplitude": turn[0], "turn_omega": turn[1],
+               "status": STATUS_OK if ok else STATUS_NOT_CONVERGED}
+        if not ok:
+            where = (f"; the branch of free orbits turns back at {turn[0]:.6g} m, {turn[1]:.6g} rad/s"
+                     if turns.size else f"; the branch of free orbits ends at {branch.amplitude[-1]:.6g} m")
+            out["message"] = (f"{np.count_nonzero(~orbits.converged)} target(s) without a free periodic orbit, "
+                              f"{np.count_nonzero(~peaks.converged)} without a peak-to-peak sample{where}")
+        if options.modal:
+            out["modal_amplitude"] = orbits.modal
+        if options.inplane:
+            extent = np.full((targets.size, 3), np.nan)
+            for j in np.flatnonzero(orbits.converged):
+                extent[j] = free.extent(orbits.modal[j], 2.0 * np.pi / orbits.omega[j])
+            out.update(max_abs_u=extent[:, 0], max_abs_v=extent[:, 1], max_abs_w=extent[:, 2])
+        return out
 
 
 BACKBONE = BackboneAnalysis()

@@ -1,9 +1,10 @@
 """The full model of the membrane (:mod:`model.full`) as a job's model (``[model] kind = "full"``).
 
 It keeps the in-plane displacements and their inertia that the ROM drops.  So far it runs
-``static`` (its own pre-stretch, the minimum of the axisymmetric energy) and ``linear``
-(transverse and in-plane frequencies per wave number); the forced analyses and
-``backbone`` are refused at validation.  Its resolution is ``[model] order``, the number
+``static`` (its own pre-stretch, the minimum of the axisymmetric energy), ``linear``
+(transverse and in-plane frequencies per wave number) and ``backbone`` (the axisymmetric
+free vibration, :class:`model.full.free.FreeFull`); the forced analyses are refused at
+validation.  Its resolution is ``[model] order``, the number
 of radial Legendre-Galerkin functions per field; ``linear.basis`` overrides it per task
 (a list of orders is a convergence study).
 """
@@ -51,6 +52,12 @@ class FullModel(Model):
     def parse_options(self, table):
         check_keys(table, "model", ("kind", *self.OPTIONS))
         return FullOptions(opt.number(table, "model", "order", DEFAULT_ORDER, low=4, high=MAX_ORDER, integer=True))
+
+    def free_vibration(self, point, model_options, options):
+        from model.full.axisymmetric import AxisymmetricFull
+        from model.full.free import FreeFull
+
+        return FreeFull(AxisymmetricFull(full_prestretch_for(point.membrane, model_options.order)))
 
     def static_state(self, point, model_options, options):
         return full_prestretch_for(point.membrane, model_options.order)

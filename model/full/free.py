@@ -1,0 +1,204 @@
+"""The full model's axisymmetric free vibration behind :class:`model.protocol.FreeVibration`.
+
+:class:`FreeFull` is what the backbone methods of :mod:`model.backbone` take of the
+axisymmetric full model (:class:`model.full.axisymmetric.AxisymmetricFull`): coordinates
+``q = (U, W)``, the Legendre-Galerkin coefficients of ``u / Re`` and ``w / Re``.
+
+* The undamped flow and its derivative: fixed-step RK4 with the variational equations
+  ``dq' = dv``, ``dv' = -omega_0^2 M^-1 H(q) dq`` (``H`` the energy's Hessian), the exact
+  derivative of the discrete scheme.  RK4 is stable for ``omega_max dt < 2.8``; the
+  in-plane waves of the discretisation are far faster than the transverse motion
+  (``omega_max`` is about 85 times the lowest frequency at order 16 and grows like the
+  order squared), so the steps are raised to ``duration * omega_max(q0) / 2`` when the
+  caller's are fewer (``omega_max`` at the starting state, where a backbone orbit is at
+  its largest deflection and tension).
+* The symmetry of the free orbits: the energy is even in ``W`` at fixed ``U`` (reflection
+  ``w -> -w``), so the fundamental orbit from rest satisfies ``q(t + T/2) = S q(t)`` with
+  ``S = diag(+1 on U, -1 on W)``; with the time reversibility its quarter-period conditions
+  are ``W(T/4) = 0`` and ``U'(T/4) = 0`` (:attr:`FreeFull.odd` marks the coordinates that
+  change sign; :func:`model.backbone.free_orbit` reads it).  ``u`` swings at twice the
+  frequency of ``w``.
+* Lightly damped free decays (peak-to-peak method): the compiled RK4 free motion
+  (:func:`model.full.axisymmetric_kernels.rk4_free`) with the extrema of ``w`` at the probe
+  located between steps on the cubic Hermite interpolant of ``(q, q')``.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from scipy.linalg import eigh
+
+from .axisymmetric import AxisymmetricFull
+from .axisymmetric_kernels import rk4_variational
+
+#: RK4 steps per linear period at least, in the decays and the extent of an orbit.
+STEPS_PER_PERIOD = 1024
+#: RK4 time step over the stability limit ``2.8 / omega_max`` at most.
+STABILITY_FRACTION = 2.0 / 2.8
+
+
+class DecayExtrema(NamedTuple):
+    """Extrema of ``w(t) = probe @ q(t)`` along free decays (as :class:`model.dopri.Extrema`).
+
+    Attributes
+    ----------
+    times : (N, max_count) ndarray
+        Instants (s), NaN past ``count``.
+    states : (N, max_count, 2 dof) ndarray
+        States there, NaN past ``count``.
+    count : (N,) ndarray of int
+    """
+
+    times: np.ndarray
+    states: np.ndarray
+    count: np.ndarray
+
+
+class FreeFull:
+    """The axisymmetric free vibration of the full model (:class:`model.protocol.FreeVibration`).
+
+    Parameters
+    ----------
+    model : AxisymmetricFull
+    probe_rho : float, optional
+        Undeformed radius (m) of the measured ``w(probe_rho, 0)``; default ``0.5 Re``, the ROM's.
+    """
+
+    def __init__(self, model: AxisymmetricFull, probe_rho: float | None = None):
+        self.model = model
+        m = model.membrane
+        self.probe_rho = 0.5 * m.Re if probe_rho is None else float(probe_rho)
+        o = model.order
+        phi, _ = model.state.basis.evaluate(np.eye(o), np.array([self.probe_rho / m.Re]))
+        #: ``w(probe_rho) = probe @ q`` (m): only the ``W`` block
+        self.probe = np.concatenate([np.zeros(o), m.Re * phi[:, 0]])
+        #: the coordinates that change sign under ``w -> -w``: the ``W`` block
+        self.odd = np.concatenate([np.zeros(o, bool), np.ones(o, bool)])
+
+    def __str__(self) -> str:
+        return f"the axisymmetric full model of order {self.model.order} (probe at rho = {self.probe_rho:g} m)"
+
+    @property
+    def dof(self) -> int:
+        """Coordinates ``2 order`` (``U`` then ``W``); states ``(q, q')``."""
+        return self.model.dof
+
+    @property
+    def length(self) -> float:
+        """The outer radius ``Re`` (m)."""
+        return self.model.membrane.Re
+
+    def _mass_inverse(self, a):
+        # M^-1 a for the block-diagonal mass (rows of a: U then W)
+        o, inv = self.model.order, self.model.inverse_mass
+        return np.concatenate([inv @ a[:o], inv @ a[o:]])
+
+    def linear_frequencies(self) -> tuple[np.ndarray, np.ndarray]:
+        """Frequencies (rad s-1, ascending) and vectors (columns) of the motion about the
+        pre-stretch: the radial in-plane (``U``) and transverse (``W``) families of n = 0,
+        uncoupled there."""
+        m = self.model
+        mass = np.kron(np.eye(2), m.mass_block)
+        lam, vec = eigh(m.hessian(np.zeros(m.dof)), mass)
+        return np.sqrt(m.omega0_2 * lam), vec
+
+    def highest_frequency(self, q) -> float:
+        """The largest frequency (rad s-1) of the motion linearised about the state ``q``."""
+        m = self.model
+        lam = eigh(m.compiled_hessian(np.asarray(q, float)), np.kron(np.eye(2), m.mass_block), eigvals_only=True)[-1]
+        return float(np.sqrt(m.omega0_2 * max(lam, 0.0)))
+
+    def steps_for(self, q0, duration: float, steps: int) -> int:
+        """``steps``, raised to keep RK4 within :data:`STABILITY_FRACTION` of its stability
+        limit at ``omega_max(q0)``."""
+        return max(int(steps), int(np.ceil(duration * self.highest_frequency(q0) / (2.8 * STABILITY_FRACTION))))
+
+    def acceleration(self, q, v) -> np.ndarray:
+        """``q''`` of the undamped motion."""
+        return self.model.acceleration(np.asarray(q, float), np.asarray(v, float))
+
+    def flow(self, y0, duration: float, steps: int) -> tuple[np.ndarray, np.ndarray]:
+        """State after ``duration`` (s) of the undamped motion from ``y0`` by at least ``steps``
+        RK4 steps (:meth:`steps_for`), and its derivative in ``y0`` (the variational
+        equations of the same steps)."""
+        m = self.model
+        y = np.array(y0, dtype=float)
+        steps = self.steps_for(y[:m.dof], duration, steps)
+        return rk4_variational(*m.kernel_tables, m.inverse_mass, m.omega0_2, y, duration / steps, steps)
+
+    def decay_rate(self, c: float) -> float:
+        """``c / (Gamma h)`` (s-1), the damping coefficient of every coordinate (the viscous
+        pressure acts on the whole velocity: mass-proportional; amplitudes decay at half of it)."""
+        return float(self.model.membrane.damping_rate(c))
+
+    def _time_step(self, q0) -> float:
+        omega_lin = self.linear_frequencies()[0][0]
+        return min(2.0 * np.pi / omega_lin / STEPS_PER_PERIOD, 2.8 * STABILITY_FRACTION / self.highest_frequency(q0))
+
+    def decay_extrema(self, y0, t_end: float, max_count: int, c: float, rtol: float, atol: float) -> DecayExtrema:
+        """Up to ``max_count`` successive extrema of ``w`` at the probe along free decays under
+        the viscous damping ``c`` from the rows of ``y0`` until ``t_end`` (s).  Fixed RK4
+        steps (:data:`STEPS_PER_PERIOD`, or the stability limit); ``rtol`` and ``atol``
+        (the protocol's, for adaptive integrators) are not used."""
+        y0 = np.atleast_2d(np.asarray(y0, float))
+        N, n = y0.shape[0], self.dof
+        times = np.full((N, max_count), np.nan)
+        states = np.full((N, max_count, 2 * n), np.nan)
+        count = np.zeros(N, np.int64)
+        for j in range(N):
+            dt = self._time_step(y0[j, :n])
+            steps = int(np.ceil(t_end / dt))
+            record = self.model.free_motion(y0[j], steps * dt, steps, c=c)
+            t, s = hermite_extrema(record, dt, self.probe, max_count)
+            count[j] = t.size
+            times[j, :t.size], states[j, :t.size] = t, s
+        return DecayExtrema(times, states, count)
+
+    def orbit(self, q0, period: float):
+        """The states of one period of the free motion from rest at ``q0`` (rows; at least
+        :data:`STEPS_PER_PERIOD` RK4 steps, or the stability limit) and the time step (s)."""
+        q0 = np.asarray(q0, float)
+        steps = max(STEPS_PER_PERIOD, int(np.ceil(period / self._time_step(q0))))
+        return self.model.free_motion(np.concatenate([q0, np.zeros(self.dof)]), period, steps), period / steps
+
+    def extent(self, q0, period: float, radii: int = 201) -> tuple[float, float, float]:
+        """``(max |u|, max |v|, max |w|)`` (m) over one period of the orbit from rest at ``q0``
+        and over ``radii`` equally spaced radii of the membrane (``v`` vanishes: the motion is
+        axisymmetric)."""
+        record, _ = self.orbit(q0, period)
+        b = self.model.state.basis
+        s = np.linspace(b.s_in, b.s_out, radii)
+        o = self.model.order
+        re = self.model.membrane.Re
+        u = re * b.evaluate(record[:, :o], s)[0]
+        w = re * b.evaluate(record[:, o:2 * o], s)[0]
+        return float(np.abs(u).max()), 0.0, float(np.abs(w).max())
+
+
+def hermite_extrema(record, dt: float, probe, max_count: int):
+    """Instants and states of the extrema of ``w = probe @ q`` along the states ``record``
+    (rows ``(q, q')`` every ``dt`` from ``t = 0``): where ``probe @ q'`` changes sign between
+    two rows, the root of the derivative of the cubic Hermite interpolant of ``w`` in the
+    step, and the Hermite interpolant of ``(q, q')`` there.  At most ``max_count``."""
+    n = record.shape[1] // 2
+    q, v = record[:, :n], record[:, n:]
+    w, wv = q @ probe, v @ probe
+    flips = np.flatnonzero(np.sign(wv[1:]) * np.sign(wv[:-1]) < 0)[:max_count]
+    times, states = [], []
+    for i in flips:
+        m0, m1 = dt * wv[i], dt * wv[i + 1]
+        a = 6.0 * w[i] + 3.0 * m0 - 6.0 * w[i + 1] + 3.0 * m1
+        b = -6.0 * w[i] - 4.0 * m0 + 6.0 * w[i + 1] - 2.0 * m1
+        roots = np.roots([a, b, m0]) if a != 0.0 else np.array([-m0 / b])
+        real = roots[np.isreal(roots)].real
+        real = real[(real >= 0.0) & (real <= 1.0)]
+        x = float(real[0]) if real.size else float(m0 / (m0 - m1))
+        h00, h10, h01, h11 = 2 * x**3 - 3 * x**2 + 1, x**3 - 2 * x**2 + x, -2 * x**3 + 3 * x**2, x**3 - x**2
+        d00, d10, d01, d11 = 6 * x**2 - 6 * x, 3 * x**2 - 4 * x + 1, -6 * x**2 + 6 * x, 3 * x**2 - 2 * x
+        qx = h00 * q[i] + h10 * dt * v[i] + h01 * q[i + 1] + h11 * dt * v[i + 1]
+        vx = (d00 * q[i] + d10 * dt * v[i] + d01 * q[i + 1] + d11 * dt * v[i + 1]) / dt
+        times.append((i + x) * dt)
+        states.append(np.concatenate([qx, vx]))
+    return np.array(times), np.array(states).reshape(len(times), 2 * n)
