@@ -32,16 +32,17 @@ PAPER_JOBS = (
     "fig09-modes", "fig10-11-backbone", "fig12-inner-radius",
     "fig13-resonance", "fig14-bifurcation-omega", "fig15-bifurcation-p0", "fig15-bruteforce",
     "fig16-17-damping", "fig17-cusp", "fig18-damping-resonance",
-    "fig14-families", "stability-map-fig14a", "fig14a-bifurcation-curves",
+    "fig14-families", "stability-map-fig14a", "fig14a-bifurcation-curves", "fig14a-bruteforce-diagram",
     "fig19-basins", "fig19a-basins-modes", "erosion-profile",
 )
 #: Job files (``jobs/validation/<name>.toml``) of the checks in ``docs/validation.md`` beyond
 #: the paper: convergence in the basis, the modes and the RK4 steps, and brute-force checks.
 VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
-    "linear-basis", "full-static", "full-linear", "fe-q1-576", "fe-q1-576-lumped",
+    "linear-basis", "full-static", "full-linear", "full-backbone", "full-backbone-order12", "backbone-modes", "fe-q1-576", "fe-q1-576-lumped",
     "forced-modes-omega", "forced-modes-omega-fine", "forced-modes-p0", "forced-modes-p0-fine",
     "families-viscous", "families-modal", "families-rayleigh",
-    "families-1pct-viscous", "families-1pct-modal", "families-1pct-rayleigh", "family-check", "fig19a-basins-brute",
+    "families-1pct-viscous", "families-1pct-modal", "families-1pct-rayleigh", "family-check", "fig14a-families-m2",
+    "fig19a-basins-brute",
 ))
 QUICK_NUM = 41
 

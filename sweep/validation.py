@@ -461,6 +461,88 @@ def section_families(results: Path) -> list[str]:
     return out + _switched_branch(ds) + _stability_map(results) + _family_convergence(results) + _family_check(results)
 
 
+#: Largest asymmetric coordinate over the axisymmetric one for a response called axisymmetric:
+#: the diagram's perturbation (1e-6 m) decays on a stable axisymmetric orbit to far below it.
+AXISYMMETRIC_SHARE = 1e-4
+
+
+def _diagram_labels(b, asymmetric) -> list[str]:
+    """A label per swept value of one direction of a bifurcation diagram: the kind, the
+    period, and for period 1 whether the asymmetric coordinates are there."""
+    meanings = dict(zip(b.response_kind.attrs["flag_values"].tolist(), b.response_kind.attrs["flag_meanings"].split()))
+    labels = []
+    for kind, period, share in zip(b.response_kind.values, b.response_period.values, asymmetric):
+        name = meanings[int(kind)]
+        if name == "periodic":
+            name = f"period {int(period)}" + (" axisymmetric" if share < AXISYMMETRIC_SHARE else " asymmetric")
+        labels.append(name.replace("_", "-"))
+    return labels
+
+
+def section_bruteforce_diagram(results: Path) -> list[str]:
+    """The brute-force bifurcation diagram of the Fig. 14a response against the branch and
+    Neimark-Sacker points of its families located by continuation."""
+    names = ("fig14a-bruteforce-diagram", "validation/fig14a-families-m2")
+    out = ["## A brute-force bifurcation diagram (Fig. 14a, n = 1 and n = 3 modes)", "",
+           "The ROM (1,0) + (1,1),(2,1) + (1,3),(2,3) at delta = 1.1, delta_o = 0.2, P0 = 1 Pa, c = 0.05 N s/m^3, Omega stepped",
+           "up and down (`fig14a-bruteforce-diagram`): at each value 1e-6 m is added to every coordinate, the",
+           "response settles, then Poincare points are recorded with the Lyapunov spectrum of the stroboscopic",
+           "map along them and the response is classified (docs/model.md, \"Steady-state sweeps\"). A periodic",
+           f"response is axisymmetric when its asymmetric coordinates stay below {AXISYMMETRIC_SHARE:g} of its (1,0)",
+           "coordinate. Against it: the same families, two radial modes each, along the axisymmetric branch by",
+           "continuation with Floquet stability (`validation/fig14a-families-m2`).", ""]
+    diagram, cont = (_open(results, n) for n in names)
+    if diagram is None or cont is None:
+        return out + _missing(*names)
+    case = dict(delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
+    c = _point(cont, **case)
+    n = int(c.n_points)
+    om, kind, fam = c.Omega.values.ravel()[:n], c.point_type.values.ravel()[:n], c.point_family.values.ravel()[:n]
+    end = resonant_end(kind)
+    kinds = {2: "PD", 3: "NS", 4: "BP"}
+    modulus = c.family_multiplier_modulus.values.reshape(n, -1)[:end]
+    intervals = []
+    for j, f in enumerate(c.family.values):
+        located = [f"{kinds[int(k)]} {o:.3f}" for k, g, o in zip(kind[:end], fam[:end], om[:end]) if g == f and k > 1]
+        found = unstable_intervals(om[:end], modulus[:, j])
+        intervals += found
+        out.append(f"* family n = {int(f)}: located points on the resonant stretch {', '.join(located) or 'none'}; "
+                   f"unstable on {_fmt_intervals(found)} rad/s.")
+    out += ["", f"The resonant stretch ends at its saddle-node, Omega = {om[end - 1]:.3f} rad/s.", ""]
+    d = _point(diagram, **case)
+    modes = list(zip(d.m.values.tolist(), d.n.values.tolist()))
+    axi = modes.index((1, 0))
+    q = d.poincare_coordinate.transpose("direction", "Omega", "sample", "mode").values
+    share = np.nanmax(np.abs(np.delete(q, axi, axis=-1)), axis=(2, 3)) / np.nanmax(np.abs(q[..., axi]), axis=2)
+    lam = d.lyapunov_exponent.transpose("direction", "Omega", "exponent").values[..., 0]
+    err = d.lyapunov_error.transpose("direction", "Omega", "exponent").values[..., 0]
+    omega = d.Omega.values
+    out += ["| Omega (rad/s) | up: kind | lambda_1 (s-1) | rotation number | down: kind | lambda_1 (s-1) | rotation number |",
+            "|---|---|---|---|---|---|---|"]
+    labels = {}
+    for i, direction in enumerate(d.direction.values):
+        labels[str(direction)] = _diagram_labels(d.sel(direction=direction), share[i])
+    rot = d.rotation_number.transpose("direction", "Omega").values
+    for k, o in enumerate(omega):
+        cells = [f"{o:.3f}"]
+        for i, direction in enumerate(d.direction.values):
+            cells += [labels[str(direction)][k], f"{lam[i, k]:+.4f} ± {err[i, k]:.4f}",
+                      "-" if np.isnan(rot[i, k]) else f"{rot[i, k]:.4f}"]
+        out.append("| " + " | ".join(cells) + " |")
+    inside = [any(a < o < b for a, b in intervals) for o in omega]
+    on_stretch = omega <= om[end - 1]
+    up = labels[str(d.direction.values[0])]
+    agree_in = sum(1 for k in range(omega.size) if inside[k] and on_stretch[k] and up[k] != "period 1 axisymmetric")
+    n_in = sum(1 for k in range(omega.size) if inside[k] and on_stretch[k])
+    agree_out = sum(1 for k in range(omega.size) if not inside[k] and on_stretch[k] and up[k] == "period 1 axisymmetric")
+    n_out = sum(1 for k in range(omega.size) if not inside[k] and on_stretch[k])
+    out += ["", f"On the resonant stretch the upward sweep is axisymmetric and periodic at {agree_out} of the {n_out} values",
+            f"where the continuation finds both families stable, and is not at {agree_in} of the {n_in} values inside an",
+            "unstable interval of a family (an upward sweep stays on the resonant branch only while that branch is",
+            "stable; where both directions disagree, two attractors coexist).", ""]
+    return out
+
+
 def _switched_branch(ds) -> list[str]:
     out = ["### The bifurcated asymmetric branch", ""]
     if "switched_amplitude" not in ds:
@@ -799,6 +881,70 @@ def section_full_model(results: Path) -> list[str]:
 
 
 
+def _turn(ds) -> str:
+    a, w = float(ds.turn_amplitude), float(ds.turn_omega)
+    return "none below the largest target" if np.isnan(a) else f"{a:.4f} m, {w:.4f} rad/s"
+
+
+def section_full_backbone(results: Path) -> list[str]:
+    """The full model's backbone against the ROM's with 1, 3 and 6 modes, its in-plane
+    displacements, and where its branch turns."""
+    names = ("validation/full-backbone", "validation/full-backbone-order12", "validation/backbone-modes")
+    out = ["## The full model's backbone: in-plane displacements and the ROM (Figs. 8, 10, 11)", "",
+           "Free periodic orbits of the axisymmetric full model (in-plane displacement and inertia, 16 radial",
+           "functions per field; `validation/full-backbone`) by pseudo-arclength continuation and by the",
+           "peak-to-peak method on damped decays, against the ROM's (u = v = 0) with M = 1, 3, 6 axisymmetric",
+           "modes (`validation/backbone-modes`) at the same target amplitudes max |w(0.5 Re, 0)|. \"peak-to-peak\"",
+           "and \"order 12\" are relative differences from the 16-function continuation; \"ROM M = 6\" is the",
+           "relative frequency difference of the 6-mode ROM; the shift columns are the ROM's frequency shift",
+           "from its linear limit over the full model's, (omega_ROM - omega_lin,ROM) / (omega_full - omega_lin,full),",
+           "the nonlinearity alone (the ROM's linear limits are Ritz upper bounds of the converged one).",
+           "max |u| / max |w| is over the orbit and the membrane (the paper's Fig. 8 question); max |v| is zero,",
+           "the orbits being axisymmetric. Targets from 0.01 m in steps of about 0.05 m, and the last one",
+           "before the branch turns.", ""]
+    full, coarse, rom = (_open(results, n) for n in names)
+    if any(ds is None for ds in (full, coarse, rom)):
+        return out + _missing(*names)
+    sets = {int(k): label for label, k in zip(rom.mode_set.values, rom.n_modes.values)}
+    top = max(sets)
+    head = ["delta", "A (m)", "omega full (rad/s)", "peak-to-peak", "order 12", f"ROM M = {top}",
+            *(f"shift M = {k} / full" for k in sets), "max abs u / max abs w"]
+    out += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    notes = []
+    for d in full.delta.values:
+        f, c = _point(full, delta=float(d), delta_o=0.2), _point(coarse, delta=float(d), delta_o=0.2)
+        r = {k: select(_point(rom, delta=float(d), delta_o=0.2), label) for k, label in sets.items()}
+        amp, omega = f.amplitude.values, f.omega_nl.values
+        shift = omega - float(f.omega_linear)
+        ratio_u = f.max_abs_u.values / f.max_abs_w.values
+        ok = np.flatnonzero(np.isfinite(omega))
+        shown = sorted({int(np.argmin(np.abs(amp - a))) for a in np.arange(0.01, amp[ok].max(), 0.05)} | {ok[-1]})
+        for j in (j for j in shown if np.isfinite(omega[j])):
+            cells = [f"{float(d):g}", f"{amp[j]:.4f}", f"{omega[j]:.5f}",
+                     f"{f.omega_peak.values[j] / omega[j] - 1:+.1e}", f"{c.omega_nl.values[j] / omega[j] - 1:+.1e}",
+                     f"{r[top].omega_nl.values[j] / omega[j] - 1:+.1e}"]
+            cells += [f"{(b.omega_nl.values[j] - float(b.omega_linear)) / shift[j]:.3f}" for b in r.values()]
+            out.append("| " + " | ".join(cells + [f"{ratio_u[j]:.4f}"]) + " |")
+        turns = [float(x.turn_amplitude) for x in (f, c)]
+        if np.isnan(turns).all():
+            notes.append(f"* delta = {float(d):g}: no turn up to {amp[ok].max():.3f} m with 12 or 16 functions; "
+                         f"max |u| / max |w| at most {np.nanmax(ratio_u):.4f}.")
+        else:
+            notes.append(f"* delta = {float(d):g}: the branch turns back at {_turn(f)} with 16 functions, at "
+                         f"{_turn(c)} with 12 (the turning amplitude moves by {abs(turns[1] / turns[0] - 1):.1%}); "
+                         f"max |u| / max |w| grows from {ratio_u[ok[0]]:.4f} at {amp[ok[0]]:g} m to {ratio_u[ok[-1]]:.4f} at "
+                         f"{amp[ok[-1]]:.4f} m, the last target before the turn.")
+    out += ["", "Where the branches of free orbits first turn back in amplitude (`turn_amplitude`, `turn_omega`):", "",
+            *notes, "",
+            "A turning point of a free-orbit branch is an internal resonance: a harmonic of the orbit's frequency",
+            "meets an in-plane frequency (the radial displacement swings at twice the transverse frequency and",
+            "is driven at all its even harmonics). The in-plane spectrum of the discretisation above the lowest",
+            "modes depends on the number of radial functions, so a turn that moves between 12 and 16 functions",
+            "is a resonance with a mode that is not yet converged: beyond it the backbone of the full model is",
+            "not established by these runs.", ""]
+    return out
+
+
 def section_fe_check(results: Path) -> list[str]:
     """The 2-D finite-element check against the full model, and a mesh like the paper's FEM."""
     names = ("tables-fe", "validation/full-linear", "validation/fe-q1-576", "validation/fe-q1-576-lumped")
@@ -865,8 +1011,9 @@ def section_fe_check(results: Path) -> list[str]:
 
 
 SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_model, section_fe_check,
-            section_backbone_modes, section_backbone_limits,
-            section_continuation_bruteforce, section_forced_modes, section_cusp, section_families, section_basins,
+            section_backbone_modes, section_backbone_limits, section_full_backbone,
+            section_continuation_bruteforce, section_forced_modes, section_cusp, section_families,
+            section_bruteforce_diagram, section_basins,
             section_basins_modes)
 
 
@@ -883,11 +1030,57 @@ def build_report(results: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+def section_names() -> dict:
+    """The report's sections by name (``table1``, ``families``, ...: the function names
+    without ``section_``), in the report's order."""
+    return {f.__name__.removeprefix("section_"): f for f in (*SECTIONS, section_linear_convergence)}
+
+
+def _blocks(text: str) -> list[list[str]]:
+    """The report's lines cut before every ``## `` heading (the first block: the title)."""
+    blocks = [[]]
+    for line in text.rstrip("\n").split("\n"):
+        if line.startswith("## "):
+            blocks.append([])
+        blocks[-1].append(line)
+    return blocks
+
+
+def update_report(text: str, results: Path, names) -> str:
+    """``text`` (a report) with the sections ``names`` (:func:`section_names`) generated anew
+    from ``results`` (a section not in ``text`` goes where the report's order puts it) and the
+    result-file table updated with the files of ``results``: the other sections are kept as
+    they are, for a results directory that holds only the new sections' files."""
+    order = list(section_names())
+    blocks = _blocks(text)
+    for name in names:
+        new = section_names()[name](results)
+        while new and not new[-1]:
+            new = new[:-1]
+        at = next((i for i, b in enumerate(blocks) if b[0] == new[0]), None)
+        if at is None:  # before the next section of the report's order that is there, or the file table
+            later = {section_names()[n](Path("/nonexistent"))[0] for n in order[order.index(name) + 1:]}
+            at = next((i for i, b in enumerate(blocks) if b[0] in later or b[0] == PROVENANCE_TITLE), len(blocks))
+            blocks.insert(at, [])
+        blocks[at] = new + [""]
+    kept = [b for b in blocks if b[0] != PROVENANCE_TITLE]
+    rows = {line.split("|")[1].strip(): line for b in blocks if b[0] == PROVENANCE_TITLE
+            for line in b if line.startswith("| `")}
+    fresh = section_provenance(results)
+    rows.update({line.split("|")[1].strip(): line for line in fresh if line.startswith("| `")})
+    table = [line for line in fresh if not line.startswith("| `")][:-1] + [rows[k] for k in sorted(rows)] + [""]
+    return "\n".join(line for b in kept + [table] for line in b) + "\n"
+
+
+#: The heading of the result-file table.
+PROVENANCE_TITLE = "## Result files"
+
+
 def section_provenance(results: Path) -> list[str]:
     """Which result files the report read, and whether each ran its job file as committed."""
     import xarray as xr
 
-    out = ["## Result files", "",
+    out = [PROVENANCE_TITLE, "",
            "\"as committed\": the job text stored in the file equals `jobs/<name>.toml`; \"modified\"",
            "otherwise (e.g. `python -m sweep.paper --quick`, which caps every `num`).", "",
            "| file | job file | tasks | software |", "|---|---|---|---|"]
@@ -912,12 +1105,19 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m sweep.validation", description=__doc__.splitlines()[0])
     parser.add_argument("results", type=Path, help="directory with the paper jobs' NetCDF files")
     parser.add_argument("-o", "--output", type=Path, default=Path("docs/validation.md"))
+    parser.add_argument("--only", nargs="+", choices=list(section_names()), metavar="SECTION",
+                        help="regenerate only these sections of the existing report (the others are kept; "
+                             "the result-file table gains the files of RESULTS): " + ", ".join(section_names()))
     args = parser.parse_args(argv)
     if not args.results.is_dir():
         print(f"results = {str(args.results)!r} is invalid: not a directory", file=sys.stderr)
         return 2
+    if args.only and not args.output.is_file():
+        print(f"output = {str(args.output)!r} is invalid: --only updates an existing report", file=sys.stderr)
+        return 2
     args.output.parent.mkdir(parents=True, exist_ok=True)
-    args.output.write_text(build_report(args.results))
+    text = update_report(args.output.read_text(), args.results, args.only) if args.only else build_report(args.results)
+    args.output.write_text(text)
     print(f"wrote {args.output}")
     return 0
 

@@ -17,7 +17,8 @@ def test_missing_results_name_the_jobs(tmp_path):
              + validation.section_cusp(tmp_path) + validation.section_basins_modes(tmp_path)
              + validation.section_linear_convergence(tmp_path) + validation.section_forced_modes(tmp_path)
              + validation._family_convergence(tmp_path) + validation._family_check(tmp_path)
-             + validation.section_full_model(tmp_path) + validation.section_fe_check(tmp_path))
+             + validation.section_full_model(tmp_path) + validation.section_fe_check(tmp_path)
+             + validation.section_full_backbone(tmp_path) + validation.section_bruteforce_diagram(tmp_path))
     text = "\n".join(lines)
     for job in ("fig09-modes", "fig15-bifurcation-p0", "fig15-bruteforce", "fig19-basins",
                 "fig10-11-backbone", "fig12-inner-radius", "fig17-cusp", "fig16-17-damping",
@@ -25,6 +26,21 @@ def test_missing_results_name_the_jobs(tmp_path):
                 *(name for name in paper.VALIDATION_JOBS if name != "validation/fig19a-basins-brute")):
         assert f"`jobs/{job}.toml`" in text
     assert validation.section_provenance(tmp_path)[-2] == "|---|---|---|---|"
+
+
+def test_a_section_regenerated_alone_lands_where_the_whole_report_puts_it(tmp_path):
+    whole = validation.build_report(tmp_path)
+    blocks = validation._blocks(whole)
+    title = validation.section_full_backbone(tmp_path)[0]
+    without = "\n".join(line for b in blocks if b[0] != title for line in b) + "\n"
+    assert without != whole
+    assert validation.update_report(without, tmp_path, ["full_backbone"]) == whole
+    assert validation.update_report(whole, tmp_path, ["table1", "linear_convergence"]) == whole
+    # a result file of the old table that the results directory does not hold stays listed
+    row = "| `old.nc` | as committed | 1 / 1 | 0.1.0 |"
+    kept = validation.update_report(whole.replace("|---|---|---|---|\n", "|---|---|---|---|\n" + row + "\n"),
+                                    tmp_path, ["table2"])
+    assert row in kept.split("\n")
 
 
 def test_the_report_computes_nothing_from_the_model():
