@@ -189,6 +189,11 @@ def _quarter_conditions(free: FreeVibration, q0, tau, steps):
     return yq[rows], phi[rows, :K], rate[rows]
 
 
+#: Longest period of a free orbit the backbone branch admits, over the linear one: backbones
+#: harden (shorter periods), an internal resonance bends them by a few per cent, not tenfold.
+MAX_PERIOD_RATIO = 10.0
+
+
 def backbone_branch(free: FreeVibration, a_max: float, steps: int = 256, ds_max: float = 0.05,
                     max_points: int = 400, tol: float = 1e-10) -> BackboneBranch:
     """The backbone branch from the linear limit until the amplitude reaches ``a_max`` (m).
@@ -214,6 +219,10 @@ def backbone_branch(free: FreeVibration, a_max: float, steps: int = 256, ds_max:
 
     def evaluate(x):
         q0, tau, amp = x[:K] / qs, x[K] / scale[K], x[K + 1] * a_max
+        if not 0.0 < tau <= MAX_PERIOD_RATIO * tau_lin:
+            # a Newton iterate gone astray (at order 32 of the full model one asked for a
+            # quarter period of 3e7 s, 1e11 RK4 steps): rejected, the step is halved
+            raise np.linalg.LinAlgError(f"a quarter period {tau:g} s outside (0, {MAX_PERIOD_RATIO} T_lin / 4]")
         res, dq, dtau = _quarter_conditions(free, q0, tau, steps)
         g = np.concatenate([row_scale * res, [(free.probe @ q0 + amp) / a_max]])
         jac = np.zeros((K + 1, K + 2))

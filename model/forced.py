@@ -319,7 +319,7 @@ class ForcedMap:
             _quadrature_samples(y, done, samples, h, tab, self.forcing, w)
         else:
             w[samples] = tab.probe @ y[:self.dof]
-        return _peak(w, samples)
+        return periodic_peak(w, samples)
 
 
 @nb.njit(cache=True)
@@ -363,10 +363,11 @@ def _quadrature_samples(y, done, samples, h, tab, forcing, w):
         w[i + 1] = s
 
 
-def _peak(w, samples: int) -> float:
-    # The largest |w| of the samples w[:samples] of a periodic orbit (w[samples] = w[0]),
-    # refined by the vertex of the parabola through it and its neighbours (the vertex
-    # formula holds for |w| when w keeps its sign over the three samples).
+def periodic_peak(w, samples: int) -> float:
+    """The largest ``|w|`` (m) of the samples ``w[:samples]`` of a periodic orbit
+    (``w[samples] = w[0]``), refined by the vertex of the parabola through it and its
+    neighbours (the vertex formula holds for ``|w|`` when ``w`` keeps its sign over the three
+    samples): the project's amplitude estimator (module docstring)."""
     best = int(np.argmax(np.abs(w[:samples])))
     a = abs(w[best])
     wm = abs(w[best - 1 if best > 0 else samples - 1])

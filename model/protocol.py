@@ -21,6 +21,11 @@ back without them:
     basins' lock-step slots, the compiled settling loop of stepped responses, the
     compiled one-mode Newton search).  Without it these algorithms advance states with
     ``advance_batch`` / ``advance`` from Python, one period at a time.
+``modal_section(states)``
+    The ROM's modal coordinates and velocities ``(..., 2K)`` of states ``(..., 2 dof)`` for
+    a map whose state is not made of them (the full model: the fit of ``w`` by the mode
+    shapes); the results' ``modal_coordinate`` axes.  Without it the state is its own
+    modal section (:func:`modal_section`).
 ``lean(sample, rtol)`` with ``acceleration_mismatch(reference, states)``
     A cheaper map that is the same to ``rtol`` on the states ``sample()`` (the ROM's
     fewest radial quadrature points), and how far it is from the original on other
@@ -162,6 +167,13 @@ class KernelArguments(NamedTuple):
 def kernel_arguments(fmap) -> KernelArguments | None:
     """``fmap.kernel_arguments``, or None for a map without the capability."""
     return getattr(fmap, "kernel_arguments", None)
+
+
+def modal_section(fmap, states) -> np.ndarray:
+    """The modal coordinates and velocities ``(..., 2K)`` of ``states``: ``fmap.modal_section``,
+    or the states themselves for a map without the capability."""
+    section = getattr(fmap, "modal_section", None)
+    return np.asarray(states) if section is None else section(states)
 
 
 def state_scale(dof: int, omega: float) -> np.ndarray:

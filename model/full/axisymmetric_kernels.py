@@ -1,5 +1,5 @@
 """Compiled loops of the axisymmetric full model (:mod:`model.full.axisymmetric`): its force and
-its free motion by fixed-step RK4.
+its forced and free motion by fixed-step RK4, with the variational equations.
 
 For axisymmetric states ``a1 = (r', 0, w')`` and ``a2 = (0, r/s, 0)`` are orthogonal, so the
 first Piola stress of :func:`model.full.surface.gradient` reduces to
@@ -15,6 +15,7 @@ import numpy as np
 from model import material_kernels  # noqa: F401  (the laws' overloads for compiled code)
 from model.materials import metric_derivatives
 from model.noalias import NoAliasCompiler
+from model.damping_kernels import add_matrix_damping
 from model.rk4 import combine, stage_offset, step_factor
 
 
@@ -63,7 +64,9 @@ def axisymmetric_gradient(law, phi, dphi, s, sw, w, r0, dr0, q, out):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def _acceleration(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, damping, y, out, g):
+def _acceleration(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, damping, damping_matrix, load,
+                  pressure, y, out, g):
+    # out = (q', q'') at the state y under the pressure `pressure` (Pa) at this instant
     dof = g.size
     order = dof // 2
     axisymmetric_gradient(law, phi, dphi, s, sw, w, r0, dr0, y[:dof], g)
@@ -74,14 +77,21 @@ def _acceleration(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, damping
             acc = 0.0
             for j in range(order):
                 acc += inv_mass[i, j] * g[f * order + j]
-            out[dof + f * order + i] = -omega0_2 * acc - damping * y[dof + f * order + i]
+            out[dof + f * order + i] = bias[f * order + i] - omega0_2 * acc - damping * y[dof + f * order + i]
+    for i in range(order):
+        out[dof + order + i] += pressure * load[i]
+    if damping_matrix is not None:
+        add_matrix_damping(damping_matrix, y[dof:], out[dof:])
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def rk4_free(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, damping, y0, dt, steps, every, record):
-    """``steps`` RK4 steps of ``dt`` (s) of the free motion from ``y0``; the state every
-    ``every`` steps into the rows of ``record`` (``(steps // every + 1, 2 dof)``, the first row
-    ``y0``)."""
+def rk4_motion(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, damping, damping_matrix, load, P0,
+               Omega, y0, dt, steps, every, record):
+    """``steps`` RK4 steps of ``dt`` (s) from ``y0`` at ``t = 0`` of ``q'' = bias - omega_0^2
+    M^-1 g(q) - D q' + P0 cos(Omega t) load`` (``bias``: constant accelerations, s-2; ``load``:
+    the ``W`` accelerations per Pa; ``D`` the rate ``damping`` (s-1) plus ``damping_matrix``,
+    None for none); the state every ``every`` steps into the rows of ``record``
+    (``(steps // every + 1, 2 dof)``, the first row ``y0``).  ``P0 = 0``: the free motion."""
     n = y0.size
     y = y0.copy()
     k = np.empty((4, n))
@@ -95,7 +105,9 @@ def rk4_free(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, damping, y0,
             else:
                 for j in range(n):
                     stage[j] = y[j] + stage_offset(i, dt) * k[i - 1, j]
-            _acceleration(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, damping, stage, k[i], g)
+            pressure = P0 * np.cos(Omega * (step * dt + stage_offset(i, dt)))
+            _acceleration(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, damping, damping_matrix,
+                          load, pressure, stage, k[i], g)
         for j in range(n):
             y[j] += step_factor(dt) * combine(k[0, j], k[1, j], k[2, j], k[3, j])
         if (step + 1) % every == 0:
@@ -165,43 +177,65 @@ def axisymmetric_hessian(law, phi, dphi, s, sw, w, r0, dr0, q, out):
                 out[order + k, order + m] += rw1 * al
 
 
+#: What the last column of :func:`rk4_variational` differentiates by: nothing, ``Omega`` (at
+#: fixed steps per period ``2 pi / (Omega dt)``) or ``P0``.
+NO_PARAMETER, OMEGA, PRESSURE = 0, 1, 2
+
+
 @nb.njit(cache=True, error_model="numpy")
-def rk4_variational(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, y0, dt, steps):
-    """``steps`` RK4 steps of ``dt`` (s) of the undamped free motion from ``y0`` with the
-    variational equations ``dq' = dv``, ``dv' = -omega_0^2 M^-1 H(q) dq``: the final state
-    and its derivative in ``y0`` (``(2 dof, 2 dof)``, exact for the discrete scheme)."""
+def rk4_variational(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, damping, damping_matrix, load, P0,
+                    Omega, parameter, y0, dt, steps):
+    """``steps`` RK4 steps of ``dt`` (s) of the motion of :func:`rk4_motion` from ``y0`` at
+    ``t = 0`` with its variational equations ``dq' = dv``, ``dv' = -omega_0^2 M^-1 H(q) dq - D
+    dv``: the final state and its derivative ``(2 dof, 2 dof + 1)`` in ``y0`` and, in the last
+    column, in ``parameter`` (:data:`OMEGA`, :data:`PRESSURE`; zero for :data:`NO_PARAMETER`),
+    exact for the discrete scheme.
+
+    In ``Omega`` the step is ``dt = 2 pi / (Omega steps)``: in the phase ``tau = Omega t`` the
+    slopes are ``k / Omega`` at stage phases that do not move, so the column gathers, besides
+    ``J dy``, ``-k_i / Omega`` at every stage ``i``."""
     n = y0.size
     dof = n // 2
     order = dof // 2
+    cols = n + 1
     y = y0.copy()
-    big = np.eye(n)
+    big = np.zeros((n, cols))
+    for i in range(n):
+        big[i, i] = 1.0
     k = np.empty((4, n))
-    kp = np.empty((4, n, n))
+    kp = np.empty((4, n, cols))
     stage = np.empty(n)
-    pstage = np.empty((n, n))
+    pstage = np.empty((n, cols))
     g = np.empty(dof)
     hess = np.empty((dof, dof))
     hess_blocks = hess.reshape((2, order, dof))  # the u and w rows, contiguous for '@'
     stiff = np.empty((dof, dof))
-    pstage_blocks = pstage.reshape((2, dof, n))  # the displacement and velocity rows
+    pstage_blocks = pstage.reshape((2, dof, cols))  # the displacement and velocity rows
     for step in range(steps):
         for i in range(4):
+            f = stage_offset(i, dt)
             if i == 0:
                 stage[:] = y
                 pstage[:, :] = big
             else:
-                f = stage_offset(i, dt)
                 stage[:] = y + f * k[i - 1]
                 pstage[:, :] = big + f * kp[i - 1]
-            axisymmetric_gradient(law, phi, dphi, s, sw, w, r0, dr0, stage[:dof], g)
+            cosine = np.cos(Omega * (step * dt + f))
+            _acceleration(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, damping, damping_matrix,
+                          load, P0 * cosine, stage, k[i], g)
             axisymmetric_hessian(law, phi, dphi, s, sw, w, r0, dr0, stage[:dof], hess)
             stiff[:order, :] = -omega0_2 * (inv_mass @ hess_blocks[0])
             stiff[order:, :] = -omega0_2 * (inv_mass @ hess_blocks[1])
-            k[i, :dof] = stage[dof:]
-            k[i, dof:order + dof] = -omega0_2 * (inv_mass @ g[:order])
-            k[i, dof + order:] = -omega0_2 * (inv_mass @ g[order:])
             kp[i, :dof, :] = pstage_blocks[1]
-            kp[i, dof:, :] = stiff @ pstage_blocks[0]
+            kp[i, dof:, :] = stiff @ pstage_blocks[0] - damping * pstage_blocks[1]
+            if damping_matrix is not None:
+                kp[i, dof:, :] -= damping_matrix @ pstage_blocks[1]
+            if parameter == OMEGA:
+                for j in range(n):
+                    kp[i, j, n] -= k[i, j] / Omega
+            elif parameter == PRESSURE:
+                for j in range(order):
+                    kp[i, dof + order + j, n] += cosine * load[j]
         for j in range(n):
             y[j] += step_factor(dt) * combine(k[0, j], k[1, j], k[2, j], k[3, j])
         big += step_factor(dt) * (kp[0] + 2.0 * kp[1] + 2.0 * kp[2] + kp[3])

@@ -19,7 +19,7 @@ axisymmetric full model (:class:`model.full.axisymmetric.AxisymmetricFull`): coo
   change sign; :func:`model.backbone.free_orbit` reads it).  ``u`` swings at twice the
   frequency of ``w``.
 * Lightly damped free decays (peak-to-peak method): the compiled RK4 free motion
-  (:func:`model.full.axisymmetric_kernels.rk4_free`) with the extrema of ``w`` at the probe
+  (:func:`model.full.axisymmetric_kernels.rk4_motion`) with the extrema of ``w`` at the probe
   located between steps on the cubic Hermite interpolant of ``(q, q')``.
 """
 
@@ -31,12 +31,14 @@ import numpy as np
 from scipy.linalg import eigh
 
 from .axisymmetric import AxisymmetricFull
-from .axisymmetric_kernels import rk4_variational
+from .axisymmetric_kernels import NO_PARAMETER, rk4_variational
 
 #: RK4 steps per linear period at least, in the decays and the extent of an orbit.
 STEPS_PER_PERIOD = 1024
 #: RK4 time step over the stability limit ``2.8 / omega_max`` at most.
 STABILITY_FRACTION = 2.0 / 2.8
+#: Largest relative numerical damping of the fastest mode over one flow (:meth:`FreeFull.steps_for`).
+FASTEST_MODE_DECAY = 0.1
 
 
 class DecayExtrema(NamedTuple):
@@ -112,8 +114,18 @@ class FreeFull:
 
     def steps_for(self, q0, duration: float, steps: int) -> int:
         """``steps``, raised to keep RK4 within :data:`STABILITY_FRACTION` of its stability
-        limit at ``omega_max(q0)``."""
-        return max(int(steps), int(np.ceil(duration * self.highest_frequency(q0) / (2.8 * STABILITY_FRACTION))))
+        limit at ``omega_max(q0)`` and to keep its numerical damping of that fastest mode over
+        ``duration`` below :data:`FASTEST_MODE_DECAY`.
+
+        RK4 damps a mode of ``y = omega dt`` by ``|R(iy)| ~ 1 - y^6/144`` per step: over ``N``
+        steps by ``N y^6 / 144``.  A mode the scheme wipes out over an orbit's quarter period
+        leaves the orbit conditions insensitive to its coordinate (at order 32 and 256 steps
+        the Newton matrix had a singular value of 2e-11 from the two highest in-plane modes),
+        so ``N >= ((omega_max duration)^6 / (144 FASTEST_MODE_DECAY))^(1/5)``."""
+        phase = duration * self.highest_frequency(q0)
+        stable = np.ceil(phase / (2.8 * STABILITY_FRACTION))
+        undamped = np.ceil((phase**6 / (144.0 * FASTEST_MODE_DECAY)) ** 0.2)
+        return max(int(steps), int(stable), int(undamped))
 
     def acceleration(self, q, v) -> np.ndarray:
         """``q''`` of the undamped motion."""
@@ -126,7 +138,9 @@ class FreeFull:
         m = self.model
         y = np.array(y0, dtype=float)
         steps = self.steps_for(y[:m.dof], duration, steps)
-        return rk4_variational(*m.kernel_tables, m.inverse_mass, m.omega0_2, y, duration / steps, steps)
+        y, big = rk4_variational(*m.kernel_tables, m.inverse_mass, m.omega0_2, m.bias, 0.0, None, m.load, 0.0, 0.0,
+                                 NO_PARAMETER, y, duration / steps, steps)
+        return y, big[:, :-1]
 
     def decay_rate(self, c: float) -> float:
         """``c / (Gamma h)`` (s-1), the damping coefficient of every coordinate (the viscous

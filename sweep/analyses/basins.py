@@ -162,6 +162,9 @@ class Basins(Analysis):
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT) -> BasinsOptions:
         check_keys(table, _SECTION, tuple(self.OPTIONS))
         modes = opt.modes(table, _SECTION)
+        if context.model.model().axisymmetric_states:
+            raise JobError("job.analysis", "basins", f"an analysis that model {context.model.kind!r} can run (its "
+                           "lattices are of modal coordinates, whose lift to the full model's states is not built)")
         opt.damping_modes(context.damping, _SECTION, modes, None)
         lm = opt.number(table, _SECTION, "lattice_mode", 1, low=1, high=len(modes),
                         integer=True)

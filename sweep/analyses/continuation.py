@@ -16,7 +16,8 @@ Outputs (a task's branches differ in length: every ``point`` array is padded wit
   it (``Omega`` in rad/s or ``P0`` in Pa; the dataset attribute ``continued_parameter``
   names it too);
 * ``modal_coordinate``, ``modal_velocity`` (``point``, ``mode``): the state on the
-  stroboscopic section ``t = 0 mod 2 pi / Omega`` (the paper's ``A_mn`` axes);
+  stroboscopic section ``t = 0 mod 2 pi / Omega`` (the paper's ``A_mn`` axes; for the full
+  model the fit of ``w`` by the mode shapes, :func:`model.protocol.modal_section`);
 * ``amplitude`` (``point``): max over one period of ``|w(0.5 Re, 0, t)|`` (m);
 * ``stable`` (``point``, int8): 1 stable, 0 unstable (and at located bifurcation points);
   with ``families``, stable means stable to the families' perturbations too;
@@ -24,7 +25,8 @@ Outputs (a task's branches differ in length: every ``point`` array is padded wit
   3 Neimark-Sacker, 4 branch point (a family's multiplier crosses +1: symmetry breaking);
   bifurcation points are located to ~1e-10 in arclength and inserted;
 * ``multiplier_real``, ``multiplier_imag`` (``point``, ``multiplier``): Floquet
-  multipliers by decreasing modulus, and ``multiplier_modulus`` (``point``) the largest;
+  multipliers by decreasing modulus (the ``2K`` of largest modulus of a model with more
+  coordinates than modes: the full model), and ``multiplier_modulus`` (``point``) the largest;
 * ``fold_value``, ``fold_amplitude`` (``fold``, :data:`MAX_FOLDS` long, NaN padded): the
   saddle-node points in branch order, and ``n_points``, ``n_folds``.
 
@@ -98,6 +100,7 @@ from model.continuation import FOLD, KIND_NAMES, continue_orbits, cusp_from_fold
 from model.families import symmetry_blocks
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
+from model.protocol import modal_section
 from model.shooting import shoot
 
 from sweep.models.rom import families_for, rom_for
@@ -194,6 +197,7 @@ class ContinuationAnalysis(Analysis):
         modes = opt.modes(table, s)
         families = opt.families(table, s, modes)
         opt.rom_only(table, s, context.model, ("families", "branch_switching", "family_check"))
+        opt.model_modes(s, context.model, modes)
         if families is not None and isinstance(families[1], tuple):  # a study in the radial modes
             for key in ("branch_switching", "family_check", "bifurcation_curves"):
                 if key in table:
@@ -233,9 +237,9 @@ class ContinuationAnalysis(Analysis):
                      {"flag_values": np.arange(-1, len(KIND_NAMES), dtype=np.int8),
                       "flag_meanings": "padding " + " ".join(KIND_NAMES)}),
             Variable("multiplier_real", ("point", "multiplier"), (n, k), "f8", "1",
-                     "real part of the Floquet multipliers, by decreasing modulus"),
+                     "real part of the Floquet multipliers of largest modulus, by decreasing modulus"),
             Variable("multiplier_imag", ("point", "multiplier"), (n, k), "f8", "1",
-                     "imaginary part of the Floquet multipliers, by decreasing modulus"),
+                     "imaginary part of the Floquet multipliers of largest modulus, by decreasing modulus"),
             Variable("multiplier_modulus", pt, (n,), "f8", "1", "largest Floquet multiplier modulus"),
             Variable("fold_value", ("fold",), (MAX_FOLDS,), "f8", units, f"{p} at the saddle-node points"),
             Variable("fold_amplitude", ("fold",), (MAX_FOLDS,), "f8", "m", "amplitude at the saddle-node points"),
@@ -288,11 +292,12 @@ class ContinuationAnalysis(Analysis):
         out["rk4_steps"] = np.int32(steps)
         out[options.parameter][:m] = br.value
         out["amplitude"][:m] = br.amplitude
-        out["modal_coordinate"][:m], out["modal_velocity"][:m] = br.state[:, :K], br.state[:, K:]
+        section = modal_section(fmap, br.state)
+        out["modal_coordinate"][:m], out["modal_velocity"][:m] = section[:, :K], section[:, K:]
         out["stable"][:m] = br.stable
         out["point_type"][:m] = br.kind
-        out["multiplier_real"][:m] = br.multipliers.real
-        out["multiplier_imag"][:m] = br.multipliers.imag
+        out["multiplier_real"][:m] = br.multipliers.real[:, :2 * K]
+        out["multiplier_imag"][:m] = br.multipliers.imag[:, :2 * K]
         out["multiplier_modulus"][:m] = np.abs(br.multipliers).max(axis=1)
         folds = br.special(FOLD)[:MAX_FOLDS]
         out["fold_value"][:folds.size] = br.value[folds]

@@ -189,6 +189,24 @@ def rom_only(table, section: str, model, keys) -> None:
                        f"needs the ROM's mode families; this job's model is {model.kind!r} ([model] kind)")
 
 
+def model_modes(section: str, model, mode_list, table=None, modal_keys=()) -> None:
+    """Refuse, for a model whose forced maps hold axisymmetric states only
+    (:attr:`sweep.models.base.Model.axisymmetric_states`), ``modes`` that are not all
+    axisymmetric (there they name the ROM coordinates the results report) and the options
+    ``modal_keys`` of ``table`` that need the whole state in those coordinates."""
+    if not model.model().axisymmetric_states:
+        return
+    if any(n != 0 for _, n in mode_list):
+        raise JobError(f"{section}.modes", [list(m) for m in mode_list],
+                       f"axisymmetric modes [m, 0] only: model {model.kind!r} ([model] kind) follows axisymmetric "
+                       "states, and the modes name the ROM coordinates its results report")
+    given = [k for k in modal_keys if table is not None and k in table]
+    if given:
+        raise JobError(f"{section}.{given[0]}", table[given[0]],
+                       f"needs a model whose state is its modal coordinates (the ROM); this job's model is "
+                       f"{model.kind!r} ([model] kind)")
+
+
 def second_parameters(parameter: str, damping: DampingSpec) -> tuple[str, ...]:
     """The parameters a curve of bifurcation points may follow besides ``parameter``: the
     damping law's scalar constants (``c``, ``alpha``, ``beta``, ``zeta`` given as one

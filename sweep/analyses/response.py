@@ -32,6 +32,7 @@ import numpy as np
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.lyapunov import KIND_NAMES, UNSETTLED
 from model.params import Loading, Membrane
+from model.protocol import modal_section
 from model.response import LYAPUNOV_BLOCKS, refine_jumps, stepped_sweep
 
 from sweep.models.rom import rom_for
@@ -101,6 +102,7 @@ class ResponseAnalysis(Analysis):
         parameter = opt.forcing_parameter(table, s, grid, "is swept by the analysis", context.damping)
         values = opt.linspace(table, s, "values", low=0.0, low_open=parameter == "Omega", max_num=10_000)
         modes = opt.modes(table, s)
+        opt.model_modes(s, context.model, modes, table, ("poincare_points",))
         opt.damping_modes(context.damping, s, modes, None)
         max_period = opt.number(table, s, "max_period", 16, low=1, high=1000, integer=True)
         points = opt.number(table, s, "poincare_points", 0, low=0, high=100_000, integer=True)
@@ -189,7 +191,7 @@ class ResponseAnalysis(Analysis):
             jumps = refine_jumps(fmap, options.parameter, res, max_jumps=MAX_JUMPS, tol=options.tol,
                                  consecutive=options.consecutive, max_periods=options.max_periods)
         K = len(options.modes)
-        state = res.state.transpose(1, 0, 2)  # (value, direction, 2K)
+        state = modal_section(fmap, res.state.transpose(1, 0, 2))  # (value, direction, 2K)
         out = {"amplitude": res.amplitude.T.copy(), "converged": conv.astype(np.int8),
                "modal_coordinate": state[..., :K].copy(), "modal_velocity": state[..., K:].copy(),
                "periods": res.periods.T.astype(np.int32), "jump_value": jumps, "rk4_steps": steps,

@@ -46,6 +46,9 @@ class Model:
     #: Whether the analyses' ROM-only options (mode families, branch switching, the family
     #: check, curves in delta) apply to this model's maps.
     rom_features: ClassVar[bool] = False
+    #: Whether the model's forced maps hold axisymmetric states only (the forced analyses'
+    #: ``modes`` must then be axisymmetric, ``(m, 0)``).
+    axisymmetric_states: ClassVar[bool] = False
     #: The ``prestretch`` variants (:data:`model.prestretch.KINDS`) the analyses may ask of
     #: the model (a model that solves its own pre-stretch admits ``numeric`` only).
     prestretch_kinds: ClassVar[tuple[str, ...]] = ("analytic", "numeric", "fit")

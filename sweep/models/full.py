@@ -1,12 +1,14 @@
 """The full model of the membrane (:mod:`model.full`) as a job's model (``[model] kind = "full"``).
 
-It keeps the in-plane displacements and their inertia that the ROM drops.  So far it runs
+It keeps the in-plane displacements and their inertia that the ROM drops.  It runs
 ``static`` (its own pre-stretch, the minimum of the axisymmetric energy), ``linear``
-(transverse and in-plane frequencies per wave number) and ``backbone`` (the axisymmetric
-free vibration, :class:`model.full.free.FreeFull`); the forced analyses are refused at
-validation.  Its resolution is ``[model] order``, the number
-of radial Legendre-Galerkin functions per field; ``linear.basis`` overrides it per task
-(a list of orders is a convergence study).
+(transverse and in-plane frequencies per wave number), ``backbone`` (the axisymmetric
+free vibration, :class:`model.full.free.FreeFull`) and the forced analyses on axisymmetric
+states (:class:`model.full.forced.ForcedFull`): their ``modes`` must be axisymmetric, and
+name the ROM coordinates the results report (the fit of ``w`` by those mode shapes); the
+ROM's mode families are refused at validation.  Its resolution is ``[model] order``, the
+number of radial Legendre-Galerkin functions per field; ``linear.basis`` overrides it per
+task (a list of orders is a convergence study).
 """
 
 from __future__ import annotations
@@ -38,12 +40,22 @@ def full_prestretch_for(membrane, order: int):
     return solve_full_prestretch(membrane, order)
 
 
+@functools.lru_cache(maxsize=8)
+def axisymmetric_for(membrane, order: int):
+    """The axisymmetric full model (:class:`model.full.axisymmetric.AxisymmetricFull`) about
+    :func:`full_prestretch_for` (cached)."""
+    from model.full.axisymmetric import AxisymmetricFull
+
+    return AxisymmetricFull(full_prestretch_for(membrane, order))
+
+
 class FullModel(Model):
     """The membrane with in-plane displacements on ``order`` radial functions per field."""
 
     name = "full"
     required_grid = ("delta", "delta_o")
     prestretch_kinds = ("numeric",)
+    axisymmetric_states = True
 
     OPTIONS = {"order": f"radial Legendre-Galerkin functions per displacement field (default {DEFAULT_ORDER}; "
                         f"4..{MAX_ORDER}); the pre-stretch and the frequencies converge spectrally with it "
@@ -53,11 +65,21 @@ class FullModel(Model):
         check_keys(table, "model", ("kind", *self.OPTIONS))
         return FullOptions(opt.number(table, "model", "order", DEFAULT_ORDER, low=4, high=MAX_ORDER, integer=True))
 
+    def forced_map(self, point, model_options, options, modes=None, default_steps=None):
+        from model.damping import Viscous
+        from model.forced import DEFAULT_STEPS
+        from model.full.forced import ForcedFull, steps_per_period
+
+        model = axisymmetric_for(point.membrane, model_options.order)
+        steps = options.steps or steps_per_period(model, default_steps or DEFAULT_STEPS)
+        damping = point.damping or Viscous(point.loading.c)
+        return ForcedFull.build(model, point.loading.P0, point.loading.Omega, damping, steps,
+                                modes=options.modes if modes is None else modes)
+
     def free_vibration(self, point, model_options, options):
-        from model.full.axisymmetric import AxisymmetricFull
         from model.full.free import FreeFull
 
-        return FreeFull(AxisymmetricFull(full_prestretch_for(point.membrane, model_options.order)))
+        return FreeFull(axisymmetric_for(point.membrane, model_options.order))
 
     def static_state(self, point, model_options, options):
         return full_prestretch_for(point.membrane, model_options.order)

@@ -1,0 +1,261 @@
+"""The stroboscopic map of the forced axisymmetric full model behind
+:class:`model.protocol.StroboscopicMap` (docs/model.md, "The full model", "Forced motion").
+
+:class:`ForcedFull` is what shooting, continuation, stepped responses and basins take of the
+axisymmetric full model (:class:`model.full.axisymmetric.AxisymmetricFull`) under the uniform
+pressure ``P0 cos(Omega t)`` on the projected area of the pre-stretched membrane, in the fixed
+``z`` direction, and a damping law of :mod:`model.damping` (the viscous pressure acts on both
+velocity components: mass-proportional).  Its state is ``y = (Re q, Re q')``: the Legendre-
+Galerkin coefficients of ``u`` and ``w`` in metres (``U`` then ``W``), so that the algorithms'
+length scales (a continuation's 0.05 m) mean what they mean for the ROM.
+
+The map is fixed-step RK4 (:func:`model.full.axisymmetric_kernels.rk4_motion`) with its exact
+variational equations (:func:`model.full.axisymmetric_kernels.rk4_variational`).  The
+in-plane waves of the discretisation bound the step: :func:`steps_per_period` keeps
+``omega_max dt <= 2`` (RK4 is stable below 2.8) with ``omega_max`` the highest frequency about
+the pre-stretch, for every ``Omega`` above half the lowest transverse frequency.  RK4 damps
+the fastest discrete modes there (the spectral discretisation's highest in-plane modes, above
+100 times the lowest transverse frequency); the low in-plane modes an internal resonance can
+involve are integrated with ``omega dt`` below 0.2.
+A deflection lowers ``omega_max`` (at ``delta = 1.1``, order 12, by 21 % at 0.3 m and 36 % at
+0.7 m; at ``delta = 2.0`` by 1.5 % at 0.7 m), so the pre-stretch's bound holds along the orbits.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+from scipy.linalg import eigh
+
+from model.damping import DampingLaw, Viscous
+from model.damping_kernels import matrix_or_none
+from model.forced import periodic_peak
+from model.modes import bessel_roots, mode_shape
+from model.protocol import PARAMETERS, sorted_multipliers, state_scale
+
+from .axisymmetric import AxisymmetricFull
+from .axisymmetric_kernels import NO_PARAMETER, OMEGA, PRESSURE, rk4_motion, rk4_variational
+
+#: RK4 step times the highest frequency of the discretisation, at most (stable below 2.8).
+STABLE_STEP = 2.0
+
+
+def linear_system(model: AxisymmetricFull) -> tuple[np.ndarray, np.ndarray]:
+    """``(M, K0)``: the mass matrix and the tangent stiffness about the pre-stretch of the
+    coordinates ``(U, W)`` in the scale of ``q'' = -M^-1 K0 q`` (s-2)."""
+    return np.kron(np.eye(2), model.mass_block), model.omega0_2 * model.hessian(np.zeros(model.dof))
+
+
+def highest_frequency(model: AxisymmetricFull) -> float:
+    """The highest frequency (rad s-1) of the discretisation about the pre-stretch."""
+    mass, stiffness = linear_system(model)
+    return float(np.sqrt(max(eigh(stiffness, mass, eigvals_only=True)[-1], 0.0)))
+
+
+def steps_per_period(model: AxisymmetricFull, base: int) -> int:
+    """RK4 steps per forcing period: ``base``, raised to keep ``omega_max dt <=``
+    :data:`STABLE_STEP` down to ``Omega`` at half the lowest transverse frequency (a lower
+    ``Omega`` needs more steps: the map returns NaN beyond RK4's stability limit)."""
+    mass, stiffness = linear_system(model)
+    o = model.order
+    lowest = math.sqrt(eigh(stiffness[o:, o:], mass[o:, o:], eigvals_only=True)[0])
+    return max(int(base), math.ceil(2.0 * math.pi / (0.5 * lowest) * highest_frequency(model) / STABLE_STEP))
+
+
+@dataclass(frozen=True)
+class ForcedFull:
+    """The stroboscopic map of the forced axisymmetric full model at one point ``(Omega, P0)``
+    and damping law (:class:`model.protocol.StroboscopicMap`).
+
+    Build with :meth:`build`.
+
+    Parameters
+    ----------
+    model : AxisymmetricFull
+    P0 : float
+        Pressure amplitude (Pa).
+    Omega : float
+        Forcing frequency (rad s-1).
+    damping : DampingLaw
+    steps : int
+        RK4 steps per forcing period.
+    rate : float
+        The law's mass-proportional part (s-1).
+    matrix : (dof, dof) ndarray
+        The rest of the law (s-1), :data:`model.damping.NO_MATRIX` when none.
+    probe : (dof,) ndarray
+        ``w(probe_rho) = probe @ y[:dof]`` (the ``W`` block of the basis at ``0.5 Re``).
+    omega_max : float
+        The highest frequency of the discretisation (rad s-1): beyond ``omega_max dt = 2.8``
+        RK4 is unstable, and the map returns NaN states.
+    section : (K, order) ndarray
+        The ROM coordinates of ``w`` (:func:`modal_projection`) that :meth:`modal_section`
+        reports; ``(0, order)`` for none.
+    """
+
+    model: AxisymmetricFull
+    P0: float
+    Omega: float
+    damping: DampingLaw
+    steps: int
+    rate: float
+    matrix: np.ndarray
+    probe: np.ndarray
+    omega_max: float
+    section: np.ndarray
+
+    @classmethod
+    def build(cls, model: AxisymmetricFull, P0: float, Omega: float, damping: DampingLaw | None = None,
+              steps: int = 128, probe_rho: float | None = None, modes=()) -> ForcedFull:
+        """The map of ``model`` under ``P0 cos(Omega t)`` with the law ``damping`` (None: no
+        damping), ``steps`` RK4 steps per period (:func:`steps_per_period` gives enough), the
+        amplitude measured at ``probe_rho`` (m; default ``0.5 Re``) and the ROM coordinates of
+        the axisymmetric ``modes`` ``(m, 0)`` on the section (:meth:`modal_section`)."""
+        m = model.membrane
+        damping = Viscous() if damping is None else damping
+        rate, matrix = damping.terms(*linear_system(model), m.Gamma * m.h)
+        if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
+            raise ValueError(f"steps = {steps!r} is invalid: must be an integer >= 1")
+        rho = 0.5 * m.Re if probe_rho is None else float(probe_rho)
+        phi, _ = model.state.basis.evaluate(np.eye(model.order), np.array([rho / m.Re]))
+        probe = np.concatenate([np.zeros(model.order), phi[:, 0]])
+        return cls(model, float(P0), float(Omega), damping, int(steps), float(rate), matrix, probe,
+                   highest_frequency(model), modal_projection(model, modes))
+
+    @property
+    def dof(self) -> int:
+        """Coordinates ``2 order`` (``U`` then ``W``, m); states ``(q, q')``."""
+        return self.model.dof
+
+    @property
+    def period(self) -> float:
+        """Forcing period ``2 pi / Omega`` (s)."""
+        return 2.0 * math.pi / self.Omega
+
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        """``Omega``, ``P0`` and the damping law's constants."""
+        return PARAMETERS + self.damping.parameters()
+
+    def value(self, parameter: str) -> float:
+        """The current value of ``parameter``."""
+        if parameter in PARAMETERS:
+            return float(getattr(self, parameter))
+        if parameter not in self.parameters:
+            raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(self.parameters)}")
+        return float(getattr(self.damping, parameter))
+
+    def varied(self, parameter: str, value: float) -> ForcedFull:
+        """The same map (its steps per period kept) with ``parameter`` set to ``value``."""
+        if parameter in PARAMETERS:
+            return replace(self, **{parameter: float(value)})
+        if parameter not in self.parameters:
+            raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(self.parameters)}")
+        law = self.damping.replaced(parameter, float(value))
+        m = self.model.membrane
+        rate, matrix = law.terms(*linear_system(self.model), m.Gamma * m.h)
+        return replace(self, damping=law, rate=float(rate), matrix=matrix)
+
+    def state_scale(self, Omega: float | None = None) -> np.ndarray:
+        """:func:`model.protocol.state_scale` at this map's ``Omega`` or at ``Omega``."""
+        return state_scale(self.dof, self.Omega if Omega is None else Omega)
+
+    def _state(self, y) -> np.ndarray:
+        y = np.array(y, dtype=float)
+        if y.shape != (2 * self.dof,):
+            raise ValueError(f"state shape {y.shape} is invalid: expected ({2 * self.dof},) = (q, q')")
+        return y
+
+    @property
+    def stable_step(self) -> bool:
+        """Whether RK4's step is within its stability limit, ``omega_max dt < 2.8``."""
+        return self.period / self.steps * self.omega_max < 2.8
+
+    def _motion(self, y, steps: int, every: int) -> np.ndarray:
+        # the states every `every` steps over `steps` steps from y (m), in metres
+        m = self.model
+        re = m.membrane.Re
+        record = np.empty((steps // every + 1, 2 * self.dof))
+        if not self.stable_step:
+            record[:] = np.nan
+            return record
+        rk4_motion(*m.kernel_tables, m.inverse_mass, m.omega0_2, m.bias, self.rate, matrix_or_none(self.matrix), m.load,
+                   self.P0, self.Omega, y / re, self.period / self.steps, steps, every, record)
+        return record * re
+
+    def advance(self, y, periods: int = 1) -> np.ndarray:
+        """``P^periods(y)``: the state after ``periods`` forcing periods from ``t = 0``."""
+        return self._motion(self._state(y), periods * self.steps, periods * self.steps)[-1]
+
+    def advance_batch(self, states, periods: int = 1) -> np.ndarray:
+        """``P^periods`` applied to each row of ``states`` ``(N, 2 dof)``; a new array."""
+        states = np.array(states, dtype=float, ndmin=2)
+        if states.ndim != 2 or states.shape[1] != 2 * self.dof:
+            raise ValueError(f"states shape {np.shape(states)} is invalid: expected (N, {2 * self.dof})")
+        return np.array([self.advance(y, periods) for y in states]).reshape(states.shape)
+
+    def _variational(self, y, parameter: int):
+        m = self.model
+        re = m.membrane.Re
+        if not self.stable_step:
+            n = 2 * self.dof
+            return np.full(n, np.nan), np.full((n, n), np.nan), np.full(n, np.nan)
+        yT, big = rk4_variational(*m.kernel_tables, m.inverse_mass, m.omega0_2, m.bias, self.rate, matrix_or_none(self.matrix),
+                                  m.load, self.P0, self.Omega, parameter, self._state(y) / re,
+                                  self.period / self.steps, self.steps)
+        return yT * re, big[:, :-1], big[:, -1] * re
+
+    def monodromy(self, y) -> tuple[np.ndarray, np.ndarray]:
+        """``P(y)`` and ``dP/dy`` (the RK4 variational equations: exact for the discrete map)."""
+        yT, phi, _ = self._variational(y, NO_PARAMETER)
+        return yT, phi
+
+    def monodromy_parameter(self, y, parameter: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``P(y)``, ``dP/dy`` and ``dP/d parameter`` (``"Omega"`` at fixed steps per period,
+        or ``"P0"``), from one integration of the variational equations."""
+        if parameter not in PARAMETERS:
+            raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(PARAMETERS)}")
+        return self._variational(y, OMEGA if parameter == "Omega" else PRESSURE)
+
+    def modal_section(self, states) -> np.ndarray:
+        """The ROM's modal coordinates and velocities ``(..., 2K)`` (m, m s-1) of the states
+        ``(..., 2 dof)``: the least-squares fit of ``w`` and ``w_t`` by the mode shapes of
+        :attr:`section` (the optional capability of :mod:`model.protocol`)."""
+        states = np.asarray(states, float)
+        o, dof = self.model.order, self.dof
+        return np.concatenate([states[..., o:dof] @ self.section.T, states[..., dof + o:] @ self.section.T], axis=-1)
+
+    def multipliers(self, y) -> np.ndarray:
+        """Floquet multipliers at ``y`` (eigenvalues of :meth:`monodromy`), by decreasing modulus."""
+        return sorted_multipliers(self.monodromy(y)[1])
+
+    def amplitude(self, y, periods: int = 1) -> float:
+        """``max_t |w(probe_rho, t)|`` (m) over ``periods`` forcing periods from ``y`` at ``t = 0``:
+        the largest RK4 sample refined by a parabola (:func:`model.forced.periodic_peak`); NaN
+        when the motion does not stay finite."""
+        if periods < 1:
+            raise ValueError(f"periods = {periods!r} is invalid: must be >= 1")
+        record = self._motion(self._state(y), periods * self.steps, 1)
+        w = record[:, :self.dof] @ self.probe
+        return periodic_peak(w, periods * self.steps) if np.all(np.isfinite(w)) else math.nan
+
+
+
+def modal_projection(model: AxisymmetricFull, modes) -> np.ndarray:
+    """The matrix ``(K, order)`` from the ``W`` coefficients (m) of ``w`` to the coordinates
+    ``q_k`` (m) of the ROM's mode shapes ``psi_k`` of the axisymmetric ``modes`` ``(m, 0)``
+    (Eq. 26, :func:`model.modes.mode_shape`) that fit ``w`` best in ``int (w - sum q_k psi_k)^2
+    rho drho``: ``G^-1 B`` with ``G_kl = int psi_k psi_l s ds``, ``B_kj = int psi_k phi_j s ds``."""
+    if any(n != 0 for _, n in modes):
+        raise ValueError(f"modes = {[list(m) for m in modes]} is invalid for the axisymmetric full model: "
+                         "axisymmetric modes [m, 0] only")
+    b, m = model.state.basis, model.membrane
+    if not modes:
+        return np.zeros((0, b.order))
+    counts = max(mm for mm, _ in modes)
+    alpha = bessel_roots(0, m.delta_o, counts)[[mm - 1 for mm, _ in modes]]
+    psi = mode_shape(m.Re * b.s, alpha, 0, m.Re, m.delta_o)[0]
+    sw = b.s * b.weights
+    return np.linalg.solve((psi * sw) @ psi.T, (psi * sw) @ b.phi.T)

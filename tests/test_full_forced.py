@@ -1,0 +1,215 @@
+"""The forced axisymmetric full model (:mod:`model.full.forced`): its derivatives against finite
+differences, its small-amplitude response against the frequency-domain solution of its
+linearisation, shooting against time integration, and the forced analyses on it from job files."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from model.damping import Rayleigh, Viscous
+from model.full.axisymmetric import AxisymmetricFull
+from model.full.forced import ForcedFull, linear_system, modal_projection, steps_per_period
+from model.full.static import solve_full_prestretch
+from model.modes import bessel_roots, mode_shape
+from model.params import Membrane
+from model.protocol import StroboscopicMap
+from model.shooting import shoot
+from sweep import cli
+from sweep.analyses.base import JobError
+from sweep.jobspec import parse_job
+
+ORDER = 8
+
+
+@pytest.fixture(scope="module")
+def model():
+    return AxisymmetricFull(solve_full_prestretch(Membrane(delta=1.1, delta_o=0.2), ORDER))
+
+
+def _map(model, P0=0.5, Omega=33.5, damping=Viscous(0.05), factor=1):
+    return ForcedFull.build(model, P0, Omega, damping, factor * steps_per_period(model, 128), modes=[(1, 0), (2, 0)])
+
+
+def _state(fmap, w=0.02):
+    # a deflection of about w at the probe with some radial displacement and velocities
+    o, dof = fmap.model.order, fmap.dof
+    y = np.zeros(2 * dof)
+    y[o:dof] = w * np.linspace(1.0, 0.2, o)
+    y[:o] = 0.1 * w * np.linspace(0.5, -0.5, o)
+    y[dof:] = 3.0 * y[:dof]
+    return y
+
+
+def test_the_map_satisfies_the_protocol(model):
+    assert isinstance(_map(model), StroboscopicMap)
+
+
+@pytest.mark.parametrize("parameter", ["state", "Omega", "P0"])
+def test_derivatives_are_those_of_the_discrete_map(model, parameter):
+    # central differences at h and 2 h: their error is C h^2 and 4 C h^2, so the exact
+    # derivative lies within |fd(h) - fd(2h)| / 3 of fd(h); asserted with a margin of 3
+    fmap = _map(model, damping=Rayleigh(alpha=0.1, beta=1e-4))
+    y = _state(fmap)
+    if parameter == "state":
+        exact = fmap.monodromy(y)[1][:, fmap.model.order + 1]
+        e = np.zeros_like(y)
+        e[fmap.model.order + 1] = 1.0
+
+        def at(h):
+            return fmap.advance(y + h * e)
+        h = 1e-5
+    else:
+        exact = fmap.monodromy_parameter(y, parameter)[2]
+        value = fmap.value(parameter)
+
+        def at(h):
+            return fmap.varied(parameter, value + h).advance(y)
+        h = 1e-4 * value
+    fd = [(at(k * h) - at(-k * h)) / (2 * k * h) for k in (1, 2)]
+    scale = np.abs(exact).max()
+    assert np.abs(fd[0] - exact).max() <= np.abs(fd[0] - fd[1]).max() + 1e-9 * scale
+
+
+def test_small_response_is_the_frequency_domain_solution_of_the_linearisation(model):
+    # P0 = 1e-2 Pa: w ~ 5e-5 m, the nonlinear terms ~ 1e-8 relative (the backbone bends by 5 %
+    # at 0.1 m: (5e-5 / 0.1)^2 0.05).  The linearisation about the pre-stretch, q'' + D q' +
+    # M^-1 K0 q = P0 cos(Omega t) b, solved in the frequency domain with the numpy Hessian (the
+    # map integrates the compiled one); RK4's error in the forced amplitude is ~ (Omega dt)^4 /
+    # 120 = 1e-9, amplified near the resonance by omega_1 / |omega_1 - Omega| ~ 10.  (Smaller
+    # loads meet the map's rounding floor, ~3e-16 m per period: docs/model.md.)
+    P0, W = 1e-2, 30.0
+    fmap = _map(model, P0=P0, Omega=W)
+    orbit = shoot(fmap, np.zeros(2 * fmap.dof))
+    assert orbit.converged and orbit.stable
+    mass, stiffness = linear_system(model)
+    A = np.linalg.solve(mass, stiffness)
+    o, dof = model.order, model.dof
+    b = np.concatenate([np.zeros(o), model.load]) * P0 * model.membrane.Re  # m s-2
+    Q = np.linalg.solve(A - W**2 * np.eye(dof) + 1j * W * fmap.rate * np.eye(dof), b)
+    np.testing.assert_allclose(orbit.state[o:dof], Q[o:].real, rtol=0, atol=1e-6 * np.abs(Q).max())
+    np.testing.assert_allclose(orbit.state[dof + o:], (1j * W * Q[o:]).real, rtol=0, atol=1e-6 * W * np.abs(Q).max())
+    np.testing.assert_allclose(orbit.amplitude, abs(fmap.probe[o:] @ Q[o:]), rtol=1e-6)
+    # the linearisation has no u (transverse and in-plane motion decouple about the flat
+    # state); the orbit's u is of second order (the energy is even in w): four times as large
+    # at twice the load, to the relative size of the next order, (w / 0.1 m)^2 ~ 1e-7
+    assert np.abs(Q[:o]).max() == 0.0
+    double = shoot(fmap.varied("P0", 2 * P0), 2 * orbit.state)
+    np.testing.assert_allclose(double.state[:o], 4 * orbit.state[:o], rtol=1e-4, atol=0)
+
+
+def test_shooting_finds_the_state_time_integration_settles_on(model):
+    # heavy damping (every coordinate decays at rate / 2, mass-proportional): after N periods a
+    # transient of the size of the orbit is down by exp(-rate N T / 2) < 1e-9
+    fmap = _map(model, P0=2.0, damping=Viscous(2.0))
+    orbit = shoot(fmap, np.zeros(2 * fmap.dof))
+    assert orbit.converged and orbit.stable
+    periods = int(np.ceil(2.0 * np.log(1e9) / (fmap.rate * fmap.period)))
+    settled = fmap.advance(np.zeros(2 * fmap.dof), periods)
+    scale = fmap.state_scale()
+    assert np.linalg.norm(scale * (settled - orbit.state)) <= 1e-8 * np.linalg.norm(scale * orbit.state)
+
+
+def test_steps_keep_rk4_stable_and_a_lower_forcing_frequency_is_nan(model):
+    fmap = _map(model)
+    assert fmap.stable_step and fmap.period / fmap.steps * fmap.omega_max <= 2.0
+    slow = fmap.varied("Omega", 0.1)
+    assert not slow.stable_step
+    assert np.isnan(slow.advance(_state(fmap))).all() and np.isnan(slow.amplitude(_state(fmap)))
+
+
+def test_modal_section_recovers_the_rom_coordinates_of_a_combination_of_mode_shapes(model):
+    # w = 0.01 psi_1 - 0.003 psi_2 (Eq. 26) interpolated on the basis: the fit returns the two
+    # coefficients to the basis' interpolation error of the shapes (order 8: ~1e-5 relative)
+    m, b = model.membrane, model.state.basis
+    alpha = bessel_roots(0, m.delta_o, 2)
+    s = b.s
+    psi = mode_shape(m.Re * s, alpha, 0, m.Re, m.delta_o)[0]
+    target = np.array([0.01, -0.003])
+    sw = s * b.weights
+    W = np.linalg.solve((b.phi * sw) @ b.phi.T, (b.phi * sw) @ (target @ psi))  # L2 fit on the basis
+    P = modal_projection(model, [(1, 0), (2, 0)])
+    np.testing.assert_allclose(P @ W, target, rtol=0, atol=1e-4 * 0.01)
+    with pytest.raises(ValueError, match="axisymmetric modes"):
+        modal_projection(model, [(1, 1)])
+
+
+JOB = """
+[job]
+name = "full-forced"
+analysis = "continuation"
+
+[model]
+kind = "full"
+order = 8
+
+[grid]
+delta = 1.1
+delta_o = 0.2
+Omega = 33.5
+c = 0.05
+
+[continuation]
+parameter = "P0"
+start = 0.0
+stop = 0.12
+modes = [[1, 0], [2, 0]]
+ds_max = 0.3
+max_points = 200
+"""
+
+
+def test_continuation_job_on_the_full_model_reports_rom_coordinates_and_folds(tmp_path):
+    job = tmp_path / "full.toml"
+    job.write_text(JOB)
+    out = tmp_path / "full.nc"
+    assert cli.main(["run", str(job), "-o", str(out)]) == 0
+    ds = xr.load_dataset(out).squeeze()
+    assert ds.attrs["model"] == "full" and int(ds.status) == 0
+    n = int(ds.n_points)
+    assert ds.multiplier_real.sizes["multiplier"] == 4 and ds.modal_coordinate.sizes["mode"] == 2
+    # the branch's responses are the periodic orbits shooting finds at those loads from rest
+    # (no saddle-node below 0.12 Pa: the full model's is above 2 Pa, docs/validation.md)
+    assert int(ds.n_folds) == 0
+    model = AxisymmetricFull(solve_full_prestretch(Membrane(delta=1.1, delta_o=0.2), 8))
+    fmap = ForcedFull.build(model, 0.0, 33.5, Viscous(0.05), int(ds.rk4_steps), modes=[(1, 0), (2, 0)])
+    for i in (n // 2, n - 1):
+        orbit = shoot(fmap.varied("P0", float(ds.P0[i])), np.zeros(2 * fmap.dof))
+        assert orbit.converged
+        np.testing.assert_allclose(orbit.amplitude, float(ds.amplitude[i]), rtol=1e-8)
+        np.testing.assert_allclose(fmap.modal_section(orbit.state)[:2], ds.modal_coordinate[i], rtol=1e-7)
+    # the reported coordinate of (1, 0) carries the probe's deflection: psi_1(0.5 Re) q_1 ~ w
+    m = Membrane(delta=1.1, delta_o=0.2)
+    psi = mode_shape(np.array([0.5 * m.Re]), bessel_roots(0, m.delta_o, 1), 0, m.Re, m.delta_o)[0][0, 0]
+    ratio = np.abs(psi * ds.modal_coordinate.isel(mode=0)[:n]).max() / ds.amplitude[:n].max()
+    assert 0.9 < float(ratio) < 1.1
+
+
+HEAD = """
+[job]
+name = "refused"
+analysis = "{analysis}"
+
+[model]
+kind = "full"
+
+[grid]
+delta = 1.1
+delta_o = 0.2
+Omega = 33.5
+c = 0.05
+"""
+
+
+@pytest.mark.parametrize("analysis, table, key", [
+    ("continuation", 'parameter = "P0"\nstart = 0.0\nstop = 1.0\nmodes = [[1, 1]]', "continuation.modes"),
+    ("response", 'parameter = "P0"\nvalues = {start = 0.1, stop = 1.0, num = 4}\npoincare_points = 64',
+     "response.poincare_points"),
+    ("basins", "", "job.analysis"),
+])
+def test_full_model_refuses_what_its_axisymmetric_map_cannot_do(analysis, table, key):
+    text = HEAD.format(analysis=analysis) + ("P0 = 1.0\n" if analysis == "basins" else "")
+    text += f"\n[{analysis}]\n{table}\n"
+    with pytest.raises(JobError, match=key.replace(".", r"\.")):
+        parse_job(text)
