@@ -18,7 +18,8 @@ def test_missing_results_name_the_jobs(tmp_path):
              + validation.section_linear_convergence(tmp_path) + validation.section_forced_modes(tmp_path)
              + validation._family_convergence(tmp_path) + validation._family_check(tmp_path)
              + validation.section_full_model(tmp_path) + validation.section_fe_check(tmp_path)
-             + validation.section_full_backbone(tmp_path) + validation.section_bruteforce_diagram(tmp_path))
+             + validation.section_full_backbone(tmp_path) + validation.section_bruteforce_diagram(tmp_path)
+             + validation.section_full_forced(tmp_path))
     text = "\n".join(lines)
     for job in ("fig09-modes", "fig15-bifurcation-p0", "fig15-bruteforce", "fig19-basins",
                 "fig10-11-backbone", "fig12-inner-radius", "fig17-cusp", "fig16-17-damping",
@@ -57,7 +58,7 @@ def test_the_report_computes_nothing_from_the_model():
                      and (node.module or "").startswith("sweep.") for alias in node.names}
     assert through_sweep <= {("sweep.analyses.branch_features", "CURVE_DS_MAX"), ("sweep.analyses.mode_sets", "select"),
                              ("sweep.errors", "RunError"), ("sweep.storage.netcdf", "run_attributes")}
-    assert imported <= {("model.continuation", "KIND_LABELS"), ("model.continuation", "resonant_end"),
+    assert imported <= {("model.continuation", "KIND_LABELS"), ("model.continuation", "NEIMARK_SACKER"), ("model.continuation", "resonant_end"),
                         ("model.continuation", "stable_amplitudes_at"), ("model.continuation", "unstable_intervals"),
                         ("model", "attractors"), ("model", "lattice"), ("model.basins", "default_settings")}
 

@@ -27,8 +27,8 @@ Outputs (a task's branches differ in length: every ``point`` array is padded wit
 * ``multiplier_real``, ``multiplier_imag`` (``point``, ``multiplier``): Floquet
   multipliers by decreasing modulus (the ``2K`` of largest modulus of a model with more
   coordinates than modes: the full model), and ``multiplier_modulus`` (``point``) the largest;
-* ``fold_value``, ``fold_amplitude`` (``fold``, :data:`MAX_FOLDS` long, NaN padded): the
-  saddle-node points in branch order, and ``n_points``, ``n_folds``.
+* ``fold_value``, ``fold_amplitude`` (``fold``, :data:`MAX_FOLDS` = 16 long, NaN padded):
+  the first saddle-node points in branch order, and ``n_points``, ``n_folds`` (all of them).
 
 Mixed mode sets (``modes`` with ``n != 0`` and at least one ``n = 0`` mode, no ``families``):
 the branch starts from rest, which the uniform pressure keeps axisymmetric, so it is continued
@@ -111,8 +111,9 @@ from .base import (DEFAULT_CONTEXT, GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERG
 from .branch_features import (FEATURES, BranchContext, by_symmetry, curves_option, family_check_option, family_radials,
                               second_parameter, switching_option)
 
-#: Length of the ``fold`` dimension.
-MAX_FOLDS = 6
+#: Length of the ``fold`` dimension: the first saddle-nodes of a branch (``n_folds`` counts
+#: them all; ``point_type`` marks every one). The full model's Fig. 15a branch has 8.
+MAX_FOLDS = 16
 
 
 @dataclass(frozen=True)

@@ -292,12 +292,15 @@ def _zoom_omega(ax, x, amp):
 
 
 def _style_legend(ax):
-    """Legend of the line styles (black): stable, unstable, bifurcation points present."""
+    """Legend of the line styles (black): stable, unstable, the markers of every kind of
+    located point and of a branch stopped early."""
     from matplotlib.lines import Line2D
 
+    from model.continuation import KIND_LABELS
+
     handles = [Line2D([], [], color="k", ls="-", label="stable"),
-               Line2D([], [], color="k", ls="--", label="unstable"),
-               Line2D([], [], color="k", ls="none", marker="o", mfc="white", label="saddle-node"),
-               Line2D([], [], color="k", ls="none", marker="^", mfc="white", label="branch point"),
-               Line2D([], [], color="k", ls="none", marker="X", label="branch stopped early")]
+               Line2D([], [], color="k", ls="--", label="unstable")]
+    handles += [Line2D([], [], color="k", ls="none", marker=marker, mfc="white", label=KIND_LABELS[kind])
+                for kind, marker in BIFURCATION_MARKERS.items()]
+    handles.append(Line2D([], [], color="k", ls="none", marker="X", label="branch stopped early"))
     return ax.legend(handles=handles, loc="upper left", fontsize=7)
