@@ -102,6 +102,11 @@ class Family:
         """Dimension ``2 M`` of the family's block of the monodromy matrix."""
         return 2 * len(self.radial)
 
+    def linear_system(self, membrane) -> tuple[np.ndarray, np.ndarray]:
+        """:func:`family_linear_system` of this family on ``membrane``: what a damping law
+        is built on (:func:`model.forced.family_damping`)."""
+        return family_linear_system(self, membrane)
+
 
 def symmetry_blocks(modes) -> tuple[list[int], list[tuple[int, tuple[int, ...], list[int]]]]:
     """Split a mode set by symmetry: the axisymmetric modes, and one block per wave number

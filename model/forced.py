@@ -25,7 +25,7 @@ import numpy as np
 
 from .damping import NO_MATRIX, DampingLaw, Viscous
 from .damping_kernels import matrix_or_none
-from .families import Family, family_linear_system, family_monodromy
+from .families import Family, family_monodromy
 from .integrate import OMEGA, PRESSURE, monodromy, monodromy_parameter, rk4_one_mode, rk4_steps
 from .params import Loading
 from .protocol import PARAMETERS, KernelArguments, sorted_multipliers, state_scale
@@ -53,10 +53,11 @@ _FAMILY_DAMPING: dict = {}
 _FAMILY_DAMPING_SIZE = 64
 
 
-def family_damping(fam: Family, membrane, damping: DampingLaw) -> tuple[float, np.ndarray]:
-    """``(rate, matrix)`` of the law ``damping`` on the perturbations of family ``fam``
-    (:func:`model.families.family_linear_system`; per-mode constants by increasing frequency).
-    Built once per family, membrane and law."""
+def family_damping(fam, membrane, damping: DampingLaw) -> tuple[float, np.ndarray]:
+    """``(rate, matrix)`` of the law ``damping`` on the perturbations of family ``fam`` (the
+    ROM's :class:`model.families.Family` or the full model's
+    :class:`model.full.families.FullFamily`: its ``linear_system(membrane)``; per-mode
+    constants by increasing frequency).  Built once per family, membrane and law."""
     if isinstance(damping, Viscous):
         return damping.terms(np.eye(1), np.eye(1), membrane.Gamma * membrane.h)
     if isinstance(getattr(damping, "zeta", None), tuple):
@@ -66,7 +67,7 @@ def family_damping(fam: Family, membrane, damping: DampingLaw) -> tuple[float, n
     if key not in _FAMILY_DAMPING:
         if len(_FAMILY_DAMPING) >= _FAMILY_DAMPING_SIZE:
             _FAMILY_DAMPING.pop(next(iter(_FAMILY_DAMPING)))
-        _FAMILY_DAMPING[key] = (fam, damping.terms(*family_linear_system(fam, membrane), membrane.Gamma * membrane.h))
+        _FAMILY_DAMPING[key] = (fam, damping.terms(*fam.linear_system(membrane), membrane.Gamma * membrane.h))
     return _FAMILY_DAMPING[key][1]
 
 

@@ -139,8 +139,8 @@ def test_basin_labels_agree_with_scipy_integration(results):
 
 def test_rom_only_options_are_refused_for_another_model(monkeypatch):
     monkeypatch.setenv("SWEEP_EXTRA_MODELS", ENV["SWEEP_EXTRA_MODELS"])
-    with pytest.raises(JobError, match="continuation.families = .* is invalid: needs the ROM's mode families; "
-                                       "this job's model is 'escape'"):
+    with pytest.raises(JobError, match="continuation.families = .* is invalid: needs a model with asymmetric "
+                                       "families; this job's model is 'escape'"):
         parse_job(CONTINUATION.replace("max_points = 600", "max_points = 600\nfamilies = {n = [1], radial = 2}"))
     with pytest.raises(JobError, match="model.kind = 'duffing' is invalid: one of the available models: 'rom', 'full', 'fe2d', "
                                        "'escape'"):

@@ -86,12 +86,15 @@ def _acceleration(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, d
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
 def rk4_motion(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, damping, damping_matrix, load, P0,
-               Omega, y0, dt, steps, every, record):
+               Omega, y0, dt, steps, every, record, stages=None):
     """``steps`` RK4 steps of ``dt`` (s) from ``y0`` at ``t = 0`` of ``q'' = bias - omega_0^2
     M^-1 g(q) - D q' + P0 cos(Omega t) load`` (``bias``: constant accelerations, s-2; ``load``:
     the ``W`` accelerations per Pa; ``D`` the rate ``damping`` (s-1) plus ``damping_matrix``,
     None for none); the state every ``every`` steps into the rows of ``record``
-    (``(steps // every + 1, 2 dof)``, the first row ``y0``).  ``P0 = 0``: the free motion."""
+    (``(steps // every + 1, 2 dof)``, the first row ``y0``).  ``P0 = 0``: the free motion.
+    ``stages`` (``(steps, 4, dof)``, optional): the coordinates ``q`` at every stage of every
+    step, what the families' variational equations are integrated along
+    (:func:`model.full.family_kernels.family_monodromy`)."""
     n = y0.size
     y = y0.copy()
     k = np.empty((4, n))
@@ -105,6 +108,8 @@ def rk4_motion(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, damp
             else:
                 for j in range(n):
                     stage[j] = y[j] + stage_offset(i, dt) * k[i - 1, j]
+            if stages is not None:
+                stages[step, i] = stage[:n // 2]
             pressure = P0 * np.cos(Omega * (step * dt + stage_offset(i, dt)))
             _acceleration(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, damping, damping_matrix,
                           load, pressure, stage, k[i], g)
@@ -115,15 +120,48 @@ def rk4_motion(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, damp
     return y
 
 
+@nb.njit(cache=True, fastmath=True, error_model="numpy", inline="always")
+def even_moduli(law, x0, x1, x2, tT, tD, d):
+    """``d[:, :] = d^2(W/C1)/dx^2`` for ``x = (a1_r, a1_z, a2_theta) = (x0, x1, x2)`` at the
+    axisymmetric columns ``a1 = (x0, 0, x1)``, ``a2 = (0, x2, 0)`` (the components of ``F`` even
+    under ``theta -> -theta``); ``tT``, ``tD`` (3) are work arrays, left holding ``dT/dx`` and
+    ``dDelta/dx``.  Returns ``(W_T, W_D)``, which the odd components' moduli need
+    (:mod:`model.full.family_kernels`).
+
+    With ``n1 = |a1|^2``, ``n2 = |a2|^2``, ``T = n1 + n2`` and ``Delta = n1 n2``:
+    ``d = W_TT tT tT' + W_TD (tT tD' + tD tT') + W_DD tD tD' + 2 W_T I + W_D d2Delta`` with
+    ``tT = 2 x``, ``tD = 2 (x0 n2, x1 n2, x2 n1)``."""
+    n1 = x0 * x0 + x1 * x1
+    n2 = x2 * x2
+    delta = n1 * n2
+    w_t, w_d, w_tt, w_td, w_dd = metric_derivatives(law, n1 + n2, delta, 1.0 / delta)
+    tT[0] = 2.0 * x0
+    tT[1] = 2.0 * x1
+    tT[2] = 2.0 * x2
+    tD[0] = 2.0 * x0 * n2
+    tD[1] = 2.0 * x1 * n2
+    tD[2] = 2.0 * x2 * n1
+    for i in range(3):
+        for j in range(3):
+            d[i, j] = w_tt * tT[i] * tT[j] + w_td * (tT[i] * tD[j] + tD[i] * tT[j]) + w_dd * tD[i] * tD[j]
+        d[i, i] += 2.0 * w_t
+    d[0, 0] += w_d * 2.0 * n2
+    d[1, 1] += w_d * 2.0 * n2
+    d[2, 2] += w_d * 2.0 * n1
+    d[0, 2] += w_d * 4.0 * x0 * x2
+    d[2, 0] += w_d * 4.0 * x0 * x2
+    d[1, 2] += w_d * 4.0 * x1 * x2
+    d[2, 1] += w_d * 4.0 * x1 * x2
+    return w_t, w_d
+
+
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
 def axisymmetric_hessian(law, phi, dphi, s, sw, w, r0, dr0, q, out):
     """``out[:, :] = d^2(int W/C1 s ds)/dq^2`` for the coordinates ``q = (U, W)`` (the numpy
     :meth:`model.full.axisymmetric.AxisymmetricFull.hessian`, compiled).
 
-    With ``x = (a1_r, a1_z, a2_theta)``, ``n1 = |a1|^2``, ``n2 = |a2|^2``, ``T = n1 + n2`` and
-    ``Delta = n1 n2``: ``d2W/dx2 = W_TT tT tT' + W_TD (tT tD' + tD tT') + W_DD tD tD' + 2 W_T I
-    + W_D d2Delta`` with ``tT = 2 x``, ``tD = 2 (a1_r n2, a1_z n2, a2_theta n1)``; ``U_k``
-    moves ``x`` by ``(phi_k', 0, phi_k / s)`` and ``W_k`` by ``(0, phi_k', 0)``."""
+    With ``x = (a1_r, a1_z, a2_theta)`` and ``d2W/dx2`` of :func:`even_moduli`: ``U_k`` moves
+    ``x`` by ``(phi_k', 0, phi_k / s)`` and ``W_k`` by ``(0, phi_k', 0)``."""
     points, order = phi.shape
     out[:, :] = 0.0
     qu, qw = q[:order], q[order:]
@@ -135,27 +173,7 @@ def axisymmetric_hessian(law, phi, dphi, s, sw, w, r0, dr0, q, out):
         x0 = dr0[p] + du
         x1 = dw
         x2 = (r0[p] + u) / s[p]
-        n1 = x0 * x0 + x1 * x1
-        n2 = x2 * x2
-        delta = n1 * n2
-        w_t, w_d, w_tt, w_td, w_dd = metric_derivatives(law, n1 + n2, delta, 1.0 / delta)
-        tT[0] = 2.0 * x0
-        tT[1] = 2.0 * x1
-        tT[2] = 2.0 * x2
-        tD[0] = 2.0 * x0 * n2
-        tD[1] = 2.0 * x1 * n2
-        tD[2] = 2.0 * x2 * n1
-        for i in range(3):
-            for j in range(3):
-                d[i, j] = w_tt * tT[i] * tT[j] + w_td * (tT[i] * tD[j] + tD[i] * tT[j]) + w_dd * tD[i] * tD[j]
-            d[i, i] += 2.0 * w_t
-        d[0, 0] += w_d * 2.0 * n2
-        d[1, 1] += w_d * 2.0 * n2
-        d[2, 2] += w_d * 2.0 * n1
-        d[0, 2] += w_d * 4.0 * x0 * x2
-        d[2, 0] += w_d * 4.0 * x0 * x2
-        d[1, 2] += w_d * 4.0 * x1 * x2
-        d[2, 1] += w_d * 4.0 * x1 * x2
+        even_moduli(law, x0, x1, x2, tT, tD, d)
         c = sw[p]
         inv_s = 1.0 / s[p]
         for k in range(order):

@@ -29,14 +29,16 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.linalg import eigh
 
-from model.damping import DampingLaw, Viscous
+from model.damping import NO_MATRIX, DampingLaw, Viscous
 from model.damping_kernels import matrix_or_none
-from model.forced import periodic_peak
+from model.forced import family_damping, periodic_peak
 from model.modes import bessel_roots, mode_shape
 from model.protocol import PARAMETERS, sorted_multipliers, state_scale
 
 from .axisymmetric import AxisymmetricFull
 from .axisymmetric_kernels import NO_PARAMETER, OMEGA, PRESSURE, rk4_motion, rk4_variational
+from .families import FullFamily
+from .family_kernels import family_monodromy
 
 #: RK4 step times the highest frequency of the discretisation, at most (stable below 2.8).
 STABLE_STEP = 2.0
@@ -218,6 +220,30 @@ class ForcedFull:
         if parameter not in PARAMETERS:
             raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(PARAMETERS)}")
         return self._variational(y, OMEGA if parameter == "Omega" else PRESSURE)
+
+    def family_monodromy(self, y, fam: FullFamily) -> np.ndarray:
+        """The monodromy block ``(2 F M, 2 F M)`` of the asymmetric family ``fam``
+        (:class:`model.full.families.FullFamily`) along the axisymmetric orbit from ``y``, at
+        this map's RK4 steps (:func:`model.full.family_kernels.family_monodromy`), the
+        perturbations damped by this map's law on the family's own linear problem (the viscous
+        pressure: the map's rate).  NaN beyond RK4's stable step."""
+        if fam.model is not self.model:
+            raise ValueError("fam is invalid here: a family of another model (build it on this map's model)")
+        m = self.model
+        if not self.stable_step:
+            return np.full((fam.size, fam.size), np.nan)
+        dt = self.period / self.steps
+        stages = np.empty((self.steps, 4, self.dof))
+        rk4_motion(*m.kernel_tables, m.inverse_mass, m.omega0_2, m.bias, self.rate, matrix_or_none(self.matrix), m.load,
+                   self.P0, self.Omega, self._state(y) / m.membrane.Re, dt, self.steps, self.steps,
+                   np.empty((2, 2 * self.dof)), stages)
+        if isinstance(self.damping, Viscous):
+            rate, matrix = self.rate, NO_MATRIX
+        else:
+            rate, matrix = family_damping(fam, m.membrane, self.damping)
+        law, phi, dphi, s, sw, _, r0, dr0 = m.kernel_tables
+        return family_monodromy(law, phi, dphi, s, sw, r0, dr0, stages, fam.phi, fam.dphi, fam.variations,
+                                fam.inverse_mass, m.omega0_2, rate, matrix_or_none(matrix), dt)
 
     def modal_section(self, states) -> np.ndarray:
         """The ROM's modal coordinates and velocities ``(..., 2K)`` (m, m s-1) of the states

@@ -139,6 +139,11 @@ class ModelSpec:
         converge (:meth:`sweep.models.base.Model.natural_frequencies`)."""
         return self.model().natural_frequencies(point, self.options, options, basis)
 
+    def families(self, point: Point, options: Any, modes, blocks):
+        """The asymmetric family blocks of this model at ``point``
+        (:meth:`sweep.models.base.Model.families`)."""
+        return self.model().families(point, self.options, options, modes, blocks)
+
     def inplane_frequencies(self, point: Point, options: Any, basis: int | None = None):
         """The in-plane natural frequencies of ``options.modes`` at ``point``
         (:meth:`sweep.models.base.Model.inplane_frequencies`)."""

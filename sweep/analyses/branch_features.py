@@ -109,6 +109,12 @@ def family_radials(options) -> tuple[int, ...]:
     return M if isinstance(M, tuple) else (M,)
 
 
+def family_width(options) -> int:
+    """The largest family block: ``2 M`` per perturbation field (``W``, and ``U``, ``V`` with
+    ``families.inplane``)."""
+    return 2 * max(family_radials(options)) * (3 if options.families.inplane else 1)
+
+
 def is_radial_study(options) -> bool:
     """Whether ``families`` lists several radial counts (``family_radial`` dimension)."""
     return options.families is not None and isinstance(options.families[1], tuple)
@@ -131,7 +137,7 @@ class Families(BranchFeature):
                                  "and regular points)", -1)]
         if options.families is None:
             return point_family
-        F, w = len(options.families[0]), 2 * max(family_radials(options))
+        F, w = len(options.families.n), family_width(options)
         study = ("family_radial",) if is_radial_study(options) else ()
         R = (len(family_radials(options)),) if study else ()
         pf, pfm = ("point", *study, "family"), ("point", *study, "family", "family_multiplier")
@@ -152,7 +158,7 @@ class Families(BranchFeature):
                               {"long_name": "radial modes per asymmetric family", "units": "1"})}
         return {"family": (("family",), np.array(options.families[0], dtype=np.int32),
                            {"long_name": "circumferential wave number n of the asymmetric mode family", "units": "1"}),
-                "family_multiplier": (("family_multiplier",), np.arange(2 * max(family_radials(options)),
+                "family_multiplier": (("family_multiplier",), np.arange(family_width(options),
                                                                         dtype=np.int32),
                                       {"long_name": "Floquet multiplier index within the family's block",
                                        "units": "1"}),

@@ -103,7 +103,7 @@ from model.params import Loading, Membrane
 from model.protocol import modal_section
 from model.shooting import shoot
 
-from sweep.models.rom import families_for, rom_for
+from sweep.models.rom import rom_for
 
 from . import options as opt
 from .base import (DEFAULT_CONTEXT, GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
@@ -127,8 +127,9 @@ class ContinuationOptions:
     ds_max: float
     steps: int | None
     fold_curve: tuple[str, float, float] | None = None
-    #: (wave numbers, radial modes per family: a count, or the counts of a study)
-    families: tuple[tuple[int, ...], int | tuple[int, ...]] | None = None
+    #: the asymmetric families (wave numbers, radial functions per family: a count or the
+    #: counts of a study, in-plane fields or not)
+    families: opt.FamiliesOption | None = None
     bifurcation_curves: tuple[str, float, float] | None = None
     switch_points: int = 0
     switch_family: int = 0
@@ -183,7 +184,9 @@ class ContinuationAnalysis(Analysis):
                     "(radial modes 1..M of each n) along the axisymmetric branch; branch points, period "
                     "doublings and Neimark-Sacker points of each family are located (default none; needs "
                     "axisymmetric modes); radial = [M1, M2, ..] is a convergence study: every family at every "
-                    "count, along a dimension family_radial",
+                    "count, along a dimension family_radial; the full model ([model] kind = \"full\"): the first M "
+                    "functions of its basis per field (M <= order), the perturbations in (U, V, W), or W alone "
+                    "with inplane = false (the ROM's families are W alone)",
     }
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
@@ -196,8 +199,11 @@ class ContinuationAnalysis(Analysis):
         if start == stop:
             raise JobError(f"{s}.stop", stop, "must differ from continuation.start")
         modes = opt.modes(table, s)
-        families = opt.families(table, s, modes)
-        opt.rom_only(table, s, context.model, ("families", "branch_switching", "family_check"))
+        opt.rom_only(table, s, context.model, ("branch_switching", "family_check"))
+        if "families" in table and not context.model.model().provides("families"):
+            raise JobError(f"{s}.families", table["families"], f"needs a model with asymmetric families; this "
+                           f"job's model is {context.model.kind!r} ([model] kind)")
+        families = opt.families(table, s, modes, context.model)
         opt.model_modes(s, context.model, modes)
         if families is not None and isinstance(families[1], tuple):  # a study in the radial modes
             for key in ("branch_switching", "family_check", "bifurcation_curves"):
@@ -205,6 +211,10 @@ class ContinuationAnalysis(Analysis):
                     raise JobError(f"{s}.{key}", table[key], "needs one radial count in continuation.families "
                                    "(radial = M), not a list")
         opt.damping_modes(context.damping, s, modes, families or any(n for _, n in modes))
+        curves = curves_option(table, s, parameter, grid, context.damping)
+        if curves is not None and curves[0] == "delta" and not context.model.model().rom_features:
+            raise JobError(f"{s}.bifurcation_curves", table["bifurcation_curves"],
+                           f"curves in delta rebuild the ROM; this job's model is {context.model.kind!r} ([model] kind)")
         ds_max = opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0)
         return ContinuationOptions(
             parameter, start, stop, modes, opt.prestretch(table, s, context),
@@ -213,7 +223,7 @@ class ContinuationAnalysis(Analysis):
             ds_max,
             opt.steps(table, s, DEFAULT_STEPS, low=16),
             second_parameter(table, s, parameter, context.damping), families,
-            curves_option(table, s, parameter, grid, context.damping), *switching_option(table, s, families),
+            curves, *switching_option(table, s, families),
             family_check_option(table, s), membrane.law)
 
     def variables(self, options):
@@ -274,11 +284,10 @@ class ContinuationAnalysis(Analysis):
             # a sine block with the radial indices of a cosine block has its multipliers:
             # one family each, so that every point is located once
             unique = list(dict.fromkeys((n, radial) for n, radial, _ in blocks))
-            families = families_for(point.membrane, options.prestretch, modes, tuple(unique))
+            families = point.model.families(point, options, modes, tuple(unique))
         elif options.families is not None:
-            ns, _ = options.families
-            families = families_for(point.membrane, options.prestretch, modes,
-                                        tuple((n, tuple(range(1, M + 1))) for M in family_radials(options) for n in ns))
+            families = point.model.families(point, options, modes, tuple(
+                (n, tuple(range(1, M + 1))) for M in family_radials(options) for n in options.families.n))
         else:
             families = ()
         br = continue_orbits(fmap, options.parameter, options.start, options.stop, ds_max=options.ds_max,

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import NamedTuple
 
 import numpy as np
 
@@ -223,10 +224,24 @@ def mode_coords(mode_list) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict]
                                                       "companion sin(|n| theta))", "units": "1"})}
 
 
-def families(table, section: str, mode_list) -> tuple[tuple[int, ...], int | tuple[int, ...]] | None:
-    """The ``families = {n = [..], radial = M}`` option: ``(wave numbers, M)`` or None;
+class FamiliesOption(NamedTuple):
+    """The ``families`` option of a continuation."""
+
+    #: the wave numbers n
+    n: tuple[int, ...]
+    #: radial functions per family (per field): a count, or the counts of a convergence study
+    radial: int | tuple[int, ...]
+    #: whether the perturbations carry the in-plane fields U, V besides W (models with
+    #: in-plane motion only)
+    inplane: bool = False
+
+
+def families(table, section: str, mode_list, model=None) -> FamiliesOption | None:
+    """The ``families = {n = [..], radial = M, inplane = ..}`` option or None;
     ``radial = [M1, M2, ..]`` (distinct, increasing) is a convergence study: ``M`` is then
-    the tuple of counts.
+    the tuple of counts.  ``model``: the job's :class:`~sweep.analyses.base.ModelSpec`, which
+    bounds ``radial`` and says whether ``inplane`` may be true (its default)
+    (:meth:`sweep.models.base.Model.family_limits`).
 
     The families need an axisymmetric mode set (their blocks are taken on axisymmetric
     orbits).
@@ -235,20 +250,28 @@ def families(table, section: str, mode_list) -> tuple[tuple[int, ...], int | tup
     if value is None:
         return None
     key = f"{section}.families"
-    if not isinstance(value, Mapping) or set(value) != {"n", "radial"}:
-        raise JobError(key, value, "must be a table {n = [wave numbers >= 1], radial = radial modes per family}")
+    if not isinstance(value, Mapping) or not {"n", "radial"} <= set(value) <= {"n", "radial", "inplane"}:
+        raise JobError(key, value, "must be a table {n = [wave numbers >= 1], radial = radial modes per family"
+                                   "[, inplane = true | false]}")
     ns = value["n"]
     if (not isinstance(ns, list) or not ns or any(isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in ns)
             or len(set(ns)) != len(ns)):
         raise JobError(f"{key}.n", ns, "must be a non-empty list of distinct integers >= 1")
+    high, inplane_allowed = (32, False) if model is None else model.model().family_limits(model.options)
     if isinstance(value["radial"], list):
         counts = value["radial"]
-        radial = tuple(number({"radial": m}, key, "radial", integer=True, low=1, high=32) for m in counts)
+        radial = tuple(number({"radial": m}, key, "radial", integer=True, low=1, high=high) for m in counts)
         if not radial or list(radial) != sorted(set(radial)):
-            raise JobError(f"{key}.radial", counts, "an integer from 1 to 32, or a list of distinct increasing ones")
+            raise JobError(f"{key}.radial", counts, f"an integer from 1 to {high}, or a list of distinct increasing ones")
     else:
-        radial = number(value, key, "radial", integer=True, low=1, high=32)
+        radial = number(value, key, "radial", integer=True, low=1, high=high)
+    inplane = value.get("inplane", inplane_allowed)
+    if not isinstance(inplane, bool):
+        raise JobError(f"{key}.inplane", inplane, "must be true or false")
+    if inplane and not inplane_allowed:
+        raise JobError(f"{key}.inplane", inplane, "needs a model with in-plane displacements ([model] kind = "
+                                                  "\"full\"); this job's model has none")
     if any(n for _, n in mode_list):
         raise JobError(f"{section}.modes", [list(p) for p in mode_list],
                        "must be axisymmetric (every n = 0) when families are given")
-    return tuple(ns), radial
+    return FamiliesOption(tuple(ns), radial, inplane)

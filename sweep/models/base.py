@@ -43,8 +43,8 @@ class Model:
     OPTIONS: ClassVar[Mapping[str, str]] = {}
     #: The grid keys of the membrane the model needs (the analyses add their forcing keys).
     required_grid: ClassVar[tuple[str, ...]] = ()
-    #: Whether the analyses' ROM-only options (mode families, branch switching, the family
-    #: check, curves in delta) apply to this model's maps.
+    #: Whether the analyses' ROM-only options (branch switching, the family check, mixed
+    #: mode sets, curves in delta) apply to this model's maps.
     rom_features: ClassVar[bool] = False
     #: Whether the model's forced maps hold axisymmetric states only (the forced analyses'
     #: ``modes`` must then be axisymmetric, ``(m, 0)``).
@@ -92,6 +92,18 @@ class Model:
         model's converged default), and a list of what did not converge (empty when all
         did)."""
         raise NotImplementedError(f"model {self.name!r} has no natural frequencies (linear)")
+
+    def family_limits(self, model_options: Any) -> tuple[int, bool]:
+        """``(largest radial count, in-plane)`` of the asymmetric families a job may ask of
+        the model (``continuation.families``): the most radial functions per family, and
+        whether its perturbations can carry in-plane fields (then their default)."""
+        return 32, False
+
+    def families(self, point, model_options: Any, options: Any, modes, blocks):
+        """The asymmetric family blocks that the model's forced maps take
+        (``family_monodromy``) at ``point`` for a continuation with ``options``, on the
+        axisymmetric ``modes``: one per ``(n, radial indices)`` of ``blocks``."""
+        raise NotImplementedError(f"model {self.name!r} has no asymmetric families")
 
     def inplane_frequencies(self, point, model_options: Any, options: Any, basis: int | None):
         """In-plane natural frequencies (rad s-1) at ``point`` for the ``linear`` analysis: for

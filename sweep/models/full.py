@@ -6,7 +6,10 @@ It keeps the in-plane displacements and their inertia that the ROM drops.  It ru
 free vibration, :class:`model.full.free.FreeFull`) and the forced analyses on axisymmetric
 states (:class:`model.full.forced.ForcedFull`): their ``modes`` must be axisymmetric, and
 name the ROM coordinates the results report (the fit of ``w`` by those mode shapes); the
-ROM's mode families are refused at validation.  Its resolution is ``[model] order``, the
+ROM's mixed mode sets, branch switching and family check are refused at validation.  Its
+``continuation.families`` are the perturbations of each harmonic ``n`` in ``(U, V, W)``
+(``inplane = false``: ``W`` alone) on the first ``radial`` functions of its basis
+(:class:`model.full.families.FullFamily`).  Its resolution is ``[model] order``, the
 number of radial Legendre-Galerkin functions per field; ``linear.basis`` overrides it per
 task (a list of orders is a convergence study).
 """
@@ -49,6 +52,16 @@ def axisymmetric_for(membrane, order: int):
     return AxisymmetricFull(full_prestretch_for(membrane, order))
 
 
+@functools.lru_cache(maxsize=8)
+def full_families_for(membrane, order: int, blocks: tuple[tuple[int, int], ...], fields: str):
+    """The asymmetric families (:class:`model.full.families.FullFamily`) ``(n, radial count)``
+    of the fields ``fields`` on :func:`axisymmetric_for` (cached)."""
+    from model.full.families import FullFamily
+
+    model = axisymmetric_for(membrane, order)
+    return tuple(FullFamily.build(model, n, radial, fields) for n, radial in blocks)
+
+
 class FullModel(Model):
     """The membrane with in-plane displacements on ``order`` radial functions per field."""
 
@@ -75,6 +88,19 @@ class FullModel(Model):
         damping = point.damping or Viscous(point.loading.c)
         return ForcedFull.build(model, point.loading.P0, point.loading.Omega, damping, steps,
                                 modes=options.modes if modes is None else modes)
+
+    def family_limits(self, model_options):
+        return model_options.order, True
+
+    def families(self, point, model_options, options, modes, blocks):
+        counts = []
+        for n, radial in blocks:
+            if tuple(radial) != tuple(range(1, len(radial) + 1)):
+                raise ValueError(f"radial = {list(radial)} is invalid for the full model: its families take the "
+                                 "first M functions of its basis, 1..M")
+            counts.append((n, len(radial)))
+        fields = "UVW" if options.families.inplane else "W"
+        return full_families_for(point.membrane, model_options.order, tuple(counts), fields)
 
     def free_vibration(self, point, model_options, options):
         from model.full.free import FreeFull

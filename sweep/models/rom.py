@@ -70,6 +70,9 @@ class RomModel(Model):
                           default_steps or DEFAULT_STEPS)
         return ForcedMap.from_loading(rom, point.loading, steps, point.damping)
 
+    def families(self, point, model_options, options, modes, blocks):
+        return families_for(point.membrane, options.prestretch, tuple(modes), tuple(blocks))
+
     def free_vibration(self, point, model_options, options):
         from model.free import FreeRom
 
