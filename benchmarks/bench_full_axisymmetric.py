@@ -31,14 +31,13 @@ from pathlib import Path
 import numba as nb
 import numpy as np
 from scipy.integrate import solve_ivp
-from scipy.linalg import eigh
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from benchmarks.c_reference import compile_reference  # noqa: E402
+from benchmarks.full_states import first_mode_coordinates  # noqa: E402
 from model.full.axisymmetric import AxisymmetricFull  # noqa: E402
 from model.full.axisymmetric_kernels import axisymmetric_gradient  # noqa: E402
-from model.full.linear import stiffness_mass  # noqa: E402
 from model.full.static import solve_full_prestretch  # noqa: E402
 from model.params import Membrane  # noqa: E402
 
@@ -71,10 +70,7 @@ def main(argv=None) -> None:
     rng = np.random.default_rng(0)
     Q = np.column_stack([rng.uniform(-0.005, 0.005, (states, N)), rng.uniform(-0.05, 0.05, (states, N))])
     dt = 1.0 / model.highest_frequency()
-    K, M = stiffness_mass(model.state, 0, "W")
-    mode = eigh(K, M)[1][:, 0]
-    mode /= model.state.basis.evaluate(mode, np.array([0.5]))[0][0]
-    y0 = np.concatenate([model.relaxed(-0.05 * mode), np.zeros(model.dof)])
+    y0 = np.concatenate([first_mode_coordinates(model, -0.05), np.zeros(model.dof)])
     Q[0] = y0[:model.dof]  # the C program starts its motion from the first state at rest
     G = np.empty_like(Q)
     _forces(Q[:1], 1, *model.kernel_tables, G)  # compile

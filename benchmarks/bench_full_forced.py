@@ -29,14 +29,13 @@ from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
-from scipy.linalg import eigh
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from benchmarks.full_states import first_mode_coordinates  # noqa: E402
 from model.damping import Viscous  # noqa: E402
 from model.full.axisymmetric import AxisymmetricFull  # noqa: E402
 from model.full.forced import ForcedFull, steps_per_period  # noqa: E402
-from model.full.linear import stiffness_mass  # noqa: E402
 from model.full.static import solve_full_prestretch  # noqa: E402
 from model.params import Membrane  # noqa: E402
 
@@ -58,10 +57,7 @@ def main(argv=None) -> None:
     fmap = ForcedFull.build(model, P0, Omega, Viscous(c), steps=steps_per_period(model, 128))
     fine = ForcedFull.build(model, P0, Omega, Viscous(c), steps=4 * fmap.steps)
     re, n = model.membrane.Re, model.dof
-    K, M = stiffness_mass(model.state, 0, "W")
-    mode = eigh(K, M)[1][:, 0]
-    mode /= model.state.basis.evaluate(mode, np.array([0.5]))[0][0]
-    y0 = np.concatenate([model.relaxed(0.02 / re * mode), np.zeros(n)]) * re
+    y0 = np.concatenate([first_mode_coordinates(model, 0.02), np.zeros(n)]) * re
     inverse_mass = np.kron(np.eye(2), model.inverse_mass)
     load = np.concatenate([np.zeros(order), P0 * model.load])  # on the W accelerations
 

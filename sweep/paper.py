@@ -31,6 +31,7 @@ PAPER_JOBS = (
     "fig02-03-static", "fig04-06-frequencies",
     "fig09-modes", "fig10-11-backbone", "fig12-inner-radius",
     "fig13-resonance", "fig14-bifurcation-omega", "fig15-bifurcation-p0", "fig15-bruteforce", "fig15a-full",
+    "fig14a-full",
     "fig16-17-damping", "fig17-cusp", "fig18-damping-resonance",
     "fig14-families", "stability-map-fig14a", "fig14a-bifurcation-curves", "fig14a-bruteforce-diagram",
     "fig19-basins", "fig19a-basins-modes", "erosion-profile",
@@ -40,7 +41,9 @@ PAPER_JOBS = (
 VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
     "linear-basis", "full-static", "full-linear", "full-backbone", "full-backbone-order12", "backbone-modes", "fe-q1-576", "fe-q1-576-lumped",
     "forced-modes-omega", "forced-modes-omega-fine", "forced-modes-p0", "forced-modes-p0-fine",
-    "fig15a-full-order12", "fig15a-full-order12-fine",
+    "fig15a-full-order12", "fig15a-full-order12-fine", "fig15a-full-families", "fig15a-full-families-w",
+    "fig15a-full-families-order12", "fig15a-full-families-fine", "fig15a-full-families-finer",
+    "fig15a-full-families-order16-fine", "fig14a-full-order12", "fig14a-full-order12-fine",
     "families-viscous", "families-modal", "families-rayleigh",
     "families-1pct-viscous", "families-1pct-modal", "families-1pct-rayleigh", "family-check", "fig14a-families-m2",
     "fig19a-basins-brute",

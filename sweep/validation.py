@@ -20,7 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-from model.continuation import KIND_LABELS, NEIMARK_SACKER, resonant_end, stable_amplitudes_at, unstable_intervals
+from model.continuation import (KIND_LABELS, NEIMARK_SACKER, resonant_end, stable_amplitudes_at, unstable_intervals,
+                                unstable_points)
 from sweep.analyses.branch_features import CURVE_DS_MAX
 from sweep.analyses.mode_sets import select
 from sweep.errors import RunError
@@ -414,8 +415,8 @@ LINEAR_LIMIT = 1e-5
 PERIODIC_WIDTH = 1e-6
 
 
-def _fmt_intervals(intervals) -> str:
-    return ", ".join(f"{a:.2f}-{b:.2f}" for a, b in intervals) or "none"
+def _fmt_intervals(intervals, digits: int = 2) -> str:
+    return ", ".join(f"{a:.{digits}f}-{b:.{digits}f}" for a, b in intervals) or "none"
 
 
 def section_families(results: Path) -> list[str]:
@@ -887,6 +888,153 @@ def section_full_forced(results: Path) -> list[str]:
     return out
 
 
+#: The runs of the families of the full model along its Fig. 15a branch: (U, V, W) at order 16
+#: (M = 8, 12, 16), W alone at order 16, (U, V, W) at order 12 with 1, 2 and 4 times the
+#: default RK4 steps and at order 16 with twice them.
+FULL_FAMILY_RUNS = ("validation/fig15a-full-families", "validation/fig15a-full-families-w",
+                    "validation/fig15a-full-families-order12", "validation/fig15a-full-families-fine",
+                    "validation/fig15a-full-families-finer", "validation/fig15a-full-families-order16-fine")
+#: Convergence criterion of the full model's family intervals: every end moves by less than
+#: this (Pa) between two resolutions, and the intervals are as many.
+SETTLED_P0 = 0.01
+
+
+def _family_rows(ds, fields: int) -> list[tuple[int, list, list, np.ndarray]]:
+    """``(M, intervals per family, largest modulus per family, P0 of the points unstable to a
+    family only)`` of a continuation result with families of ``fields`` perturbation fields at
+    one grid point, per radial count:
+    the P0 intervals in branch order where the family is unstable, and the points where some
+    family is while the axisymmetric block is stable."""
+    b = ds.isel({d: 0 for d in ("delta", "delta_o", "Omega", "c") if d in ds.dims})
+    n = int(b.n_points)
+    value = b.P0.values[:n]
+    # one radial count: the family block's width is 2 M per field
+    radial = ([int(m) for m in np.atleast_1d(b.family_radial.values)] if "family_radial" in b.dims else
+              [b.sizes["family_multiplier"] // (2 * fields)])
+    modulus = b.family_multiplier_modulus.values[:n].reshape(n, len(radial), -1)
+    axisymmetric_stable = ~unstable_points(b.multiplier_modulus.values[:n])
+    return [(M, [unstable_intervals(value, modulus[:, r, j]) for j in range(modulus.shape[2])],
+             [float(np.nanmax(modulus[:, r, j])) for j in range(modulus.shape[2])],
+             value[axisymmetric_stable & unstable_points(modulus[:, r].max(axis=1))]) for r, M in enumerate(radial)]
+
+
+def _interval_move(a, b) -> str:
+    """The largest move (Pa) of an interval end between two rows' intervals of every family,
+    or that they differ in number, with the verdict of :data:`SETTLED_P0`."""
+    moves = [_largest_move(x, y) for x, y in zip(a, b)]
+    if not np.all(np.isfinite(moves)):
+        return "the intervals differ in number (not converged)"
+    move = max(moves, default=0.0)
+    return f"{move:.4f} Pa ({'converged' if move < SETTLED_P0 else 'not converged'})"
+
+
+def section_full_families(results: Path) -> list[str]:
+    """The asymmetric families of the full model along its Fig. 15a branch: in-plane freedom of
+    the perturbations, radial functions, RK4 steps."""
+    out = ["## Asymmetric families of the full model (Fig. 15a)", "",
+           "Floquet multipliers of the families n = 1..6 of the full model (model/full/families.py) along its",
+           "Fig. 15a branch (P0 from 0 to 3 Pa at Omega = 33.5 rad/s, delta = 1.1, delta_o = 0.2, c = 0.05",
+           "N s/m^3; the branch of \"Forced responses of the full model\"). The perturbations of each harmonic",
+           "carry U, V and W (`validation/fig15a-full-families`: order 16, M = 8, 12, 16 radial functions per",
+           "field; `-order12`: order 12, M = 12; `-fine`, `-finer`: the same at 2 and 4 times the RK4 steps;",
+           "`-order16-fine`: order 16, M = 16 at twice the steps) or W alone (`-w`: u = v = 0 held in the",
+           "perturbations, as in the ROM's families, the orbit unchanged).",
+           "Per family: the P0 intervals (Pa, in branch order: the branch folds back and forth in P0) where it",
+           "is unstable, and in brackets its largest multiplier modulus on the branch.", ""]
+    runs = [_open(results, n) for n in FULL_FAMILY_RUNS]
+    if any(ds is None for ds in runs):
+        return out + _missing(*FULL_FAMILY_RUNS)
+    full, w_only, *by_steps, full_fine = runs
+    families = [int(n) for n in full.family.values]
+    out += ["| perturbation | order | M | RK4 steps | " + " | ".join(f"n = {f}" for f in families) + " |",
+            "|---|---|---|---|" + "---|" * len(families)]
+    rows, family_only = {}, {}
+    for label, ds in (("U, V, W", full), ("U, V, W", full_fine), ("W alone", w_only), *(("U, V, W", d) for d in by_steps)):
+        order, steps = int(ds.attrs["model_order"]), int(ds.rk4_steps.values.ravel()[0])
+        for M, intervals, largest, only in _family_rows(ds, 1 if label == "W alone" else 3):
+            rows[label, order, M, steps] = intervals
+            family_only[label, order, M, steps] = only
+            out.append(f"| {label} | {order} | {M} | {steps} | " + " | ".join(
+                f"{_fmt_intervals(iv, 3)} ({mod:.4f})" for iv, mod in zip(intervals, largest)) + " |")
+    top = int(full.attrs["model_order"])
+    top_steps = int(full.rk4_steps.values.ravel()[0])
+    uvw = {M: iv for (label, order, M, steps), iv in rows.items() if label == "U, V, W" and order == top
+           and steps == top_steps}
+    w = {M: iv for (label, order, M, _), iv in rows.items() if label == "W alone"}
+    radial = sorted(uvw)
+    low = sorted((k, iv) for k, iv in rows.items() if k[1] != top)  # order 12 by increasing steps
+    high = sorted((k, iv) for k, iv in rows.items() if k[0] == "U, V, W" and k[1] == top and k[2] == radial[-1])
+    steps_moves = "; ".join(f"order {a[1]}, {a[3]} to {b[3]} steps: {_interval_move(ia, ib)}"
+                            for pairs in (low, high) for (a, ia), (b, ib) in zip(pairs, pairs[1:]))
+    out += ["", f"Convergence criterion: the same intervals, every end moving by less than {SETTLED_P0:g} Pa.",
+            f"In the radial functions of the families (U, V, W at order {top}): "
+            + "; ".join(f"M = {a} to {b}: {_interval_move(uvw[a], uvw[b])}" for a, b in zip(radial, radial[1:]))
+            + f". W alone: " + "; ".join(f"M = {a} to {b}: {_interval_move(w[a], w[b])}" for a, b in zip(radial, radial[1:]))
+            + f". In the model's order (M = {low[0][0][2]} at order {low[0][0][1]} against M = {radial[-1]} at order {top}): "
+            f"{_interval_move(low[0][1], uvw[radial[-1]])}. In the RK4 steps: {steps_moves}.",
+            f"What the in-plane freedom of the perturbations changes (M = {radial[-1]}): "
+            + "; ".join(f"n = {f}: {_fmt_intervals(a, 3)} with U, V, W against {_fmt_intervals(b, 3)} with W alone"
+                        for f, a, b in zip(families, uvw[radial[-1]], w[radial[-1]]) if a or b) + ".",
+            "Points of the branch stable to axisymmetric perturbations and unstable to a family (the only ones at",
+            "which a family changes what can be observed): "
+            + "; ".join(f"{label}, order {order}, M = {M}, {steps} steps: "
+                        + (", ".join(f"{v:.3f}" for v in only) + " Pa" if only.size else "none")
+                        for (label, order, M, steps), only in family_only.items()) + ".", ""]
+    return out
+
+
+def section_full_fig14a(results: Path) -> list[str]:
+    """Fig. 14a's resonance on the full model with the families, against the ROM at the same
+    damping law (validation/families-1pct-modal)."""
+    names = ("fig14a-full", "validation/fig14a-full-order12", "validation/fig14a-full-order12-fine",
+             "validation/families-1pct-modal")
+    out = ["## Fig. 14a on the full model", "",
+           "The resonance of Fig. 14a continued in Omega (delta = 1.1, delta_o = 0.2) on the full model with the",
+           "families n = 1..6 in (U, V, W) on all its radial functions (`fig14a-full`: 16 per field;",
+           "`validation/fig14a-full-order12`: 12; `-fine`: 12 at twice the RK4 steps), at the damping under",
+           "which the ROM's family stability converges in the radial modes: one modal ratio of 1 % for every",
+           "mode (in-plane ones included), P0 = 10 Pa. Against it the ROM (`validation/families-1pct-modal`,",
+           "u = v = 0, at its two largest radial counts). The resonant stretch runs from 25 rad/s to the first",
+           "saddle-node; per family the Omega intervals (rad/s) of the stretch where it is unstable, in brackets",
+           "its largest multiplier modulus there.", ""]
+    runs = [_open(results, n) for n in names]
+    if any(ds is None for ds in runs) or "family_radial" not in runs[-1].dims:
+        return out + _missing(*names)
+    *fulls, rom = runs
+    families = [int(n) for n in fulls[0].family.values]
+    out += ["| model | RK4 steps | resonant stretch ends at (rad/s) | amplitude there (m) | saddle-nodes | "
+            + " | ".join(f"n = {f}" for f in families) + " |", "|---|---|---|---|---|" + "---|" * len(families)]
+    grid = ("delta", "delta_o", "P0")
+    rows = [(f"full, order {int(ds.attrs['model_order'])}", ds.isel({d: 0 for d in grid if d in ds.dims}), None)
+            for ds in (fulls[1], fulls[2], fulls[0])]
+    b = rom.isel({d: 0 for d in grid if d in rom.dims})
+    rows += [(f"ROM, M = {int(b.family_radial.values[r])}", b, r) for r in (-2, -1)]
+    ends, unstable = [], []
+    for label, p, r in rows:
+        n = int(p.n_points)
+        value = p.Omega.values[:n]
+        end = resonant_end(p.point_type.values[:n])
+        modulus = p.family_multiplier_modulus.values[:n] if r is None else \
+            p.family_multiplier_modulus.transpose("point", "family_radial", "family").values[:n, r]
+        intervals = [unstable_intervals(value[:end], modulus[:end, j]) for j in range(len(families))]
+        ends.append((value[end - 1], float(p.amplitude.values[end - 1])))
+        unstable.append([f for f, iv in zip(families, intervals) if iv])
+        out.append(f"| {label} | {int(p.rk4_steps)} | {value[end - 1]:.3f} | {ends[-1][1]:.4f} | {int(p.n_folds)} | "
+                   + " | ".join(f"{_fmt_intervals(iv)} ({np.nanmax(modulus[:end, j]):.3f})"
+                                for j, iv in enumerate(intervals)) + " |")
+    full_unstable = sorted(set().union(*unstable[:3]))
+    out += ["", f"From order 12 to 16 the end of the full model's resonant stretch moves by "
+            f"{abs(ends[2][0] - ends[0][0]):.4f} rad/s and its amplitude by {abs(ends[2][1] / ends[0][1] - 1):.1e} "
+            f"(relative); from 330 to 660 steps (order 12) by {abs(ends[1][0] - ends[0][0]):.4f} rad/s. The full "
+            f"model's resonance ends at {ends[2][0]:.2f} rad/s with {ends[2][1]:.3f} m, the ROM's at "
+            f"{ends[-1][0]:.2f} rad/s with {ends[-1][1]:.3f} m: with its in-plane freedom the membrane hardens less "
+            "and its resonant response stays smaller. Families unstable on the resonant stretch: "
+            + (", ".join(f"n = {f}" for f in full_unstable) if full_unstable else "none")
+            + " on the full model (any resolution), "
+            + (", ".join(f"n = {f}" for f in unstable[-1]) if unstable[-1] else "none") + " on the ROM.", ""]
+    return out
+
+
 def section_full_model(results: Path) -> list[str]:
     """The full model's pre-stretch and natural frequencies against the ROM's and the paper's FEM."""
     names = ("validation/full-static", "fig02-03-static", "validation/full-linear", "table1", "table2")
@@ -1098,8 +1246,9 @@ def section_fe_check(results: Path) -> list[str]:
 
 SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_model, section_fe_check,
             section_backbone_modes, section_backbone_limits, section_full_backbone,
-            section_continuation_bruteforce, section_forced_modes, section_full_forced, section_cusp,
-            section_families,
+            section_continuation_bruteforce, section_forced_modes, section_full_forced, section_full_families,
+            section_cusp,
+            section_families, section_full_fig14a,
             section_bruteforce_diagram, section_basins,
             section_basins_modes)
 
