@@ -971,7 +971,8 @@ def section_full_families(results: Path) -> list[str]:
             + "; ".join(f"M = {a} to {b}: {_interval_move(uvw[a], uvw[b])}" for a, b in zip(radial, radial[1:]))
             + f". W alone: " + "; ".join(f"M = {a} to {b}: {_interval_move(w[a], w[b])}" for a, b in zip(radial, radial[1:]))
             + f". In the model's order (M = {low[0][0][2]} at order {low[0][0][1]} against M = {radial[-1]} at order {top}): "
-            f"{_interval_move(low[0][1], uvw[radial[-1]])}. In the RK4 steps: {steps_moves}.",
+            f"{_interval_move(low[0][1], uvw[radial[-1]])} at the default steps, {_interval_move(low[-1][1], high[-1][1])} at the "
+            f"most steps of each ({low[-1][0][3]} and {high[-1][0][3]}). In the RK4 steps: {steps_moves}.",
             f"What the in-plane freedom of the perturbations changes (M = {radial[-1]}): "
             + "; ".join(f"n = {f}: {_fmt_intervals(a, 3)} with U, V, W against {_fmt_intervals(b, 3)} with W alone"
                         for f, a, b in zip(families, uvw[radial[-1]], w[radial[-1]]) if a or b) + ".",
@@ -993,8 +994,10 @@ def section_full_fig14a(results: Path) -> list[str]:
            "families n = 1..6 in (U, V, W) on all its radial functions (`fig14a-full`: 16 per field;",
            "`validation/fig14a-full-order12`: 12; `-fine`: 12 at twice the RK4 steps), at the damping under",
            "which the ROM's family stability converges in the radial modes: one modal ratio of 1 % for every",
-           "mode (in-plane ones included), P0 = 10 Pa. Against it the ROM (`validation/families-1pct-modal`,",
-           "u = v = 0, at its two largest radial counts). The resonant stretch runs from 25 rad/s to the first",
+           "mode (in-plane ones included), P0 = 10 Pa. Against it the ROM (`validation/families-1pct-modal`:",
+           "u = v = 0, one axisymmetric mode, whose resonance in Omega is converged in the modes (\"Forced",
+           "responses: convergence with the number of modes\"); its families at their two largest radial",
+           "counts). The resonant stretch runs from 25 rad/s to the first",
            "saddle-node; per family the Omega intervals (rad/s) of the stretch where it is unstable, in brackets",
            "its largest multiplier modulus there.", ""]
     runs = [_open(results, n) for n in names]
@@ -1027,8 +1030,10 @@ def section_full_fig14a(results: Path) -> list[str]:
             f"{abs(ends[2][0] - ends[0][0]):.4f} rad/s and its amplitude by {abs(ends[2][1] / ends[0][1] - 1):.1e} "
             f"(relative); from 330 to 660 steps (order 12) by {abs(ends[1][0] - ends[0][0]):.4f} rad/s. The full "
             f"model's resonance ends at {ends[2][0]:.2f} rad/s with {ends[2][1]:.3f} m, the ROM's at "
-            f"{ends[-1][0]:.2f} rad/s with {ends[-1][1]:.3f} m: with its in-plane freedom the membrane hardens less "
-            "and its resonant response stays smaller. Families unstable on the resonant stretch: "
+            f"{ends[-1][0]:.2f} rad/s with {ends[-1][1]:.3f} m"
+            + (": with its in-plane freedom the membrane hardens less and its resonant response stays smaller. "
+               if ends[2][0] < ends[-1][0] and ends[2][1] < ends[-1][1] else ". ")
+            + "Families unstable on the resonant stretch: "
             + (", ".join(f"n = {f}" for f in full_unstable) if full_unstable else "none")
             + " on the full model (any resolution), "
             + (", ".join(f"n = {f}" for f in unstable[-1]) if unstable[-1] else "none") + " on the ROM.", ""]
