@@ -8,7 +8,8 @@ delta = 1.1, delta_o = 0.2, ``--order`` radial functions per field (default 12),
 ``6 order`` x ``6 order``), along the orbit from a state 2 cm along the first transverse mode
 with its quasi-static in-plane displacement under P0 = 1 Pa at Omega = 33.5 rad/s, c = 0.05
 N s/m^3, at the job's default RK4 steps per period.  The orbit's stage coordinates are
-recorded once (:func:`model.full.axisymmetric_kernels.rk4_motion`; its time is printed) and
+recorded (:func:`model.full.axisymmetric_kernels.rk4_motion`, as before every family block;
+its time is printed) and
 both the numba kernel and the C program, ``benchmarks/c/full_families.c`` (compiled here with
 ``cc -O3 -march=native -ffast-math``; skipped with a message without a compiler; it times its
 own runs and reports their median), integrate the block along them.  ``solve_ivp`` (RK45, rtol
@@ -140,7 +141,7 @@ def main(argv=None) -> None:
               "relative)")
         print(f"  ratio numba / C, family block: {med['numba block'] / med['C block']:.2f} (target <= 1.5)")
     print(f"  stage record     {med['stage record'] * 1e3:9.2f} ms per period   (the orbit's RK4 period with its "
-          "stage coordinates, once per point for every family)")
+          "stage coordinates, before every family block)")
     print(f"  solve_ivp block  {med['solve_ivp block'] * 1e3:9.2f} ms per period   (RK45, rtol {rtol:g}, "
           f"{ivp.nfev} evaluations of the numpy force and stiffness)")
     print(f"  ratio solve_ivp / numba, family block: {med['solve_ivp block'] / med['numba block']:.0f}")

@@ -935,9 +935,9 @@ def section_full_families(results: Path) -> list[str]:
            "Floquet multipliers of the families n = 1..6 of the full model (model/full/families.py) along its",
            "Fig. 15a branch (P0 from 0 to 3 Pa at Omega = 33.5 rad/s, delta = 1.1, delta_o = 0.2, c = 0.05",
            "N s/m^3; the branch of \"Forced responses of the full model\"). The perturbations of each harmonic",
-           "carry U, V and W (`validation/fig15a-full-families`: order 16, M = 8, 12, 16 radial functions per",
-           "field; `-order12`: order 12, M = 12; `-fine`, `-finer`: the same at 2 and 4 times the RK4 steps;",
-           "`-order16-fine`: order 16, M = 16 at twice the steps) or W alone (`-w`: u = v = 0 held in the",
+           "carry U, V and W (`validation/fig15a-full-families`: order 16, a study in the radial functions per",
+           "field; `-order12`: order 12, M = 12; `-fine`, `-finer`: the same at more RK4 steps;",
+           "`-order16-fine`: order 16, M = 16 at more steps) or W alone (`-w`: u = v = 0 held in the",
            "perturbations, as in the ROM's families, the orbit unchanged).",
            "Per family: the P0 intervals (Pa, in branch order: the branch folds back and forth in P0) where it",
            "is unstable, and in brackets its largest multiplier modulus on the branch.", ""]
@@ -994,10 +994,11 @@ def section_full_fig14a(results: Path) -> list[str]:
            "families n = 1..6 in (U, V, W) on all its radial functions (`fig14a-full`: 16 per field;",
            "`validation/fig14a-full-order12`: 12; `-fine`: 12 at twice the RK4 steps), at the damping under",
            "which the ROM's family stability converges in the radial modes: one modal ratio of 1 % for every",
-           "mode (in-plane ones included), P0 = 10 Pa. Against it the ROM (`validation/families-1pct-modal`:",
-           "u = v = 0, one axisymmetric mode, whose resonance in Omega is converged in the modes (\"Forced",
-           "responses: convergence with the number of modes\"); its families at their two largest radial",
-           "counts). The resonant stretch runs from 25 rad/s to the first",
+           "mode (in-plane ones included: a ratio that damps the fast in-plane modes at rates up to 2 zeta",
+           "omega), P0 = 10 Pa. Against it the ROM (`validation/families-1pct-modal`: u = v = 0, one",
+           "axisymmetric mode, its families at their two largest radial counts; the full model differs from it",
+           "in its in-plane freedom and in its complete radial basis). The resonant stretch runs from 25 rad/s",
+           "to the first",
            "saddle-node; per family the Omega intervals (rad/s) of the stretch where it is unstable, in brackets",
            "its largest multiplier modulus there.", ""]
     runs = [_open(results, n) for n in names]
@@ -1028,10 +1029,11 @@ def section_full_fig14a(results: Path) -> list[str]:
     full_unstable = sorted(set().union(*unstable[:3]))
     out += ["", f"From order 12 to 16 the end of the full model's resonant stretch moves by "
             f"{abs(ends[2][0] - ends[0][0]):.4f} rad/s and its amplitude by {abs(ends[2][1] / ends[0][1] - 1):.1e} "
-            f"(relative); from 330 to 660 steps (order 12) by {abs(ends[1][0] - ends[0][0]):.4f} rad/s. The full "
+            f"(relative); from {int(rows[0][1].rk4_steps)} to {int(rows[1][1].rk4_steps)} steps (order 12) by "
+            f"{abs(ends[1][0] - ends[0][0]):.4f} rad/s. The full "
             f"model's resonance ends at {ends[2][0]:.2f} rad/s with {ends[2][1]:.3f} m, the ROM's at "
             f"{ends[-1][0]:.2f} rad/s with {ends[-1][1]:.3f} m"
-            + (": with its in-plane freedom the membrane hardens less and its resonant response stays smaller. "
+            + (": the full model's resonant response ends lower and smaller. "
                if ends[2][0] < ends[-1][0] and ends[2][1] < ends[-1][1] else ". ")
             + "Families unstable on the resonant stretch: "
             + (", ".join(f"n = {f}" for f in full_unstable) if full_unstable else "none")

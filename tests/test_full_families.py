@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 import xarray as xr
 from scipy.integrate import solve_ivp
-from scipy.linalg import eigvals
+from scipy.linalg import eigh, eigvals
 
-from model.damping import Rayleigh, Viscous
+from model.damping import Modal, Rayleigh, Viscous
 from model.full import linear, surface
 from model.full.axisymmetric import AxisymmetricFull
 from model.full.families import FullFamily
@@ -110,26 +110,51 @@ def test_stiffness_is_the_second_variation_of_the_two_dimensional_energy(model, 
     assert d2 == pytest.approx(np.pi * X @ fam.stiffness(q) @ X, rel=1e-8)
 
 
+def _continuous_eigenvalues(fam, damping):
+    """The eigenvalues of the family's linear damped problem about rest, from its undamped
+    frequencies ``omega_k`` in closed form: ``-a_k +- i sqrt(omega_k^2 - a_k^2)`` with the decay
+    rate ``a_k`` of each law (viscous ``c / (2 Gamma h)``; Rayleigh ``(alpha + beta omega_k^2) /
+    2``; modal ``zeta omega_k``)."""
+    mass, stiffness = fam.linear_system()
+    omega = np.sqrt(eigh(stiffness, mass, eigvals_only=True))
+    if isinstance(damping, Viscous):
+        rate = damping.c / (2.0 * MEMBRANE.Gamma * MEMBRANE.h) * np.ones_like(omega)
+    elif isinstance(damping, Rayleigh):
+        rate = 0.5 * (damping.alpha + damping.beta * omega**2)
+    else:
+        rate = damping.zeta * omega
+    root = np.sqrt((omega**2 - rate**2).astype(complex))
+    return np.concatenate([-rate + 1j * root, -rate - 1j * root])
+
+
 @pytest.mark.parametrize("n, fields, damping", [(1, "UVW", Viscous(0.05)), (3, "W", Viscous(0.05)),
-                                                (2, "UVW", Rayleigh(alpha=0.1, beta=2e-5))])
+                                                (2, "UVW", Rayleigh(alpha=0.1, beta=2e-5)), (4, "UVW", Modal(0.01))])
 def test_block_at_rest_has_the_multipliers_of_rk4_on_the_linear_problem(model, n, fields, damping):
     # about rest the variational equations are linear with constant coefficients, X' = L X, and
     # N RK4 steps of dt multiply each eigenvalue lambda of L into R(dt lambda)^N with R the
-    # scheme's polynomial 1 + z + z^2/2 + z^3/6 + z^4/24: exact, to rounding
+    # scheme's polynomial 1 + z + z^2/2 + z^3/6 + z^4/24: exact, to rounding.  The eigenvalues
+    # of L in closed form per law, from the family's frequencies; matched both ways
     steps = steps_per_period(model, 128)
     fmap = ForcedFull.build(model, 0.0, 36.0, damping, steps)
     fam = FullFamily.build(model, n, fields=fields)
     block = fmap.family_monodromy(np.zeros(2 * model.dof), fam)
-    mass, stiffness = fam.linear_system()
-    k = mass.shape[0]
-    damping_matrix = fmap.rate * np.eye(k)
-    if isinstance(damping, Rayleigh):
-        damping_matrix = damping.alpha * np.eye(k) + damping.beta * np.linalg.solve(mass, stiffness)
-    L = np.block([[np.zeros((k, k)), np.eye(k)], [-np.linalg.solve(mass, stiffness), -damping_matrix]])
-    z = fmap.period / steps * eigvals(L)
-    expected = (1.0 + z + z**2 / 2 + z**3 / 6 + z**4 / 24) ** steps
-    got = eigvals(block)
+    z = fmap.period / steps * _continuous_eigenvalues(fam, damping)
+    expected = np.sort_complex((1.0 + z + z**2 / 2 + z**3 / 6 + z**4 / 24) ** steps)
+    got = np.sort_complex(eigvals(block))
     assert max(np.abs(got - e).min() for e in expected) < 1e-10
+    assert max(np.abs(expected - g).min() for g in got) < 1e-10
+
+
+def test_block_beyond_the_stable_step_of_its_harmonic_is_nan(model):
+    # the family's highest frequency grows with n: at steps that keep the orbit's within RK4's
+    # limit, a high harmonic's is beyond it, and its block is NaN, not a growth
+    fam = FullFamily.build(model, 40)
+    fmap = ForcedFull.build(model, 0.0, 36.0, Viscous(0.05), 128)
+    steps = int(np.ceil(fmap.period * fmap.omega_max / 2.0))
+    assert fmap.period / steps * fam.omega_max > 2.8  # the premise
+    fmap = ForcedFull.build(model, 0.0, 36.0, Viscous(0.05), steps)
+    assert np.isfinite(fmap.family_monodromy(np.zeros(2 * model.dof), FullFamily.build(model, 1))).all()
+    assert np.isnan(fmap.family_monodromy(np.zeros(2 * model.dof), fam)).all()
 
 
 def test_harmonic_zero_block_is_the_axisymmetric_monodromy(model, orbit):

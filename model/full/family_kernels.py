@@ -72,7 +72,7 @@ def tangent_moduli(law, x0, x1, x2):
 
 
 @nb.njit(cache=True, error_model="numpy")
-def _variation_vectors(n, fields):
+def variation_vectors(n, fields):
     """``(F, 2, 6)``: ``g1_f``, ``g2_f`` of each field of ``fields`` for the harmonic ``n``."""
     g = np.zeros((fields.size, 2, 6))
     for a in range(fields.size):
@@ -105,7 +105,7 @@ def family_stiffness(law, phi, dphi, s, sw, r0, dr0, q, fam_phi, fam_dphi, g, A,
     fam_phi, fam_dphi : (points, M) arrays
         The family's first ``M`` basis functions and their derivatives.
     g : (F, 2, 6) array
-        :func:`_variation_vectors` of the family.
+        :func:`variation_vectors` of the family.
     A, C : work arrays ``(6, 6)`` and ``(F, F, 2, 2)``.
     out : (F M, F M) array
     """
@@ -127,7 +127,7 @@ def family_stiffness(law, phi, dphi, s, sw, r0, dr0, q, fam_phi, fam_dphi, g, A,
             dw += qw[k] * dphi[p, k]
         _tangent_moduli(law, dr0[p] + du, dw, (r0[p] + u) / s[p], tT, tD, d, A)
         for a in range(F):
-            for b in range(F):
+            for b in range(a, F):  # the blocks below the diagonal are their transposes
                 for i in range(2):
                     for j in range(2):
                         acc = 0.0

@@ -29,7 +29,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.linalg import eigh
 
-from model.damping import NO_MATRIX, DampingLaw, Viscous
+from model.damping import DampingLaw, Viscous
 from model.damping_kernels import matrix_or_none
 from model.forced import family_damping, periodic_peak
 from model.modes import bessel_roots, mode_shape
@@ -226,21 +226,19 @@ class ForcedFull:
         (:class:`model.full.families.FullFamily`) along the axisymmetric orbit from ``y``, at
         this map's RK4 steps (:func:`model.full.family_kernels.family_monodromy`), the
         perturbations damped by this map's law on the family's own linear problem (the viscous
-        pressure: the map's rate).  NaN beyond RK4's stable step."""
+        pressure: the map's rate).  NaN beyond RK4's stable step, for the orbit's or the
+        family's highest frequency (``fam.omega_max``, which grows with ``n``)."""
         if fam.model is not self.model:
             raise ValueError("fam is invalid here: a family of another model (build it on this map's model)")
         m = self.model
-        if not self.stable_step:
+        if not self.stable_step or self.period / self.steps * fam.omega_max >= 2.8:
             return np.full((fam.size, fam.size), np.nan)
         dt = self.period / self.steps
         stages = np.empty((self.steps, 4, self.dof))
         rk4_motion(*m.kernel_tables, m.inverse_mass, m.omega0_2, m.bias, self.rate, matrix_or_none(self.matrix), m.load,
                    self.P0, self.Omega, self._state(y) / m.membrane.Re, dt, self.steps, self.steps,
                    np.empty((2, 2 * self.dof)), stages)
-        if isinstance(self.damping, Viscous):
-            rate, matrix = self.rate, NO_MATRIX
-        else:
-            rate, matrix = family_damping(fam, m.membrane, self.damping)
+        rate, matrix = family_damping(fam, m.membrane, self.damping)
         law, phi, dphi, s, sw, _, r0, dr0 = m.kernel_tables
         return family_monodromy(law, phi, dphi, s, sw, r0, dr0, stages, fam.phi, fam.dphi, fam.variations,
                                 fam.inverse_mass, m.omega0_2, rate, matrix_or_none(matrix), dt)

@@ -53,12 +53,12 @@ def axisymmetric_for(membrane, order: int):
 
 
 @functools.lru_cache(maxsize=8)
-def full_families_for(membrane, order: int, blocks: tuple[tuple[int, int], ...], fields: str):
+def full_families_for(model, blocks: tuple[tuple[int, int], ...], fields: str):
     """The asymmetric families (:class:`model.full.families.FullFamily`) ``(n, radial count)``
-    of the fields ``fields`` on :func:`axisymmetric_for` (cached)."""
+    of the fields ``fields`` on the axisymmetric ``model`` (cached by the model: a map takes
+    the families of its own model only)."""
     from model.full.families import FullFamily
 
-    model = axisymmetric_for(membrane, order)
     return tuple(FullFamily.build(model, n, radial, fields) for n, radial in blocks)
 
 
@@ -93,14 +93,10 @@ class FullModel(Model):
         return model_options.order, True
 
     def families(self, point, model_options, options, modes, blocks):
-        counts = []
-        for n, radial in blocks:
-            if tuple(radial) != tuple(range(1, len(radial) + 1)):
-                raise ValueError(f"radial = {list(radial)} is invalid for the full model: its families take the "
-                                 "first M functions of its basis, 1..M")
-            counts.append((n, len(radial)))
+        # the blocks are (n, 1..M): the full model refuses the mixed mode sets that name others
         fields = "UVW" if options.families.inplane else "W"
-        return full_families_for(point.membrane, model_options.order, tuple(counts), fields)
+        return full_families_for(axisymmetric_for(point.membrane, model_options.order),
+                                 tuple((n, len(radial)) for n, radial in blocks), fields)
 
     def free_vibration(self, point, model_options, options):
         from model.full.free import FreeFull
