@@ -225,6 +225,13 @@ def _ns_test(mu):
     return float(out.real)
 
 
+def _complex_outside(mu) -> int:
+    """How many complex multipliers (those :func:`_ns_test` takes) lie outside the unit
+    circle: a Neimark-Sacker point changes it by two."""
+    c = mu[np.abs(mu.imag) > 1e-12 * np.maximum(1.0, np.abs(mu))]
+    return int(np.count_nonzero(np.abs(c) > 1.0))
+
+
 def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: float, guess=None,
                     ds: float = 0.01, ds_min: float = 1e-6, ds_max: float = 0.05,
                     max_points: int = 400, tol: float = 1e-10,
@@ -299,13 +306,17 @@ def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: f
                       np.array(fam_mu).reshape(len(pts), len(prob.families), width), complete, message)
 
     def tests(t, phi, blocks):
-        # (kind, n, block index (None: axisymmetric), value): fold, symmetry-breaking branch
-        # point, PD, NS of the axisymmetric block, then BP, PD, NS of each family.
-        out = [(FOLD, 0, None, t[-1]), (BRANCH_POINT, 0, None, _bp_test(phi)),
-               (PERIOD_DOUBLING, 0, None, _pd_test(phi)), (NEIMARK_SACKER, 0, None, _ns_test(sorted_multipliers(phi)))]
+        # (kind, n, block index (None: axisymmetric), value, outside): fold, symmetry-breaking
+        # branch point, PD, NS of the axisymmetric block, then BP, PD, NS of each family;
+        # `outside` (NS only, 0 otherwise): the complex multipliers outside the unit circle
+        def ns(block_phi):
+            mu = sorted_multipliers(block_phi)
+            return _ns_test(mu), _complex_outside(mu)
+        out = [(FOLD, 0, None, t[-1], 0), (BRANCH_POINT, 0, None, _bp_test(phi), 0),
+               (PERIOD_DOUBLING, 0, None, _pd_test(phi), 0), (NEIMARK_SACKER, 0, None, *ns(phi))]
         for i, (fam, block) in enumerate(zip(prob.families, blocks)):
-            out += [(BRANCH_POINT, fam.n, i, _bp_test(block)), (PERIOD_DOUBLING, fam.n, i, _pd_test(block)),
-                    (NEIMARK_SACKER, fam.n, i, _ns_test(sorted_multipliers(block)))]
+            out += [(BRANCH_POINT, fam.n, i, _bp_test(block), 0), (PERIOD_DOUBLING, fam.n, i, _pd_test(block), 0),
+                    (NEIMARK_SACKER, fam.n, i, *ns(block))]
         return out
 
     e = np.zeros(prob.n + 1)
@@ -356,8 +367,12 @@ def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: f
         new_values = tests(t_new, phi, blocks)
         found = []
         fold_here = values[0][3] * new_values[0][3] < 0
-        for (kind, n, block, a), (*_, b) in zip(values, new_values):
-            # det(Phi - I) changes sign at a fold too: only without one is it a branch point
+        for (kind, n, block, a, outside_a), (*_, b, outside_b) in zip(values, new_values):
+            # det(Phi - I) changes sign at a fold too: only without one is it a branch point;
+            # the NS test also changes sign where a complex pair meets on the real axis (it
+            # drops out of the product): only a pair that crosses the circle is an NS point
+            if kind == NEIMARK_SACKER and outside_a == outside_b:
+                continue
             if a * b < 0 and len(pts) + len(found) < max_points - 1 and not (kind == BRANCH_POINT and n == 0
                                                                              and fold_here):
                 loc = _locate(prob, kind, block, x, t, ds, a, b, tol)

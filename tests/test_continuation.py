@@ -337,3 +337,20 @@ def test_sine_companions_do_not_duplicate_located_points():
     assert mu_both.shape == (n, 10)
     # every multiplier of the set with companions is one of the cosine set's
     assert np.abs(mu_both[:, :, None] - mu_cos[:, None, :]).min(axis=2).max() <= 1e-12
+
+
+def test_the_ns_test_changes_sign_where_a_pair_meets_on_the_real_axis_but_no_pair_crosses_the_circle():
+    # a complex pair inside the circle that becomes two real multipliers drops out of the
+    # product of the NS test, whose sign flips; the count of complex multipliers outside the
+    # circle does not change, so the continuation locates nothing there.  A pair crossing the
+    # circle changes the count by two.
+    from model.continuation import _complex_outside, _ns_test
+
+    before = np.array([0.5 + 0.1j, 0.5 - 0.1j, 0.9])
+    after = np.array([0.55, 0.45, 0.9])
+    assert _ns_test(before) * _ns_test(after) < 0
+    assert _complex_outside(before) == _complex_outside(after) == 0
+    crossed = np.array([1.01 * np.exp(0.3j), 1.01 * np.exp(-0.3j), 0.9])
+    inside = np.array([0.99 * np.exp(0.3j), 0.99 * np.exp(-0.3j), 0.9])
+    assert _ns_test(crossed) * _ns_test(inside) < 0
+    assert _complex_outside(crossed) - _complex_outside(inside) == 2
