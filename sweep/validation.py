@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-from model.continuation import (KIND_LABELS, NEIMARK_SACKER, resonant_end, stable_amplitudes_at, unstable_intervals,
-                                unstable_points)
+from model.continuation import (FOLD, KIND_LABELS, NEIMARK_SACKER, resonant_end, stable_amplitudes_at,
+                                unstable_intervals, unstable_points)
 from sweep.analyses.branch_features import CURVE_DS_MAX
 from sweep.analyses.mode_sets import select
 from sweep.errors import RunError
@@ -1042,6 +1042,43 @@ def section_full_fig14a(results: Path) -> list[str]:
     return out
 
 
+#: Fig. 14a on the full model at the paper's damping, by order.
+LIGHT_RUNS = tuple(f"validation/fig14a-full-light-order{o}" for o in (8, 12))
+
+
+def section_full_fig14a_light(results: Path) -> list[str]:
+    """Fig. 14a's resonance on the full model at the paper's damping and load, against the ROM's
+    Fig. 14a branch (delta = 1.1)."""
+    names = (*LIGHT_RUNS, "fig14-bifurcation-omega")
+    out = ["## Fig. 14a on the full model at the paper's damping", "",
+           "The resonance of Fig. 14a (delta = 1.1, delta_o = 0.2, P0 = 1 Pa, c = 0.05 N s/m^3) continued in Omega",
+           "from 25 to 55 rad/s on the full model with 8 and 12 radial functions per field",
+           "(`validation/fig14a-full-light-order<N>`, no families), against the one-mode ROM's branch",
+           "(`fig14-bifurcation-omega`, delta = 1.1). Saddle-nodes: how many, and the Omega range they lie in;",
+           "the largest amplitude max |w(0.5 Re)| on the branch and on its stable responses, with the Omega there.", ""]
+    runs = [_open(results, n) for n in names]
+    if any(ds is None for ds in runs):
+        return out + _missing(*names)
+    *fulls, rom = runs
+    out += ["| model | points | saddle-nodes | their Omega range (rad/s) | largest amplitude (m) at Omega (rad/s) | "
+            "largest stable amplitude (m) at Omega (rad/s) |", "|---|---|---|---|---|---|"]
+    ends = []
+    for label, ds in [(f"full, order {int(ds.attrs['model_order'])}", ds) for ds in fulls] + [("ROM, 1 mode", rom)]:
+        p = ds.sel(delta=1.1) if "delta" in ds.dims else ds
+        p = p.isel({d: 0 for d in ("delta", "delta_o", "P0", "c") if d in p.dims})
+        n = int(p.n_points)
+        value, amp, stable = p.Omega.values[:n], p.amplitude.values[:n], p.stable.values[:n] == 1
+        kind = p.point_type.values[:n]
+        folds = value[kind == FOLD]
+        top, top_stable = int(np.nanargmax(amp)), int(np.nanargmax(np.where(stable, amp, -np.inf)))
+        out.append(f"| {label} | {n} | {int(p.n_folds)} | {folds.min():.4f}-{folds.max():.4f} | "
+                   f"{amp[top]:.4f} at {value[top]:.3f} | {amp[top_stable]:.4f} at {value[top_stable]:.3f} |")
+        last = int(np.flatnonzero(kind == FOLD)[-1])
+        ends.append(f"{label}: {value[last]:.3f} rad/s ({amp[last]:.4f} m), {amp[n - 1]:.1e} m at {value[n - 1]:g} rad/s")
+    return out + ["", "The last saddle-node of each branch, where it comes down to the small non-resonant responses, and",
+                  "the response at the end of the range: " + "; ".join(ends) + ".", ""]
+
+
 def section_full_model(results: Path) -> list[str]:
     """The full model's pre-stretch and natural frequencies against the ROM's and the paper's FEM."""
     names = ("validation/full-static", "fig02-03-static", "validation/full-linear", "table1", "table2")
@@ -1255,7 +1292,7 @@ SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_mo
             section_backbone_modes, section_backbone_limits, section_full_backbone,
             section_continuation_bruteforce, section_forced_modes, section_full_forced, section_full_families,
             section_cusp,
-            section_families, section_full_fig14a,
+            section_families, section_full_fig14a, section_full_fig14a_light,
             section_bruteforce_diagram, section_basins,
             section_basins_modes)
 

@@ -20,7 +20,7 @@ def test_missing_results_name_the_jobs(tmp_path):
              + validation.section_full_model(tmp_path) + validation.section_fe_check(tmp_path)
              + validation.section_full_backbone(tmp_path) + validation.section_bruteforce_diagram(tmp_path)
              + validation.section_full_forced(tmp_path) + validation.section_full_families(tmp_path)
-             + validation.section_full_fig14a(tmp_path))
+             + validation.section_full_fig14a(tmp_path) + validation.section_full_fig14a_light(tmp_path))
     text = "\n".join(lines)
     for job in ("fig09-modes", "fig15-bifurcation-p0", "fig15-bruteforce", "fig19-basins",
                 "fig10-11-backbone", "fig12-inner-radius", "fig17-cusp", "fig16-17-damping",
@@ -61,7 +61,7 @@ def test_the_report_computes_nothing_from_the_model():
                              ("sweep.errors", "RunError"), ("sweep.storage.netcdf", "run_attributes")}
     assert imported <= {("model.continuation", "KIND_LABELS"), ("model.continuation", "NEIMARK_SACKER"), ("model.continuation", "resonant_end"),
                         ("model.continuation", "stable_amplitudes_at"), ("model.continuation", "unstable_intervals"),
-                        ("model.continuation", "unstable_points"),
+                        ("model.continuation", "unstable_points"), ("model.continuation", "FOLD"),
                         ("model", "attractors"), ("model", "lattice"), ("model.basins", "default_settings")}
 
 
