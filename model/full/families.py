@@ -26,7 +26,7 @@ axisymmetric block itself (the tests check it against the map's own monodromy).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.linalg import eigh
@@ -94,9 +94,8 @@ class FullFamily:
         codes = np.array([FIELD_CODES[f] for f in fields], dtype=np.int64)
         inverse_mass = np.linalg.inv(model.mass_block[:radial, :radial])
         family = cls(int(n), radial, fields, model, phi, dphi, variation_vectors(float(n), codes), inverse_mass)
-        mass, stiffness = family.linear_system()
-        return cls(int(n), radial, fields, model, phi, dphi, family.variations, inverse_mass,
-                   float(np.sqrt(max(eigh(stiffness, mass, eigvals_only=True)[-1], 0.0))))
+        highest = eigh(*family.linear_system()[::-1], eigvals_only=True)[-1]
+        return replace(family, omega_max=float(np.sqrt(max(highest, 0.0))))
 
     @property
     def size(self) -> int:
