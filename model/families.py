@@ -269,11 +269,12 @@ def _quadrature_jacobian(q, fam, iaa, ibb, out):
 
 
 @nb.njit(cache=True)
-def _stage_coordinates(y0, t0, h, steps, tab, forcing, out):
-    # The axisymmetric modal coordinates at the four RK4 stages of every step,
-    # out[i, s, :] (steps, 4, K), exactly as rk4_steps meets them: one-mode ROMs by the
-    # table loop of model.integrate while the stages stay in the table's range, every other
-    # case (or the whole period, when they leave it) by the general loop.
+def stage_coordinates(y0, t0, h, steps, tab, forcing, out):
+    """The axisymmetric modal coordinates at the four RK4 stages of every step,
+    ``out[i, s, :]`` ``(steps, 4, K)``, exactly as :func:`model.integrate.rk4_steps` meets
+    them from ``y0`` at ``t0`` with step ``h`` (s): one-mode ROMs by the table loop of
+    :mod:`model.integrate` while the stages stay in the table's range, every other case (or
+    the whole period, when they leave it) by the general loop."""
     n = y0.size
     K = n // 2
     if tab.table_max > 0.0:
@@ -287,7 +288,7 @@ def _stage_coordinates(y0, t0, h, steps, tab, forcing, out):
 
 @nb.njit(cache=True, _nrt=False)
 def _stage_loop(y, t0, h, steps, model, ys, k, g, fw, out):
-    # The general loop of _stage_coordinates on work arrays allocated by the caller: no
+    # The general loop of stage_coordinates on work arrays allocated by the caller: no
     # reference counts at the right-hand side of every stage (see the note in model.rom).
     n = y.size
     K = n // 2
@@ -302,6 +303,29 @@ def _stage_loop(y, t0, h, steps, model, ys, k, g, fw, out):
             rhs_unpacked(t + f, ys, model, g, fw, k[s])
         for a in range(n):
             y[a] += rk4.step_factor(h) * rk4.combine(k[0, a], k[1, a], k[2, a], k[3, a])
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy", _nrt=False, inline="always")
+def block_slope(ps, stiffness, row_scale, rate, matrix, out, s):
+    """``out[s] = d/dt`` of the columns ``ps`` ``(2M, m)`` of ``(u, u')`` under
+    ``u'' = -diag(row_scale) stiffness u - (rate + matrix) u'``: the RK4 stage slope of a
+    family's variational block.  ``diag(row_scale) stiffness`` ``(M, M)`` in s-2, ``rate``
+    (s-1), ``matrix`` ``(M, M)`` (s-1) or a ``(0, 0)`` array for none."""
+    M = stiffness.shape[0]
+    m = ps.shape[1]
+    for r in range(M):
+        for c in range(m):
+            out[s, r, c] = ps[M + r, c]
+            out[s, M + r, c] = -rate * ps[M + r, c]
+        if matrix.shape[0] == M:
+            for l in range(M):
+                d = matrix[r, l]
+                for c in range(m):
+                    out[s, M + r, c] -= d * ps[M + l, c]
+        for l in range(M):
+            kj = row_scale[r] * stiffness[r, l]
+            for c in range(m):
+                out[s, M + r, c] -= kj * ps[l, c]
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
@@ -340,7 +364,7 @@ def family_monodromy(y0, t0, period, steps, tab, forcing, fam, fam_rate, fam_mat
     m = 2 * M
     h = period / steps
     stages = np.empty((steps, 4, K))
-    _stage_coordinates(y0, t0, h, steps, tab, forcing, stages)
+    stage_coordinates(y0, t0, h, steps, tab, forcing, stages)
     phi = np.eye(m)
     kp = np.empty((4, m, m))
     ps = np.empty((m, m))
@@ -349,32 +373,16 @@ def family_monodromy(y0, t0, period, steps, tab, forcing, fam, fam_rate, fam_mat
     jac = np.empty((M, M))
     table = fam.table_max > 0.0
     coef = fam.jacobian_table
+    matrix = np.zeros((0, 0)) if fam_matrix is None else fam_matrix
     for i in range(steps):
         for s in range(4):
-            f = rk4.stage_offset(s, h)
-            for a in range(m):
-                for b in range(m):
-                    ps[a, b] = phi[a, b] + f * kp[s - 1, a, b] if s > 0 else phi[a, b]
+            rk4.stage_matrix(phi, kp, s, h, ps)
             if table and abs(stages[i, s, 0]) < fam.table_max:
                 _table_jacobian(coef, fam.table_max, abs(stages[i, s, 0]), jac)
             else:
                 family_jacobian(stages[i, s], fam, iaa, ibb, jac)
-            for r in range(M):
-                for c in range(m):
-                    kp[s, r, c] = ps[M + r, c]
-                    kp[s, M + r, c] = -fam_rate * ps[M + r, c]
-                if fam_matrix is not None:
-                    for l in range(M):
-                        d = fam_matrix[r, l]
-                        for c in range(m):
-                            kp[s, M + r, c] -= d * ps[M + l, c]
-                for l in range(M):
-                    kj = fam.k_force[r] * jac[r, l]
-                    for c in range(m):
-                        kp[s, M + r, c] -= kj * ps[l, c]
-        for a in range(m):
-            for b in range(m):
-                phi[a, b] += rk4.step_factor(h) * rk4.combine(kp[0, a, b], kp[1, a, b], kp[2, a, b], kp[3, a, b])
+            block_slope(ps, jac, fam.k_force, fam_rate, matrix, kp, s)
+        rk4.step_matrix(phi, kp, h)
     return phi
 
 

@@ -221,12 +221,17 @@ class ForcedMap:
         """The monodromy block ``(2M, 2M)`` of family ``fam`` along the axisymmetric orbit
         from ``y`` (:func:`model.families.family_monodromy`), the perturbations damped by
         this map's law on the family's own linear problem."""
-        if self.damping is None or isinstance(self.damping, Viscous):  # mass-proportional: the map's own rate
-            rate, matrix = self.forcing.damping_rate, NO_MATRIX
-        else:
-            rate, matrix = family_damping(fam, self.rom.membrane, self.damping)
+        rate, matrix = self.family_damping_terms(fam)
         return family_monodromy(np.asarray(y, dtype=float), 0.0, self.period, self.steps, self.rom.tables,
                                 self.forcing, fam.tables, rate, matrix_or_none(matrix))
+
+    def family_damping_terms(self, fam: Family) -> tuple[float, np.ndarray]:
+        """``(rate, matrix)`` (s-1) damping the perturbations of family ``fam``: this map's own
+        rate for the viscous law (mass-proportional), else :func:`family_damping`; the matrix
+        is ``(0, 0)`` when there is none."""
+        if self.damping is None or isinstance(self.damping, Viscous):
+            return self.forcing.damping_rate, NO_MATRIX
+        return family_damping(fam, self.rom.membrane, self.damping)
 
     def value(self, parameter: str) -> float:
         """The current value of ``parameter`` (:attr:`parameters`)."""

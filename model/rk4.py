@@ -37,3 +37,21 @@ def combine(k0, k1, k2, k3):
 def step_factor(h):
     """``h / 6``: the factor of :func:`combine` in the step."""
     return h / 6.0
+
+
+@nb.njit(cache=True, inline="always")
+def stage_matrix(phi, kp, s, h, out):
+    """``out = phi + stage_offset(s, h) kp[s - 1]`` (``out = phi`` at ``s = 0``): the state of
+    stage ``s`` of a matrix ``phi`` (a variational block) whose stage slopes are ``kp``."""
+    f = stage_offset(s, h)
+    for a in range(phi.shape[0]):
+        for b in range(phi.shape[1]):
+            out[a, b] = phi[a, b] + f * kp[s - 1, a, b] if s > 0 else phi[a, b]
+
+
+@nb.njit(cache=True, inline="always")
+def step_matrix(phi, kp, h):
+    """``phi += step_factor(h) combine(kp[0], .., kp[3])``: the step of a matrix ``phi``."""
+    for a in range(phi.shape[0]):
+        for b in range(phi.shape[1]):
+            phi[a, b] += step_factor(h) * combine(kp[0, a, b], kp[1, a, b], kp[2, a, b], kp[3, a, b])

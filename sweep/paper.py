@@ -46,7 +46,8 @@ VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
     "fig15a-full-families-order16-fine", "fig14a-full-order12", "fig14a-full-order12-fine",
     "fig14a-full-light-order8", "fig14a-full-light-order12",
     "families-viscous", "families-modal", "families-rayleigh",
-    "families-1pct-viscous", "families-1pct-modal", "families-1pct-rayleigh", "family-check", "fig14a-families-m2",
+    "families-1pct-viscous", "families-1pct-modal", "families-1pct-rayleigh", "tongues-1pct-viscous",
+    "tongues-1pct-modal", "family-check", "fig14a-families-m2",
     "fig19a-basins-brute",
 ))
 QUICK_NUM = 41

@@ -93,6 +93,7 @@ def test_full_model_options_are_checked(tmp_path, capsys, table, message):
     ("fig19-basins", "an analysis that model 'full' can run (its lattices are of modal coordinates"),
     ("table1-app2", "linear.prestretch = 'analytic' is invalid: must be one of numeric"),
     ("fig10-11-backbone", "backbone.modes = [[1, 0], [2, 0], [3, 0]] is invalid: needs the ROM's mode families"),
+    ("validation/families-viscous", "continuation.tongues = True is invalid: needs the ROM's mode families"),
 ])
 def test_what_the_full_model_does_not_do_is_refused(tmp_path, capsys, job_name, message):
     job = tmp_path / "bad.toml"

@@ -15,7 +15,9 @@ continued branch (:meth:`BranchFeature.compute`), starting from the declared bla
 * :data:`FAMILY_CHECK` -- time integration of the mixed ROMs against the families'
   multipliers (``family_check``, :func:`model.families.perturbation_growth`);
 * :data:`BRANCH_SWITCHING` -- the asymmetric branch born at a branch point
-  (``branch_switching``, :func:`model.switching.follow_bifurcated_branch`).
+  (``branch_switching``, :func:`model.switching.follow_bifurcated_branch`);
+* :data:`TONGUES` -- the families' parametric thresholds at every point, measured and by
+  first-order averaging (``tongues``, :func:`model.tongues.family_tongue`).
 
 The outputs are described in the docstring of :mod:`sweep.analyses.continuation`.
 """
@@ -34,6 +36,7 @@ from model.families import build_family, perturbation_growth, symmetry_blocks
 from model.prestretch import solve_prestretch
 from model.rom import build_rom
 from model.switching import follow_bifurcated_branch, mixed_rom
+from model.tongues import family_tongue
 
 from . import options as opt
 from .base import GRID_KEYS, JobError, Variable, blank_outputs
@@ -491,10 +494,81 @@ class BranchSwitching(BranchFeature):
         return out, "" if sw.complete or m >= n else f"switched branch: {sw.message}"
 
 
+def tongues_option(table, section) -> bool:
+    """The ``tongues = true`` option (needs ``families``)."""
+    tongues = opt.flag(table, section, "tongues", False)
+    if tongues and table.get("families") is None:
+        raise JobError(f"{section}.tongues", table["tongues"], "needs continuation.families")
+    return tongues
+
+
+class Tongues(BranchFeature):
+    """``tongues``: per point and family, the smallest scale of the orbit's stiffness
+    modulation that destabilises the family's block (measured by Floquet multipliers and by
+    first-order averaging, :mod:`model.tongues`), and the resonance the averaging finds lowest.
+    A study in the radial counts adds ``family_radial`` as for the multipliers."""
+
+    def enabled(self, options):
+        return options.tongues
+
+    def variables(self, options):
+        if not self.enabled(options):
+            return []
+        n = options.max_points
+        study = ("family_radial",) if is_radial_study(options) else ()
+        R = (len(family_radials(options)),) if study else ()
+        F = len(options.families.n)
+        pf, pfp = ("point", *study, "family"), ("point", *study, "family", "tongue_pair")
+        return [
+            Variable("tongue_threshold", pf, (n, *R, F), "f8", "1",
+                     "smallest scale s of the stiffness modulation (mean + s (S(t) - mean)) at which the family's "
+                     "largest Floquet multiplier modulus reaches 1 (below 1: the family is unstable; NaN: none up "
+                     "to s = 8)"),
+            Variable("tongue_threshold_averaged", pf, (n, *R, F), "f8", "1",
+                     "smallest threshold scale s by first-order averaging over every resonance "
+                     "p Omega ~ omega_i + omega_j of the mean stiffness' modes"),
+            Variable("tongue_harmonic", pf, (n, *R, F), "i2", "1",
+                     "harmonic p of the forcing frequency of the resonance with the smallest averaged threshold", -1),
+            Variable("tongue_modes", pfp, (n, *R, F, 2), "i2", "1",
+                     "i <= j of that resonance: the modes of the family's mean stiffness by increasing frequency "
+                     "(1-based)", -1),
+            Variable("tongue_frequencies", pfp, (n, *R, F, 2), "f8", "rad s-1", "omega_i, omega_j of that resonance"),
+            Variable("tongue_rates", pfp, (n, *R, F, 2), "f8", "s-1",
+                     "decay rates alpha_i, alpha_j of its modes under the damping law"),
+            Variable("tongue_depth", pf, (n, *R, F), "f8", "1",
+                     "modulation depth k_ij / (omega_i omega_j) of the orbit at that resonance"),
+            Variable("tongue_detuning", pf, (n, *R, F), "f8", "rad s-1", "p Omega - omega_i - omega_j"),
+        ]
+
+    def compute(self, ctx):
+        options, br = ctx.options, ctx.branch
+        out = blank_outputs(self.variables(options))
+        shape = out["tongue_threshold"].shape[1:]
+        names = ("tongue_threshold", "tongue_threshold_averaged", "tongue_harmonic", "tongue_modes",
+                 "tongue_frequencies", "tongue_rates", "tongue_depth", "tongue_detuning")
+        flat = {k: out[k].reshape(out[k].shape[0], int(np.prod(shape)), *out[k].shape[1 + len(shape):])
+                for k in names}
+        problems = []
+        for i in range(br.value.size):
+            fmap = ctx.fmap.varied(options.parameter, br.value[i])
+            for j, fam in enumerate(ctx.families):
+                try:
+                    tg = family_tongue(fmap, br.state[i], fam)
+                except (ValueError, np.linalg.LinAlgError) as exc:
+                    if len(problems) < 3:
+                        problems.append(f"tongues n = {fam.n} at {options.parameter} = {br.value[i]:.6g}: {exc}")
+                    continue
+                for k, v in zip(names, (tg.measured, tg.averaged, tg.harmonic, tg.modes, tg.frequencies, tg.rates,
+                                        tg.depth, tg.detuning)):
+                    flat[k][i, j] = v
+        return out, "; ".join(problems)
+
+
 FAMILIES = Families()
 FOLD_CURVE = FoldCurve()
 BIFURCATION_CURVES = BifurcationCurves()
 FAMILY_CHECK = FamilyCheck()
 BRANCH_SWITCHING = BranchSwitching()
+TONGUES = Tongues()
 #: The features in the order of their outputs and of their computation.
-FEATURES = (FAMILIES, FOLD_CURVE, BIFURCATION_CURVES, FAMILY_CHECK, BRANCH_SWITCHING)
+FEATURES = (FAMILIES, FOLD_CURVE, BIFURCATION_CURVES, FAMILY_CHECK, BRANCH_SWITCHING, TONGUES)

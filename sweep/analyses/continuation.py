@@ -62,6 +62,15 @@ coordinates (:func:`model.families.perturbation_growth`): ``check_growth`` (``ch
 the asymmetric amplitude reached, ``check_asymmetric_amplitude``, and the width of the range
 of its stroboscopic samples, ``check_asymmetric_spread`` (zero for a period-one state).
 
+Parametric thresholds (``tongues = true``, with ``families``; the ROM): at every point and
+for every family, ``tongue_threshold`` (``point``, ``family``): the smallest scale ``s`` of the
+orbit's stiffness modulation (``mean + s (S(t) - mean)``) at which the family's block reaches
+the unit circle (below 1 at the points where the family is unstable), and
+``tongue_threshold_averaged``, the same by first-order averaging (:mod:`model.tongues`), with
+the resonance ``p Omega ~ omega_i + omega_j`` the averaging finds lowest: ``tongue_harmonic``,
+``tongue_modes``, ``tongue_frequencies``, ``tongue_rates`` (``tongue_pair``: i, j),
+``tongue_depth`` and ``tongue_detuning``.
+
 Curves of bifurcation points (``bifurcation_curves = {parameter = "P0", start = 0.2, stop =
 2.0}``): every located point of the branch (up to
 :data:`sweep.analyses.branch_features.MAX_CURVES`) is followed in the
@@ -109,7 +118,7 @@ from . import options as opt
 from .base import (DEFAULT_CONTEXT, GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
                    blank_outputs, check_keys)
 from .branch_features import (FEATURES, BranchContext, by_symmetry, curves_option, family_check_option, family_radials,
-                              second_parameter, switching_option)
+                              second_parameter, switching_option, tongues_option)
 
 #: Length of the ``fold`` dimension: the first saddle-nodes of a branch (``n_folds`` counts
 #: them all; ``point_type`` marks every one). The full model's Fig. 15a branch has 8.
@@ -134,6 +143,8 @@ class ContinuationOptions:
     switch_points: int = 0
     switch_family: int = 0
     check: tuple[tuple[float, ...], int, int] | None = None
+    #: the families' parametric thresholds at every point (``tongues = true``)
+    tongues: bool = False
     #: the job's material law (``[membrane] law``): the warmups compile its kernels
     material: str = "neo-hookean"
 
@@ -187,6 +198,10 @@ class ContinuationAnalysis(Analysis):
                     "count, along a dimension family_radial; the full model ([model] kind = \"full\"): the first M "
                     "functions of its basis per field (M <= order), the perturbations in (U, V, W), or W alone "
                     "with inplane = false (the ROM's families are W alone)",
+        "tongues": "true: at every point and for every family, the smallest scale of the orbit's stiffness "
+                   "modulation that destabilises the family (Floquet multipliers of the scaled block) and the "
+                   "same by first-order averaging, with the resonance p Omega ~ omega_i + omega_j it finds "
+                   "lowest (needs families; ROM only; default false)",
     }
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
@@ -199,7 +214,7 @@ class ContinuationAnalysis(Analysis):
         if start == stop:
             raise JobError(f"{s}.stop", stop, "must differ from continuation.start")
         modes = opt.modes(table, s)
-        opt.rom_only(table, s, context.model, ("branch_switching", "family_check"))
+        opt.rom_only(table, s, context.model, ("branch_switching", "family_check", "tongues"))
         if "families" in table and not context.model.model().provides("families"):
             raise JobError(f"{s}.families", table["families"], f"needs a model with asymmetric families; this "
                            f"job's model is {context.model.kind!r} ([model] kind)")
@@ -224,7 +239,7 @@ class ContinuationAnalysis(Analysis):
             opt.steps(table, s, DEFAULT_STEPS, low=16),
             second_parameter(table, s, parameter, context.damping), families,
             curves, *switching_option(table, s, families),
-            family_check_option(table, s), membrane.law)
+            family_check_option(table, s), tongues_option(table, s), membrane.law)
 
     def variables(self, options):
         return [v for feature in FEATURES for v in feature.variables(options)] + self._branch_variables(options)
