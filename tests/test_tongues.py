@@ -159,3 +159,30 @@ def test_tongues_option_of_the_continuation():
     assert (out["tongue_modes"][:n] >= 1).all() and (out["tongue_harmonic"][:n] >= 1).all()
     assert (out["tongue_modes"][:n, :, 0] <= out["tongue_modes"][:n, :, 1]).all()
     assert np.isnan(out["tongue_threshold"][n:]).all()
+
+
+def test_stability_map_of_a_radial_study_has_a_panel_per_count(tmp_path):
+    # jobs/validation/stability-map-fig14a-radial.toml cut to two P0 rows, n = 1 and two counts
+    from pathlib import Path
+
+    import matplotlib.image as mpimg
+    import xarray as xr
+
+    from sweep import cli
+
+    text = (Path(__file__).resolve().parents[1] / "jobs/validation/stability-map-fig14a-radial.toml").read_text()
+    text = text.replace("P0 = {start = 0.2, stop = 2.0, num = 10}", "P0 = [0.8, 1.0]").replace(
+        "families = {n = [1, 2, 3, 4, 5, 6], radial = [2, 4, 8, 16]}", "families = {n = [1], radial = [1, 2]}")
+    job, out = tmp_path / "map.toml", tmp_path / "map.nc"
+    job.write_text(text)
+    assert cli.main(["run", str(job), "-o", str(out)]) == 0
+    ds = xr.load_dataset(out)
+    assert ds.family_multiplier_modulus.sizes["family_radial"] == 2
+    assert (ds.family_multiplier_modulus.sel(family_radial=2) > 1.0).any()  # n = 1 unstable at 2 modes
+    assert cli.main(["figures", str(out), "-o", str(tmp_path / "fig")]) == 0
+    single = tmp_path / "single.nc"
+    ds.isel(family_radial=[1]).to_netcdf(single)
+    assert cli.main(["figures", str(single), "-o", str(tmp_path / "fig1")]) == 0
+    # two panels side by side against one: the figure with a panel per count is wider
+    wide = mpimg.imread(tmp_path / "fig" / "stability_map_Omega.png").shape[1]
+    assert wide > mpimg.imread(tmp_path / "fig1" / "stability_map_Omega.png").shape[1]

@@ -17,8 +17,10 @@ def continuation_figures(ds, outdir) -> list:
     unstable dashed, saddle-nodes circles (period doubling squares, Neimark-Sacker
     diamonds).  Continuations in Omega are zoomed on the resonance (:func:`_zoom_omega`).
     The fold-loci figure skips the panels without saddle-nodes.  Of a study in the families'
-    radial modes (a ``family_radial`` dimension) the figures show the largest count.
+    radial modes (a ``family_radial`` dimension) the figures show the largest count, but for the
+    stability map, which has a panel per count.
     """
+    study = ds
     if "family_radial" in ds.dims:
         ds = ds.isel(family_radial=-1)
     plt = pyplot()
@@ -64,7 +66,7 @@ def continuation_figures(ds, outdir) -> list:
         paths += family_figures(ds, outdir, par)
         rows = "P0" if par == "Omega" else "Omega"
         if ds.sizes.get(rows, 0) >= 2:
-            paths += stability_map_figures(ds, outdir, par, rows)
+            paths += stability_map_figures(study, outdir, par, rows)
     if "curve_kind" in ds:
         paths += bifurcation_curve_figures(ds, outdir, par)
     if par == "P0" and ds.sizes.get("c", 0) >= 3:
@@ -150,14 +152,17 @@ def _family_colors(plt, families) -> dict:
 def stability_map_figures(ds, outdir, par: str, rows: str) -> list:
     """Stability maps: per row of the grid parameter ``rows`` (e.g. P0), the intervals of the
     continued parameter where the resonant stretch of the branch (from its start to the
-    first saddle-node) is unstable to each family, and the saddle-nodes of the row."""
+    first saddle-node) is unstable to each family, and the saddle-nodes of the row.  A study in
+    the families' radial modes has a panel per count (the tongues against the radial modes)."""
     from model.continuation import resonant_end, unstable_points
 
     plt = pyplot()
     exclude = ("c", rows, "point", "fold", "multiplier", "mode", "family", "family_multiplier", "curve",
-               "curve_point", "cusp")
-    panels = [dict(sel, **({"c": c} if "c" in ds.dims else {})) for sel in computed_points(ds, exclude)
-              for c in (ds.c.values if "c" in ds.dims else [None])]
+               "curve_point", "cusp", "family_radial")
+    counts = ds.family_radial.values if "family_radial" in ds.dims else [None]
+    panels = [dict(sel, **({"c": c} if "c" in ds.dims else {}), family_radial=M)
+              for sel in computed_points(ds, exclude) for c in (ds.c.values if "c" in ds.dims else [None])
+              for M in counts]
     families = ds.family.values
     colors = _family_colors(plt, families)
     fig, axes = panel_axes(plt, len(panels))
@@ -185,7 +190,8 @@ def stability_map_figures(ds, outdir, par: str, rows: str) -> list:
                     label="saddle-nodes" if f == 0 else None)
         ax.set(xlabel=f"{SYMBOLS.get(par, par)} ({GRID_UNITS.get(par, '')})",
                ylabel=f"{SYMBOLS.get(rows, rows)} ({GRID_UNITS.get(rows, '')})")
-        ax.set_title(point_label(fixed), fontsize=9)
+        radial = fixed.pop("family_radial", None)
+        ax.set_title(point_label(fixed) + ("" if radial is None else f", M = {int(radial)} radial modes"), fontsize=9)
     axes[0].legend(fontsize=7, loc="upper left")
     fig.suptitle("Stability map of the resonant axisymmetric responses (one row per continuation)", fontsize=10)
     fig.tight_layout()
