@@ -47,7 +47,9 @@ VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
     "fig14a-full-light-order8", "fig14a-full-light-order12",
     "families-viscous", "families-modal", "families-rayleigh",
     "families-1pct-viscous", "families-1pct-modal", "families-1pct-rayleigh", "tongues-1pct-viscous",
-    "tongues-1pct-modal", "stability-map-fig14a-radial", "family-check", "fig14a-families-m2",
+    "tongues-1pct-modal", "stability-map-fig14a-radial", "families-1pct-viscous-axi", "families-1pct-modal-axi",
+    "families-viscous-axi",
+    "family-check", "fig14a-families-m2",
     "fig19a-basins-brute",
 ))
 QUICK_NUM = 41

@@ -776,6 +776,56 @@ def section_tongues(results: Path) -> list[str]:
     return out + _tongue_map(results)
 
 
+#: The studies of the families against the orbit's axisymmetric modes.
+ORBIT_STUDIES = ("validation/families-1pct-viscous-axi", "validation/families-1pct-modal-axi",
+                 "validation/families-viscous-axi")
+
+
+def section_family_orbit(results: Path) -> list[str]:
+    """The families' intervals against the radial modes with the orbit in K axisymmetric
+    modes: at a first-mode ratio of 1 % (n = 1) under the viscous and the modal laws, and at
+    the paper's light viscous damping (n = 1..6)."""
+    out = ["## Family stability against the orbit's axisymmetric modes", "",
+           "The family studies above carry the orbit in one axisymmetric mode. Here the orbit has K axisymmetric",
+           "modes (a `mode_set` dimension) and each family M radial modes: intervals of Omega (rad/s) on the",
+           "resonant stretch at delta = 1.1 where the family is unstable, in brackets its largest multiplier",
+           "modulus there; `validation/families-1pct-<law>-axi` (P0 = 10 Pa, first-mode ratio 1 %, n = 1,",
+           "K = 1..6, M = 2..32) and `validation/families-viscous-axi` (the paper's P0 = 1 Pa, c = 0.05 N s/m^3,",
+           "n = 1..6, K = 1..4, M = 4, 8, 16). Convergence criterion as above: from M to 2M the same number of",
+           f"intervals, each end moving by less than {SETTLED:g} rad/s, at the last step.", ""]
+    for name in ORBIT_STUDIES:
+        ds = _open(results, name)
+        if ds is None:
+            out += _missing(name)
+            continue
+        law = ds.attrs.get("damping_law", "?")
+        radial = [int(m) for m in ds.family_radial.values]
+        for j, fam in enumerate(ds.family.values):
+            out += [f"**`{name}`** ({law}, P0 = {float(ds.P0.values.ravel()[0]):g} Pa), n = {int(fam)}:", "",
+                    "| K | resonant stretch ends at (rad/s) | " + " | ".join(f"M = {M}" for M in radial)
+                    + " | largest end move from M to 2M |", "|---|---|" + "---|" * len(radial) + "---|"]
+            onsets = []
+            for k in range(ds.sizes["mode_set"]):
+                b = ds.isel({"mode_set": k, **{d: 0 for d in ("delta", "delta_o", "Omega", "P0", "c") if d in ds.dims}})
+                n = int(b.n_points)
+                value = b.Omega.values.ravel()[:n]
+                end = resonant_end(b.point_type.values.ravel()[:n])
+                modulus = b.family_multiplier_modulus.transpose("point", "family_radial", "family").values[:end, :, j]
+                intervals = [unstable_intervals(value[:end], modulus[:, r]) for r in range(len(radial))]
+                moves = [_largest_move(a, c) for a, c in zip(intervals, intervals[1:])]
+                verdict = ", ".join("appears/vanishes" if not np.isfinite(m) else f"{m:.2f}" for m in moves)
+                verdict += " (converged)" if moves and moves[-1] < SETTLED else " (not converged)"
+                K = int(b.n_modes)
+                out.append(f"| {K} | {value[end - 1]:.3f} | " + " | ".join(
+                    f"{_fmt_intervals(iv)} ({np.nanmax(modulus[:, r]):.3f})" for r, iv in enumerate(intervals))
+                    + f" | {verdict} |")
+                onsets.append((K, intervals[-1][0][0] if intervals[-1] else np.nan, value[end - 1]))
+            out += ["", f"Onset at M = {radial[-1]} against K (rad/s): "
+                    + ", ".join(f"K = {K}: " + ("stable" if not np.isfinite(o) else f"{o:.2f}") for K, o, _ in onsets)
+                    + "; the stretch ends at " + ", ".join(f"{e:.2f}" for _, _, e in onsets) + ".", ""]
+    return out
+
+
 def _tongue_map(results: Path) -> list[str]:
     """The stability map over (Omega, P0) against the radial modes: per count and family, the
     rows (P0) with an unstable stretch and the lowest of them."""
@@ -1479,7 +1529,7 @@ SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_mo
             section_backbone_modes, section_backbone_limits, section_full_backbone,
             section_continuation_bruteforce, section_forced_modes, section_full_forced, section_full_families,
             section_cusp,
-            section_families, section_tongues, section_full_fig14a, section_full_fig14a_light,
+            section_families, section_tongues, section_family_orbit, section_full_fig14a, section_full_fig14a_light,
             section_bruteforce_diagram, section_basins,
             section_basins_modes)
 
