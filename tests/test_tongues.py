@@ -85,6 +85,34 @@ def test_combination_tongue_with_unequal_rates_and_detuning():
         assert abs(measured / expected - 1.0) <= depth
 
 
+def test_thresholds_do_not_depend_on_the_coordinates_of_the_block():
+    # The family block is u'' + D u' + diag(k) J(t) u = 0 with J symmetric.  The same system in
+    # coordinates x = T^-1 u with k = T^2 is x'' + T^-1 D T x' + T J T x = 0, symmetric with
+    # k = 1: the same multipliers and resonances.  With a non-uniform k and a damping matrix
+    # with off-diagonal terms, both thresholds must be those of the symmetric form, and the
+    # averaged one the closed form of the combination tongue (the off-diagonal damping drops
+    # out at first order).
+    w1, w2, a1, a2, k, sigma = 1.0, 2.3, 0.01, 0.015, 1.0, 0.02
+    Omega = (w1 + w2 + sigma) / 3.0
+    coupling = np.array([[0.0, 1.0], [1.0, 0.0]])
+    sym, h = _stages(lambda t: np.diag([w1**2, w2**2]) + k * np.cos(3.0 * Omega * t) * coupling, 2.0 * np.pi / Omega, 256)
+    d_sym = np.array([[2.0 * a1, 0.004], [0.004, 2.0 * a2]])
+    T = np.diag([0.5, 3.0])
+    Ti = np.linalg.inv(T)
+    phys = np.einsum("ab,nsbc,cd->nsad", T, sym, Ti)  # T S T^-1 = diag(T^2) (T^-1 S T^-1)
+    d_phys = T @ d_sym @ Ti
+    res_sym = averaged_thresholds(sym, Omega, np.ones(2), 0.0, d_sym)
+    res_phys = averaged_thresholds(phys, Omega, np.diag(T)**2, 0.0, d_phys)
+    for res in (res_sym, res_phys):  # the coupled harmonic is the lowest; the others are round-off (s ~ 1e16)
+        assert np.unravel_index(np.nanargmin(res.scale), res.scale.shape) == (0, 1, 2)
+    assert res_phys.scale[0, 1, 2] == pytest.approx(res_sym.scale[0, 1, 2], rel=1e-10)
+    assert res_phys.rates == pytest.approx(res_sym.rates, rel=1e-12)
+    expected = np.sqrt(a1 * a2 * (1.0 + sigma**2 / (a1 + a2)**2) * 16.0 * w1 * w2) / k
+    assert res_phys.scale[0, 1, 2] == pytest.approx(expected, rel=1e-10)
+    measured = [measured_threshold(st, h, 0.0, d, rtol=1e-10) for st, d in ((sym, d_sym), (phys, d_phys))]
+    assert measured[1] == pytest.approx(measured[0], rel=1e-8)
+
+
 @pytest.fixture(scope="module")
 def fig14a_orbit():
     """The resonant Fig. 14a response at Omega = 44 rad/s (P0 = 1 Pa, c = 0.05 N s/m^3)."""

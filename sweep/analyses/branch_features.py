@@ -522,8 +522,8 @@ class Tongues(BranchFeature):
         return [
             Variable("tongue_threshold", pf, (n, *R, F), "f8", "1",
                      "smallest scale s of the stiffness modulation (mean + s (S(t) - mean)) at which the family's "
-                     "largest Floquet multiplier modulus reaches 1 (below 1: the family is unstable; NaN: none up "
-                     "to s = 8)"),
+                     "largest Floquet multiplier modulus reaches 1 (at most 1 where the family is unstable; NaN: "
+                     "none up to s = 8)"),
             Variable("tongue_threshold_averaged", pf, (n, *R, F), "f8", "1",
                      "smallest threshold scale s by first-order averaging over every resonance "
                      "p Omega ~ omega_i + omega_j of the mean stiffness' modes"),
@@ -534,7 +534,7 @@ class Tongues(BranchFeature):
                      "(1-based)", -1),
             Variable("tongue_frequencies", pfp, (n, *R, F, 2), "f8", "rad s-1", "omega_i, omega_j of that resonance"),
             Variable("tongue_rates", pfp, (n, *R, F, 2), "f8", "s-1",
-                     "decay rates alpha_i, alpha_j of its modes under the damping law"),
+                     "decay rates alpha_i, alpha_j of its modes: the damping law's and RK4's at the map's step"),
             Variable("tongue_depth", pf, (n, *R, F), "f8", "1",
                      "modulation depth k_ij / (omega_i omega_j) of the orbit at that resonance"),
             Variable("tongue_detuning", pf, (n, *R, F), "f8", "rad s-1", "p Omega - omega_i - omega_j"),
@@ -543,24 +543,26 @@ class Tongues(BranchFeature):
     def compute(self, ctx):
         options, br = ctx.options, ctx.branch
         out = blank_outputs(self.variables(options))
-        shape = out["tongue_threshold"].shape[1:]
+        shape = out["tongue_threshold"].shape[1:]  # ([R,] F): the families by count, then n
         names = ("tongue_threshold", "tongue_threshold_averaged", "tongue_harmonic", "tongue_modes",
                  "tongue_frequencies", "tongue_rates", "tongue_depth", "tongue_detuning")
-        flat = {k: out[k].reshape(out[k].shape[0], int(np.prod(shape)), *out[k].shape[1 + len(shape):])
-                for k in names}
-        problems = []
+        problems, failed = [], 0
         for i in range(br.value.size):
             fmap = ctx.fmap.varied(options.parameter, br.value[i])
             for j, fam in enumerate(ctx.families):
+                at = (i, *np.unravel_index(j, shape))
                 try:
                     tg = family_tongue(fmap, br.state[i], fam)
                 except (ValueError, np.linalg.LinAlgError) as exc:
+                    failed += 1
                     if len(problems) < 3:
                         problems.append(f"tongues n = {fam.n} at {options.parameter} = {br.value[i]:.6g}: {exc}")
                     continue
                 for k, v in zip(names, (tg.measured, tg.averaged, tg.harmonic, tg.modes, tg.frequencies, tg.rates,
                                         tg.depth, tg.detuning)):
-                    flat[k][i, j] = v
+                    out[k][at] = v
+        if failed > len(problems):
+            problems.append(f"and {failed - len(problems)} more")
         return out, "; ".join(problems)
 
 
