@@ -715,7 +715,7 @@ def section_tongues(results: Path) -> list[str]:
            "perturbations of a family obey u'' + D u' + S(t) u = 0 with the stiffness S(t) modulated by the orbit",
            "(`tongues = true`, model/tongues.py). With S_bar its mean over a period, the **measured threshold** s* is",
            "the smallest scale s of the modulation, S_bar + s (S(t) - S_bar), at which the family's largest Floquet",
-           "multiplier reaches the unit circle (s* < 1: the orbit's own modulation suffices). The **averaged**",
+           "multiplier reaches the unit circle (s* <= 1 wherever the family is unstable). The **averaged**",
            "threshold is first-order averaging over every resonance p Omega ~ omega_i + omega_j of the modes of",
            "S_bar (frequencies omega, decay rates alpha, modulation amplitude k_ij at harmonic p): unstable for",
            "(s k_ij)^2 / (16 omega_i omega_j) > alpha_i alpha_j (1 + sigma^2 / (alpha_i + alpha_j)^2),",
