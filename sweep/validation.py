@@ -731,8 +731,9 @@ def section_tongues(results: Path) -> list[str]:
             "(rad/s) where it is reached, and in brackets the averaged threshold at that point and the resonance",
             "the averaging finds lowest there (p: i+j); none: no tongue up to s = 8.", ""]
     ratios = {c: [] for c in DETUNING_CLASSES}
+    arrays = {name: _tongue_arrays(ds) for name, ds in data.items()}
     for name, ds in data.items():
-        b, t = _tongue_arrays(ds)
+        b, t = arrays[name]
         law = ds.attrs.get("damping_law", "?")
         level = f"c = {float(b.c):g} N s/m^3" if "c" in b.coords else ", ".join(
             f"{k[len('damping_'):]} = {v:g}" for k, v in ds.attrs.items() if k.startswith("damping_")
@@ -768,7 +769,7 @@ def section_tongues(results: Path) -> list[str]:
         out.append(f"| {label} | {r.size} | {q50:.3f} | {q5:.3f} | {q95:.3f} | {100 * np.mean(np.abs(r - 1) <= 0.1):.0f} % "
                    f"| {100 * np.mean(r < 1.0):.0f} % |")
     tuned = np.array(ratios[DETUNING_CLASSES[0]])
-    out += ["", *_same_tongue(data, TONGUE_STUDIES[:3]), *_tongue_onsets(data), ""]
+    out += ["", *_same_tongue(data, arrays, TONGUE_STUDIES[:3]), *_tongue_onsets(arrays), ""]
     if tuned.size:
         far = np.concatenate([np.array(ratios[c]) for c in DETUNING_CLASSES[1:]])
         out += [f"Where the averaging's lowest resonance is tuned within its damping half-width, measured and averaged "
@@ -863,16 +864,16 @@ def _tongue_map(results: Path) -> list[str]:
     return out + [""]
 
 
-def _same_tongue(data, names) -> list[str]:
+def _same_tongue(data, arrays, names) -> list[str]:
     """Per family, at the largest count M: the lowest tongue of the studies ``names`` (one per
-    damping law, the same load) when it is the same resonance in all of them, with its
-    measured and averaged thresholds and the decay rate of its modes under each law."""
+    damping law, the same load; ``arrays``: their :func:`_tongue_arrays`) when it is the same
+    resonance in all of them, with its measured and averaged thresholds and the decay rate of
+    its modes under each law."""
     rows = []
-    arrays = [_tongue_arrays(data[name]) for name in names]
-    b0 = arrays[0][0]
+    b0 = arrays[names[0]][0]
     for j, n in enumerate(b0.family.values):
         cells, key = [], set()
-        for b, t in arrays:
+        for b, t in (arrays[name] for name in names):
             r = b.sizes["family_radial"] - 1
             column = t["tongue_threshold"][:, r, j]
             if not np.isfinite(column).any():
@@ -895,17 +896,17 @@ def _same_tongue(data, names) -> list[str]:
             "| n | p: i+j | " + " | ".join(laws) + " |", "|---|---|" + "---|" * len(names), *rows, ""]
 
 
-def _tongue_onsets(data) -> list[str]:
+def _tongue_onsets(arrays) -> list[str]:
     """At the onset of each family's first unstable interval (the first point of the stretch
-    with a multiplier outside the unit circle), at the largest count M: the averaging's lowest
-    resonance there and its threshold (the measured one is 1 there)."""
+    with a multiplier outside the unit circle), at the largest count M, per study of ``arrays``
+    (:func:`_tongue_arrays` by name): the measured threshold (at most 1 there), the averaging's
+    lowest resonance there and its threshold."""
     out = ["**Onsets**: at the first point of the stretch where a family is unstable (largest M), the measured",
            "threshold (at most 1 there), the averaging's lowest resonance, its modulation depth eps = k_ij / (omega_i",
            "omega_j), detuning and decay rates, and its threshold:", "",
            "| study | n | onset Omega (rad/s) | measured threshold | p: i+j | omega_i, omega_j (rad/s) | alpha_i, alpha_j (1/s) "
            "| eps | sigma (rad/s) | averaged threshold |", "|---|---|---|---|---|---|---|---|---|---|"]
-    for name, ds in data.items():
-        b, t = _tongue_arrays(ds)
+    for name, (b, t) in arrays.items():
         r = b.sizes["family_radial"] - 1
         for j, n in enumerate(b.family.values):
             unstable = np.flatnonzero(t["family_multiplier_modulus"][:, r, j] > 1.0)
