@@ -50,7 +50,7 @@ VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
     "tongues-1pct-modal", "stability-map-fig14a-radial", "families-1pct-viscous-axi", "families-1pct-modal-axi",
     "families-1pct-viscous-k8", "families-1pct-modal-k8",
     "families-viscous-axi", "families-viscous-k8",
-    "family-check", "fig14a-families-m2",
+    "family-check", "fig14a-families-m2", "waves-fig14a",
     "fig19a-basins-brute",
 ))
 QUICK_NUM = 41

@@ -462,6 +462,140 @@ def section_families(results: Path) -> list[str]:
     return out + _switched_branch(ds) + _stability_map(results) + _family_convergence(results) + _family_check(results)
 
 
+#: Drift (rad per period) below which a time-integrated pattern counts as standing, and
+#: relative range of its size below which as of constant size: the rotating waves of the
+#: Fig. 14a case drift by about 0.94 rad per period, and a settled response repeats to the
+#: integration's rounding, so both bounds are far from either kind.
+STANDING_DRIFT, STEADY_SIZE = 1e-3, 1e-3
+
+
+def _wave_kind(drift: float, spread: float) -> str:
+    """What a time-integration check settled to, from its drift and the spread of its size."""
+    if spread > STEADY_SIZE:
+        return "neither (its size still changes)"
+    return "a standing wave" if abs(drift) < STANDING_DRIFT else "a rotating wave"
+
+
+def section_waves(results: Path) -> list[str]:
+    """Standing waves at the n = 1 branch point and rotating waves at the n = 3
+    Neimark-Sacker point of Fig. 14a in the O(2) ROM, with their time-integration checks."""
+    out = ["## Standing and rotating waves: the O(2) symmetry (Fig. 14a)", "",
+           "The ROM (1,0) with the families n = 1 and n = 3 (two radial modes each) at delta = 1.1,",
+           "delta_o = 0.2, P0 = 1 Pa, c = 0.05 N s/m^3 (`validation/waves-fig14a`; model/waves.py). The",
+           "asymmetric responses are computed in the ROM that carries the family's sine companions as well",
+           "as its cosine modes, which is symmetric under every rotation and the reflection (O(2)): a",
+           "rotation turns each (cosine, sine) pair of wave number n by n times its angle. Standing waves",
+           "(reflection-symmetric: sine coordinates zero) come from branch switching at the n = 1 branch",
+           "point; their stability is the cosine block's (as before) and the sine block's, from which the",
+           "multiplier 1 of the group orbit (the standing wave turned) is removed. Rotating waves repeat",
+           "after one period turned by a drift angle, y(T) = R(drift) y(0): they are continued in (state,",
+           "drift, Omega) from the first n = 3 Neimark-Sacker point, with a phase condition fixing the",
+           "rotation, and their multipliers are those of the map in the turning frame without the group",
+           "orbit's.", ""]
+    ds = _open(results, "validation/waves-fig14a")
+    if ds is None:
+        return out + _missing("validation/waves-fig14a")
+    b = _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
+    omega = b.switched_Omega.values.ravel()
+    m = int(np.isfinite(omega).sum())
+    coords = b.switched_modal_coordinate.values.reshape(-1, b.sizes["switched_mode"])[:m]
+    family = b.switched_mode_n.values.ravel() > 0
+    odd, neutral = b.switched_odd_multiplier_modulus.values.ravel()[:m], b.switched_neutral_multiplier.values.ravel()[:m]
+    even, stable = b.switched_multiplier_modulus.values.ravel()[:m], b.switched_stable_o2.values.ravel()[:m]
+    size = np.sqrt((coords[:, family] ** 2).sum(axis=1))
+    out += ["### Standing waves at the n = 1 branch point", "",
+            f"Every tenth of the {m} points (the first is the branch point, where the group orbit is a point):", "",
+            "| Omega (rad/s) | asymmetric amplitude (m) | largest multiplier, cosine block | sine block, group "
+            "orbit's removed | group orbit's multiplier - 1 | stable (O(2)) |", "|---|---|---|---|---|---|"]
+    asym = b.switched_asymmetric_amplitude.values.ravel()[:m]
+    for k in list(range(0, m, 10)) + ([m - 1] if (m - 1) % 10 else []):
+        out.append(f"| {omega[k]:.4f} | {asym[k]:.4f} | {even[k]:.5f} | {odd[k]:.5f} | {neutral[k] - 1:+.1e} | "
+                   f"{'yes' if stable[k] == 1 else 'no'} |")
+    after = slice(1, m)
+    out += ["", f"Past the branch point the standing waves are stable in the O(2) ROM at {int((stable[after] == 1).sum())} "
+            f"of {m - 1} points: the sine block's largest multiplier is at most {np.nanmax(odd[after]):.5f}, so no",
+            "perturbation turns them into travelling waves; the group orbit's multiplier is 1 within "
+            f"{np.nanmax(np.abs(neutral[after] - 1)):.1e}.", ""]
+    if "switched_check_drift" in b:
+        check = float(b.switched_check_Omega)
+        drift, dspread = float(b.switched_check_drift), float(b.switched_check_drift_spread)
+        wave, wspread = float(b.switched_check_wave_amplitude), float(b.switched_check_wave_spread)
+        k = int(np.argmin(np.abs(omega[:m] - check)))
+        periods = _job_option(results, "validation/waves-fig14a", "branch_switching", "periods")
+        out += [f"Time integration ({periods} periods) from the last standing wave, Omega = {check:.4f} rad/s, with a",
+                "perturbation of 1 % of its size in the sine companions, across the group orbit: over the last tenth the",
+                f"pattern turns by {drift:+.2e} rad per period (range {dspread:.1e}) and its size on the section is "
+                f"{wave:.5f} m (range {wspread:.1e} of it) against the standing wave's {size[k]:.5f} m: it settles to "
+                f"{_wave_kind(drift, wspread)}, as the multipliers say.", ""]
+    out += _rotating_waves(b, results)
+    return out
+
+
+def _job_option(results: Path, name: str, key: str, field: str):
+    """A field of an inline table of ``[continuation]`` in the job text the result file
+    ``name`` was run with."""
+    import tomllib
+
+    return tomllib.loads(run_attributes(results / f"{name}.nc")["job_file"])["continuation"][key][field]
+
+
+def _rotating_waves(b, results: Path) -> list[str]:
+    out = ["### Rotating waves at the n = 3 Neimark-Sacker point", ""]
+    omega = b.rotating_Omega.values.ravel()
+    m = int(np.isfinite(omega).sum())
+    if m == 0:
+        return out + ["*No n = 3 Neimark-Sacker point on the branch.*", ""]
+    wave, drift = b.rotating_wave_amplitude.values.ravel()[:m], b.rotating_drift.values.ravel()[:m]
+    mod, neutral = b.rotating_multiplier_modulus.values.ravel()[:m], b.rotating_neutral_multiplier.values.ravel()[:m]
+    stable = b.rotating_stable.values.ravel()[:m]
+    j = list(b.family.values).index(3)
+    branch_omega = b.Omega.values.ravel()
+    n = int(np.isfinite(branch_omega).sum())
+    modulus = b.family_multiplier_modulus.values.reshape(-1, b.sizes["family"])[:n, j]
+    intervals = unstable_intervals(branch_omega[:n], modulus)
+    first = min(intervals, key=lambda ab: min(abs(ab[0] - omega[0]), abs(ab[1] - omega[0])))
+    lo, hi = min(first), max(first)
+    step = max(m // 12, 1)
+    out += [f"The axisymmetric response is unstable to n = 3 from {lo:.4f} to {hi:.4f} rad/s. From the",
+            f"Neimark-Sacker point at {omega[0]:.4f} rad/s, every {step}th of the {m} points of the rotating waves:", "",
+            "| Omega (rad/s) | wave size on the section (m) | drift (rad/period) | largest multiplier, turning frame | "
+            "group orbit's multiplier - 1 | stable |", "|---|---|---|---|---|---|"]
+    for k in list(range(0, m, step)) + ([m - 1] if (m - 1) % step else []):
+        out.append(f"| {omega[k]:.4f} | {wave[k]:.5f} | {drift[k]:+.5f} | {mod[k]:.5f} | {neutral[k] - 1:+.1e} | "
+                   f"{'yes' if stable[k] == 1 else 'no'} |")
+    d = omega[2:7] - omega[0]
+    ratio = wave[2:7] ** 2 / d
+    beyond = omega > hi
+    ns = int(np.argmin(np.abs(branch_omega[:n] - omega[0])))
+    shape = (b.sizes["point"], b.sizes["family"], -1)
+    mu = b.family_multiplier_real.values.reshape(shape)[ns, j] + 1j * b.family_multiplier_imag.values.reshape(shape)[ns, j]
+    upper = mu[mu.imag > 0]
+    theta = float(np.angle(upper[np.argmin(np.abs(np.abs(upper) - 1.0))]))
+    out += ["", f"Near the point the wave size grows like sqrt(Omega - Omega_NS) (wave^2 / (Omega - Omega_NS) over "
+            f"the second to sixth points: {ratio.min():.4e} .. {ratio.max():.4e} m^2 s/rad), on the side where the",
+            "axisymmetric response is unstable: a supercritical bifurcation. The n = 3 block's critical multiplier at "
+            f"the point (continuation) has the angle {theta:.5f} rad, so -theta/3 = {-theta / 3:+.5f} rad per period; "
+            f"the rotating waves' drift at their second point is {drift[1]:+.5f}. The rotating waves are stable at "
+            f"{int((stable[1:] == 1).sum())} of {m - 1} points (largest multiplier {np.nanmax(mod[1:]):.5f}), "
+            f"and {int(beyond.sum())} of them lie beyond {hi:.4f} rad/s, where the axisymmetric response is stable "
+            "again: there the two coexist.", ""]
+    if "rotating_check_drift" in b:
+        check = float(b.rotating_check_Omega)
+        k = int(np.argmin(np.abs(omega - check)))
+        c_drift, c_dspread = float(b.rotating_check_drift), float(b.rotating_check_drift_spread)
+        c_wave, c_wspread = float(b.rotating_check_wave_amplitude), float(b.rotating_check_wave_spread)
+        periods = _job_option(results, "validation/waves-fig14a", "rotating_waves", "periods")
+        out += [f"Time integration ({periods} periods) at Omega = {check:.4f} rad/s from the unstable axisymmetric "
+                "response with a standing n = 3 perturbation (cosine coordinates 1e-4 m, a thousandth of that in the "
+                f"sine ones): over the last tenth the pattern turns by {c_drift:+.5f} rad per period (range "
+                f"{c_dspread:.1e}; the rotating wave there: {drift[k]:+.5f}, its mirror image {-drift[k]:+.5f}) at a "
+                f"size of {c_wave:.5f} m (range {c_wspread:.1e} of it; the rotating wave: {wave[k]:.5f} m). The "
+                f"standing perturbation settles to {_wave_kind(c_drift, c_wspread)}: of the two kinds born at the "
+                "Neimark-Sacker point, the rotating waves are the stable one, the standing waves (a torus of the "
+                "map, not continued here) the unstable one.", ""]
+    return out
+
+
 #: Largest asymmetric coordinate over the axisymmetric one for a response called axisymmetric:
 #: the diagram's perturbation (1e-6 m) decays on a stable axisymmetric orbit to far below it.
 AXISYMMETRIC_SHARE = 1e-4
@@ -1540,7 +1674,7 @@ SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_mo
             section_backbone_modes, section_backbone_limits, section_full_backbone,
             section_continuation_bruteforce, section_forced_modes, section_full_forced, section_full_families,
             section_cusp,
-            section_families, section_tongues, section_family_orbit, section_full_fig14a, section_full_fig14a_light,
+            section_families, section_waves, section_tongues, section_family_orbit, section_full_fig14a, section_full_fig14a_light,
             section_bruteforce_diagram, section_basins,
             section_basins_modes)
 

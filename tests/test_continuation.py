@@ -146,6 +146,24 @@ MEMBRANE = Membrane()
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": [2, 4]},
       "branch_switching": {"max_points": 10}}, GRID,
      "continuation.branch_switching = {'max_points': 10} is invalid: needs one radial count in continuation.families"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "rotating_waves": {"max_points": 10, "n": 1}}, GRID,
+     "continuation.rotating_waves = {'max_points': 10, 'n': 1} is invalid: needs continuation.families"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
+      "rotating_waves": {"max_points": 10}}, GRID,
+     "continuation.rotating_waves = {'max_points': 10} is invalid: needs n, the wave number of the family"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
+      "rotating_waves": {"max_points": 10, "n": 3}}, GRID,
+     "continuation.rotating_waves.n = 3 is invalid: must be one of the families' wave numbers [1]"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
+      "branch_switching": {"max_points": 10, "periods": 5}}, GRID,
+     "continuation.branch_switching.periods = 5 is invalid: must be 0 (no time integration) or at least 20"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
+      "rotating_waves": {"max_points": 10, "n": 1, "speed": 2}}, GRID,
+     "is invalid: must be a table {max_points = N, n = wave number, periods = P} (periods optional)"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": [2, 4]},
+      "rotating_waves": {"max_points": 10, "n": 1}}, GRID,
+     "continuation.rotating_waves = {'max_points': 10, 'n': 1} is invalid: needs one radial count in "
+     "continuation.families"),
 ])
 def test_option_errors_name_key_value_and_rule(table, grid, message):
     with pytest.raises(JobError) as err:

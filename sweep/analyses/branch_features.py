@@ -14,10 +14,11 @@ continued branch (:meth:`BranchFeature.compute`), starting from the declared bla
   (``bifurcation_curves``, :func:`model.codim2.continue_curve`);
 * :data:`FAMILY_CHECK` -- time integration of the mixed ROMs against the families'
   multipliers (``family_check``, :func:`model.families.perturbation_growth`);
-* :data:`BRANCH_SWITCHING` -- the asymmetric branch born at a branch point
-  (``branch_switching``, :func:`model.switching.follow_bifurcated_branch`);
 * :data:`TONGUES` -- the families' parametric thresholds at every point, measured and by
   first-order averaging (``tongues``, :func:`model.tongues.family_tongue`).
+
+The standing waves of branch switching and the rotating waves are in
+:mod:`sweep.analyses.wave_features`.
 
 The outputs are described in the docstring of :mod:`sweep.analyses.continuation`.
 """
@@ -31,11 +32,11 @@ from typing import Any
 import numpy as np
 
 from model.codim2 import continue_curve, continue_folds
-from model.continuation import BRANCH_POINT, KIND_NAMES, resonant_end
+from model.continuation import KIND_NAMES, resonant_end
 from model.families import build_family, perturbation_growth, symmetry_blocks
 from model.prestretch import solve_prestretch
 from model.rom import build_rom
-from model.switching import follow_bifurcated_branch, mixed_rom
+from model.switching import mixed_rom
 from model.tongues import family_tongue
 
 from . import options as opt
@@ -53,7 +54,7 @@ MAX_CURVES = 16
 MAX_CHECKS = 16
 
 
-def _kind_attrs() -> dict:
+def kind_attrs() -> dict:
     return {"flag_values": np.arange(-1, len(KIND_NAMES), dtype=np.int8),
             "flag_meanings": "padding " + " ".join(KIND_NAMES)}
 
@@ -272,7 +273,7 @@ class BifurcationCurves(BranchFeature):
             Variable(f"curve_{p}", cp, (MAX_CURVES, n), "f8", GRID_KEYS[p][0], f"{p} along the curve"),
             Variable("curve_amplitude", cp, (MAX_CURVES, n), "f8", "m", "amplitude along the curve"),
             Variable("curve_kind", ("curve",), (MAX_CURVES,), "i1", "1", "kind of the bifurcation points of the curve",
-                     -1, _kind_attrs()),
+                     -1, kind_attrs()),
             Variable("curve_family", ("curve",), (MAX_CURVES,), "i2", "1",
                      "wave number n of the block of the curve (0: axisymmetric)", -1),
         ]
@@ -412,88 +413,6 @@ class FamilyCheck(BranchFeature):
         return out, "; ".join(problems)
 
 
-def switching_option(table, section, families) -> tuple[int, int]:
-    """The ``branch_switching = {max_points = N, n = wave number}`` option: ``(N, n)`` (n = 0:
-    the first branch point of any family), or ``(0, 0)`` without it."""
-    value = table.get("branch_switching")
-    if value is None:
-        return 0, 0
-    key = f"{section}.branch_switching"
-    if not isinstance(value, dict) or not {"max_points"} <= set(value) <= {"max_points", "n"}:
-        raise JobError(key, value, "must be a table {max_points = N} or {max_points = N, n = wave number}")
-    if families is None:
-        raise JobError(key, value, "needs continuation.families (branch points are found in the families)")
-    n = opt.number(value, key, "n", 0, integer=True, low=0)
-    if n and n not in families[0]:
-        raise JobError(f"{key}.n", n, f"must be one of the families' wave numbers {list(families[0])}")
-    return opt.number(value, key, "max_points", integer=True, low=2, high=10_000), n
-
-
-class BranchSwitching(BranchFeature):
-    """``branch_switching``: the asymmetric branch at the first branch point of a family."""
-
-    def enabled(self, options):
-        return bool(options.switch_points)
-
-    def variables(self, options):
-        if not self.enabled(options):
-            return []
-        n, p, sp = options.switch_points, options.parameter, ("switched_point",)
-        K = len(options.modes) + options.families[1]
-        return [
-            Variable(f"switched_{p}", sp, (n,), "f8", GRID_KEYS[p][0],
-                     f"{p} along the asymmetric branch bifurcating at the first branch point"),
-            Variable("switched_amplitude", sp, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)|"),
-            Variable("switched_asymmetric_amplitude", sp, (n,), "f8", "m",
-                     "max over one period of the asymmetric part of w(0.5 Re, 0, t)"),
-            Variable("switched_stable", sp, (n,), "i1", "1", "stability within the ROM of the axisymmetric and "
-                     "the family's cosine modes", -1,
-                     {"flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "padding unstable stable"}),
-            Variable("switched_point_type", sp, (n,), "i1", "1", "kind of point on the asymmetric branch", -1,
-                     _kind_attrs()),
-            Variable("switched_multiplier_modulus", sp, (n,), "f8", "1", "largest Floquet multiplier modulus"),
-            Variable("switched_modal_coordinate", ("switched_point", "switched_mode"), (n, K), "f8", "m",
-                     "modal coordinates on the stroboscopic section (modes: switched_mode_m, switched_mode_n)"),
-            Variable("switched_mode_m", ("switched_mode",), (K,), "i4", "1", "radial index m of the switched ROM's modes",
-                     -1),
-            Variable("switched_mode_n", ("switched_mode",), (K,), "i4", "1", "wave number n of the switched ROM's modes",
-                     -1),
-        ]
-
-    def coords(self, options):
-        if not self.enabled(options):
-            return {}
-        return {"switched_point": (("switched_point",), np.arange(options.switch_points, dtype=np.int32),
-                                   {"long_name": "index along the switched (asymmetric) branch", "units": "1"})}
-
-    def compute(self, ctx):
-        """"" as the problem also when the branch has no branch point of a family."""
-        options, br, fmap = ctx.options, ctx.branch, ctx.fmap
-        out = blank_outputs(self.variables(options))
-        n, p, K = options.switch_points, options.parameter, len(options.modes) + options.families[1]
-        bps = [i for i in np.flatnonzero(br.kind == BRANCH_POINT)
-               if br.family[i] > 0 and options.switch_family in (0, br.family[i])]
-        if not bps:
-            return out, ""
-        i = bps[0]
-        family = next(f for f in ctx.families if f.n == br.family[i])
-        try:
-            sw, fmap_mixed, asym = follow_bifurcated_branch(fmap, family, p, options.start, options.stop,
-                                                            br.state[i], br.value[i], ds_max=options.ds_max,
-                                                            max_points=n)
-        except (RuntimeError, ArithmeticError, np.linalg.LinAlgError) as exc:
-            return out, f"branch switching at {p} = {br.value[i]:.9g}: {type(exc).__name__}: {exc}"
-        m = sw.value.size
-        out[f"switched_{p}"][:m], out["switched_amplitude"][:m] = sw.value, sw.amplitude
-        out["switched_asymmetric_amplitude"][:m], out["switched_stable"][:m] = asym, sw.stable
-        out["switched_point_type"][:m] = sw.kind
-        out["switched_multiplier_modulus"][:m] = np.abs(sw.multipliers).max(axis=1)
-        out["switched_modal_coordinate"][:m] = sw.state[:, :K]
-        modes = np.array(fmap_mixed.rom.modes, dtype=np.int32)
-        out["switched_mode_m"], out["switched_mode_n"] = modes[:, 0], modes[:, 1]
-        return out, "" if sw.complete or m >= n else f"switched branch: {sw.message}"
-
-
 def tongues_option(table, section) -> bool:
     """The ``tongues = true`` option (needs ``families``)."""
     tongues = opt.flag(table, section, "tongues", False)
@@ -570,7 +489,7 @@ FAMILIES = Families()
 FOLD_CURVE = FoldCurve()
 BIFURCATION_CURVES = BifurcationCurves()
 FAMILY_CHECK = FamilyCheck()
-BRANCH_SWITCHING = BranchSwitching()
 TONGUES = Tongues()
-#: The features in the order of their outputs and of their computation.
-FEATURES = (FAMILIES, FOLD_CURVE, BIFURCATION_CURVES, FAMILY_CHECK, BRANCH_SWITCHING, TONGUES)
+#: These features in the order of their outputs and of their computation (the standing and
+#: rotating waves are in :mod:`sweep.analyses.wave_features`).
+BRANCH_FEATURES = (FAMILIES, FOLD_CURVE, BIFURCATION_CURVES, FAMILY_CHECK, TONGUES)

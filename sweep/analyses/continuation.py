@@ -44,14 +44,32 @@ the Floquet multipliers of each family's block (:mod:`model.families`) along the
 (``point``, ``family``, ``family_multiplier``), and ``point_family`` (``point``): the wave
 number of the block of a located point (0 for the axisymmetric block).
 
-Branch switching (``branch_switching = {max_points = N, n = 1}``, with ``families``): at the
-first branch point of family n (of any family without ``n``) the asymmetric branch is followed (:mod:`model.switching`) for at
-most N points; outputs over ``switched_point``: ``switched_<parameter>``,
-``switched_amplitude``, ``switched_asymmetric_amplitude`` (the family's part of
-``w(0.5 Re, 0)``), ``switched_stable``, ``switched_point_type``,
-``switched_multiplier_modulus``, and ``switched_modal_coordinate`` with the modes
-``switched_mode_m``/``switched_mode_n``.  Reaching N points is not a failure: the branch
-is followed as far as asked.
+Branch switching (``branch_switching = {max_points = N, n = 1, periods = P}``, with
+``families``): at the first branch point of family n (of any family without ``n``) the
+asymmetric branch, of standing waves, is followed (:mod:`model.switching`) for at most N points;
+outputs over ``switched_point``: ``switched_<parameter>``, ``switched_amplitude``,
+``switched_asymmetric_amplitude`` (the family's part of ``w(0.5 Re, 0)``), ``switched_stable``
+(within the cosine modes), ``switched_point_type``, ``switched_multiplier_modulus``, the
+stability with the family's sine companions added (:mod:`model.waves`):
+``switched_odd_multiplier_modulus``, ``switched_neutral_multiplier`` (the group orbit's, 1)
+and ``switched_stable_o2``, and ``switched_modal_coordinate`` with the modes
+``switched_mode_m``/``switched_mode_n``.  With ``periods``, a time integration from the last
+standing wave with a small perturbation in the sine companions: ``switched_check_<parameter>``,
+``switched_check_drift`` (rad per period), ``switched_check_drift_spread``,
+``switched_check_wave_amplitude`` (m) and ``switched_check_wave_spread``
+(:func:`model.waves.wave_motion`).  Reaching N points is not a failure: the branch is
+followed as far as asked.
+
+Rotating waves (``rotating_waves = {max_points = N, n = 3, periods = P}``, with ``families``):
+at the first Neimark-Sacker point of family n the rotating waves (:func:`model.waves.continue_rotating_waves`)
+for at most N points, over ``rotating_point``: ``rotating_<parameter>``, ``rotating_amplitude``,
+``rotating_wave_amplitude`` (m), ``rotating_drift`` (rad per period), ``rotating_stable``,
+``rotating_multiplier_modulus``, ``rotating_neutral_multiplier`` and
+``rotating_modal_coordinate`` with ``rotating_mode_m``/``rotating_mode_n`` (the sine companions
+with negative n).  With ``periods``, a time integration from the axisymmetric response at the
+rotating wave nearest the middle of the family's unstable interval (where the axisymmetric
+response is unstable), perturbed towards a standing wave: ``rotating_check_*`` as for
+branch switching.
 
 Brute-force check (``family_check = {values = [40, 44], periods = 100, saturate = 0}``, with
 ``families``): at the resonant responses (the stretch from ``start`` to the first
@@ -117,8 +135,12 @@ from sweep.models.rom import rom_for
 from . import options as opt
 from .base import (DEFAULT_CONTEXT, GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
                    blank_outputs, check_keys)
-from .branch_features import (FEATURES, BranchContext, by_symmetry, curves_option, family_check_option, family_radials,
-                              second_parameter, switching_option, tongues_option)
+from .branch_features import (BRANCH_FEATURES, BranchContext, by_symmetry, curves_option, family_check_option,
+                              family_radials, second_parameter, tongues_option)
+from .wave_features import WAVE_FEATURES, rotating_option, switching_option
+
+#: The optional features, in the order of their outputs and of their computation.
+FEATURES = BRANCH_FEATURES + WAVE_FEATURES
 
 #: Length of the ``fold`` dimension: the first saddle-nodes of a branch (``n_folds`` counts
 #: them all; ``point_type`` marks every one). The full model's Fig. 15a branch has 8.
@@ -142,11 +164,15 @@ class ContinuationOptions:
     bifurcation_curves: tuple[str, float, float] | None = None
     switch_points: int = 0
     switch_family: int = 0
+    #: periods of the time integration from a perturbed standing wave (0: none)
+    switch_periods: int = 0
     check: tuple[tuple[float, ...], int, int] | None = None
     #: the families' parametric thresholds at every point (``tongues = true``)
     tongues: bool = False
     #: the job's material law (``[membrane] law``): the warmups compile its kernels
     material: str = "neo-hookean"
+    #: ``rotating_waves``: (max_points, wave number, periods of the check); (0, 0, 0) without
+    rotating: tuple[int, int, int] = (0, 0, 0)
 
 
 #: Arclength (scaled unknowns: the parameter range is 1, 0.05 m of displacement is 1) that
@@ -182,10 +208,18 @@ class ContinuationAnalysis(Analysis):
                               "points, period doublings, Neimark-Sacker points) in a second parameter (a damping "
                               "constant, delta, or the forcing parameter not continued) from its grid value to "
                               "start and to stop (default none)",
-        "branch_switching": "{max_points = N, n = wave number}: at the first branch point of family n (of any "
-                            "family without n) on the branch, switch onto the bifurcating asymmetric branch and "
-                            "follow it for at most N points in the ROM of the axisymmetric modes plus the "
-                            "family's (needs families; default none)",
+        "branch_switching": "{max_points = N, n = wave number, periods = P}: at the first branch point of family n "
+                            "(of any family without n) on the branch, switch onto the bifurcating asymmetric branch "
+                            "(standing waves) and follow it for at most N points in the ROM of the axisymmetric "
+                            "modes plus the family's cosine modes; its stability also with the sine companions "
+                            "(O(2)); with P >= 20, P periods of time integration from the last standing wave with a "
+                            "small perturbation in the sine companions (needs families; default none)",
+        "rotating_waves": "{max_points = N, n = wave number, periods = P}: at the first Neimark-Sacker point of "
+                          "family n on the branch, follow the rotating waves (periodic in a turning frame) for at "
+                          "most N points in the ROM of the axisymmetric modes plus the family's cosine and sine "
+                          "modes, with their drift per period and stability; with P >= 20, P periods of time "
+                          "integration from the axisymmetric response at the one nearest the middle of the "
+                          "family's unstable interval, perturbed towards a standing wave (needs families; default none)",
         "family_check": "{values = [..], periods = 100, saturate = 0}: brute-force check of the families' "
                         "stability at the resonant responses nearest these parameter values: growth per period of "
                         "a small asymmetric perturbation in the nonlinear mixed ROM (axisymmetric + family modes, "
@@ -214,14 +248,14 @@ class ContinuationAnalysis(Analysis):
         if start == stop:
             raise JobError(f"{s}.stop", stop, "must differ from continuation.start")
         modes = opt.modes(table, s)
-        opt.rom_only(table, s, context.model, ("branch_switching", "family_check", "tongues"))
+        opt.rom_only(table, s, context.model, ("branch_switching", "rotating_waves", "family_check", "tongues"))
         if "families" in table and not context.model.model().provides("families"):
             raise JobError(f"{s}.families", table["families"], f"needs a model with asymmetric families; this "
                            f"job's model is {context.model.kind!r} ([model] kind)")
         families = opt.families(table, s, modes, context.model)
         opt.model_modes(s, context.model, modes)
         if families is not None and isinstance(families[1], tuple):  # a study in the radial modes
-            for key in ("branch_switching", "family_check", "bifurcation_curves"):
+            for key in ("branch_switching", "rotating_waves", "family_check", "bifurcation_curves"):
                 if key in table:
                     raise JobError(f"{s}.{key}", table[key], "needs one radial count in continuation.families "
                                    "(radial = M), not a list")
@@ -239,7 +273,8 @@ class ContinuationAnalysis(Analysis):
             opt.steps(table, s, DEFAULT_STEPS, low=16),
             second_parameter(table, s, parameter, context.damping), families,
             curves, *switching_option(table, s, families),
-            family_check_option(table, s), tongues_option(table, s), membrane.law)
+            family_check_option(table, s), tongues_option(table, s), membrane.law,
+            rotating_option(table, s, families))
 
     def variables(self, options):
         return [v for feature in FEATURES for v in feature.variables(options)] + self._branch_variables(options)
