@@ -158,6 +158,14 @@ def _collect(args: argparse.Namespace) -> int:
     return EXIT_TASKS_FAILED if report.failed else 0
 
 
+def _export(args: argparse.Namespace) -> int:
+    from sweep.export import export_fe
+
+    for path in export_fe(args.job, args.output):
+        print(f"wrote {path}")
+    return 0
+
+
 def _figures(args: argparse.Namespace) -> int:
     import matplotlib
 
@@ -255,6 +263,12 @@ def build_parser() -> argparse.ArgumentParser:
     figures.add_argument("--dpi", type=float, help="resolution of raster output (default 120; basins 150)")
     figures.add_argument("--style", help="a matplotlib style name or .mplstyle file, on top of the house style")
     figures.set_defaults(handler=_figures)
+
+    export = commands.add_parser("export", help="the 2-D FE check's mesh, pre-stretch and mode shapes as .vtu "
+                                                "files (ParaView), one per grid point of a linear fe2d job")
+    export.add_argument("job", help="job file (TOML): analysis linear, [model] kind = \"fe2d\"")
+    export.add_argument("-o", "--output", default="export", help="directory for the files (default: export)")
+    export.set_defaults(handler=_export)
     return parser
 
 
