@@ -125,7 +125,10 @@ def free_orbit(free: FreeVibration, amplitude: float, q_guess, quarter_guess: fl
         if not (np.all(np.isfinite(q0)) and np.isfinite(tau) and tau > 0.0):
             break
         y0[:K] = q0
-        yq, phi = free.flow(y0, tau, steps)
+        try:
+            yq, phi = free.flow(y0, tau, steps)
+        except np.linalg.LinAlgError:  # an iterate gone astray (model.full.free.MAX_FLOW_STEPS)
+            break
         rate = yq[K:] if odd.all() else np.concatenate([yq[K:], free.acceleration(yq[:K], yq[K:])])
         res[:K] = yq[rows]
         res[K] = probe @ q0 + amplitude

@@ -23,23 +23,18 @@ within a few standard errors of zero; a positive one (chaos) grows out of them.
 The kind of the response (:func:`classify`), in this order:
 
 * ``diverged``: a state that is not finite (an escape);
+* ``periodic`` of least period ``k <= max_period``: the last points recur after ``k`` periods
+  within ``recurrence`` of the response's size, Newton on ``P^k(y) = y`` from the last point
+  (:func:`model.attractors.find_periodic_orbit`) converges to a stable orbit, and the run
+  approaches it (its last point is nearer to the orbit than its first, or within 1e-6 of
+  the size): a light damping leaves a transient long after the transient periods, and the
+  orbit it tends to is what is reported;
 * ``chaotic``: ``lambda_1`` above zero by more than its resolution, the larger of ``sigmas``
   standard errors and ``0.1 / (N T)`` (an exponent below the latter changes a tangent
   vector's length by less than 10 % over the whole run: the run cannot tell it from zero);
 * ``quasi_periodic``: ``|lambda_1|`` within its resolution, with its rotation number;
-* ``periodic`` of least period ``k <= max_period`` (only when ``lambda_1`` is below zero by
-  more than its resolution: a run on a stable periodic orbit contracts in every direction):
-  the last points recur after ``k`` periods within ``recurrence`` of the response's size,
-  Newton on ``P^k(y) = y`` from the last point (:func:`model.attractors.find_periodic_orbit`)
-  converges to a stable orbit, and the run approaches it (its last point is nearer to the
-  orbit than its first, or within 1e-6 of the size): a light damping leaves a transient long
-  after the transient periods, and the orbit it tends to is what is reported;
 * ``unsettled``: ``lambda_1`` below zero by more than its resolution, yet no periodic
   orbit found: a transient slower than the run (raise the transient).
-
-The exponent decides first because it is cheap (the run computed it) and the periodic search
-is not: on a quasi-periodic response whose asymmetric part is small against its size the
-recurrence test passes at every ``k`` and Newton on ``P^k`` would be tried for each.
 """
 
 from __future__ import annotations
@@ -192,12 +187,6 @@ def classify(fmap: StroboscopicMap, record: LyapunovRecord, max_period: int = 16
     if not record.finite:
         return Classification(DIVERGED, 0, np.nan)
     scale = fmap.state_scale()
-    lam = float(record.exponents[0])
-    resolution = max(sigmas * float(record.standard_error[0]), 0.1 / (record.points.shape[0] * record.period))
-    if lam > resolution:
-        return Classification(CHAOTIC, 0, np.nan)
-    if lam >= -resolution:
-        return Classification(QUASI_PERIODIC, 0, rotation_number(record.points, scale))
     z = record.points * scale
     size = float(np.max(np.linalg.norm(z, axis=1)))
     last = z[-(max_period + 1):]
@@ -208,6 +197,12 @@ def classify(fmap: StroboscopicMap, record: LyapunovRecord, max_period: int = 16
         orbit = find_periodic_orbit(record.points[-1], k, fmap, scale, tol=1e-10 * max(size, 1e-12))
         if orbit is not None and np.all(np.abs(orbit.multipliers) < 1.0) and _approaches(z, orbit.points * scale):
             return Classification(PERIODIC, k, np.nan)
+    lam = float(record.exponents[0])
+    resolution = max(sigmas * float(record.standard_error[0]), 0.1 / (record.points.shape[0] * record.period))
+    if lam > resolution:
+        return Classification(CHAOTIC, 0, np.nan)
+    if lam >= -resolution:
+        return Classification(QUASI_PERIODIC, 0, rotation_number(record.points, scale))
     return Classification(UNSETTLED, 0, np.nan)
 
 

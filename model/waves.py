@@ -25,10 +25,11 @@ and Groups in Bifurcation Theory II*, ch. XVII):
   ``y -> R_{-phi} P(y)`` with the drift ``phi`` an unknown.  At a Neimark-Sacker point of
   family ``n`` on an axisymmetric branch (the family's multipliers ``exp(+-i theta)``, twice:
   once for the cosine and once for the sine modes) a branch of them bifurcates with the drift
-  ``-theta / n`` per period, together with a torus of standing waves; generically only one
-  of the two kinds is stable.  :func:`continue_rotating_waves` follows them by
+  ``-theta / n`` per period, together with a torus of standing waves; at most one of the two
+  kinds is stable.  :func:`continue_rotating_waves` follows them by
   pseudo-arclength in ``(y, phi, parameter)`` with the phase condition
-  ``(G y_prev) . (y - y_prev) = 0`` that picks one member of each group orbit.
+  ``(G y_pred) . (y - y_pred) = 0`` at each predicted point ``y_pred`` (scaled
+  coordinates), which picks one member of each group orbit.
 """
 
 from __future__ import annotations
@@ -361,7 +362,7 @@ class WaveMotion:
     drift : float
         Mean angle (rad per forcing period) the pattern turns per period: ``-arg(z_{k+1} /
         z_k) / n`` with ``z = a - i b`` of the family's largest cosine/sine pair; the drift of
-        a rotating wave, 0 (or ``pi / n``) for a standing one.
+        a rotating wave, 0 for a periodic standing one (``+-pi / n`` for a standing one of period two).
     drift_spread : float
         Range of that angle over the samples (0 for a rotating or a standing wave).
     wave_amplitude : float
@@ -392,7 +393,9 @@ def wave_motion(fmap_o2: ForcedMap, y0, n: int, periods: int) -> WaveMotion:
         y = fmap_o2.advance(y)
         ab[k] = y[a_idx], y[b_idx]
     size = np.sqrt((ab ** 2).sum(axis=(1, 2)))
+    if not np.all(np.isfinite(size)) or size.min() == 0.0:
+        raise ArithmeticError("the pattern is not finite or vanished exactly: no drift to read")
     largest = int(np.argmax(np.abs(ab[-1, 0] - 1j * ab[-1, 1])))
     z = ab[:, 0, largest] - 1j * ab[:, 1, largest]
-    turn = -np.angle(z[1:] / z[:-1]) / n
+    turn = -np.angle(z[1:] * np.conj(z[:-1])) / n
     return WaveMotion(float(turn.mean()), float(np.ptp(turn)), float(size.mean()), float(np.ptp(size) / size.mean()))

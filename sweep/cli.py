@@ -174,23 +174,40 @@ def _figures(args: argparse.Namespace) -> int:
 
     from sweep import figures
 
-    out = Path(args.out)
-    if not out.exists():
-        raise RunError(f"{out} does not exist")
+    loaded = []
+    for name in args.out:
+        out = Path(name)
+        if not out.exists():
+            raise RunError(f"{out} does not exist")
+        try:
+            ds = xr.load_dataset(out, engine="netcdf4")
+        except (OSError, ValueError) as exc:
+            raise RunError(f"{out} is not a readable NetCDF result ({type(exc).__name__}); give the "
+                           "output file of a run (OUT.nc), not a job file") from None
+        if "analysis" not in ds.attrs:
+            raise RunError(f"{out} is not a membrane-sweep result (no analysis attribute)")
+        loaded.append(ds)
+    kinds = {ds.attrs["analysis"] for ds in loaded}
+    if len(kinds) > 1:
+        raise RunError(f"results of different analyses ({', '.join(sorted(kinds))}) cannot be drawn together")
+    analysis = analyses.get(loaded[0].attrs["analysis"])
+    options = dict(fmt=args.format, dpi=args.dpi, style=args.style)
     try:
-        ds = xr.load_dataset(out, engine="netcdf4")
-    except (OSError, ValueError) as exc:
-        raise RunError(f"{out} is not a readable NetCDF result ({type(exc).__name__}); give the "
-                       "output file of a run (OUT.nc), not a job file") from None
-    if "analysis" not in ds.attrs:
-        raise RunError(f"{out} is not a membrane-sweep result (no analysis attribute)")
-    analysis = analyses.get(ds.attrs["analysis"])
-    try:
-        paths = figures.draw(analysis, ds, Path(args.output), fmt=args.format, dpi=args.dpi, style=args.style)
+        # several results: each in a directory of its own (their figures share names)
+        stems = [Path(name).stem for name in args.out]
+        if len(loaded) > 1 and len(set(stems)) < len(stems):  # a/out.nc and b/out.nc
+            stems = [f"{k}-{stem}" for k, stem in enumerate(stems, 1)]
+        dirs = [Path(args.output) / stem if len(loaded) > 1 else Path(args.output) for stem in stems]
+        paths = [p for ds, where in zip(loaded, dirs) for p in figures.draw(analysis, ds, where, **options)]
+        if len(loaded) > 1:
+            together = figures.draw_comparison(analysis, loaded, Path(args.output), **options)
+            if not together:
+                print(f"analysis {analysis.name!r} has no figures of several results together")
+            paths += together
     except OSError as exc:
         raise RunError(f"cannot use the style {args.style!r} or write to {args.output}: {exc}") from None
     if not paths:
-        print(f"analysis {ds.attrs['analysis']!r} has no figures")
+        print(f"analysis {analysis.name!r} has no figures")
     for path in paths:
         print(path)
     return 0
@@ -254,8 +271,11 @@ def build_parser() -> argparse.ArgumentParser:
                          help="remove the lock of a run that no longer exists on another host")
     collect.set_defaults(handler=_collect)
 
-    figures = commands.add_parser("figures", help="standard plots of a result (PNG, PDF or SVG)")
-    figures.add_argument("out", help="NetCDF result")
+    figures = commands.add_parser("figures", help="standard plots of a result (PNG, PDF or SVG); of several "
+                                                  "results of one analysis, also their comparison")
+    figures.add_argument("out", nargs="+", help="NetCDF result(s); several: each drawn, and together where the "
+                                                "analysis compares (backbones across models), each result's own "
+                                                "figures then in OUTPUT/<file stem>/")
     figures.add_argument("-o", "--output", default="figures",
                          help="directory for the figure files (default: figures)")
     figures.add_argument("--format", choices=("png", "pdf", "svg"), default="png",

@@ -9,7 +9,8 @@ unstructured-grid file (``.vtu``, written with meshio) per grid point, on the me
   four linear triangles each (scikit-fem's ``refinterp``; the fields are exact at the points);
 * point data ``prestretch`` (m): the in-plane displacement of the pre-stretch;
 * point data ``W m=<m> n=<n>: <omega> rad/s`` and ``UV m=<m> n=<n>: <omega> rad/s`` for each
-  mode ``(m, n)`` of ``[linear] modes``: the transverse (``(0, 0, w)``) and in-plane
+  mode ``(m, n)`` of ``[linear] modes`` (a sine companion ``n < 0`` gets the shape the mesh's
+  eigensolver returns for ``|n|``, one of the degenerate pair): the transverse (``(0, 0, w)``) and in-plane
   (``(u_x, u_y, 0)``) mode shapes, scaled to a largest displacement of 1 (dimensionless:
   "Warp By Vector" in ParaView with a factor in metres draws them), their frequencies in their
   names (meshio's VTU writer keeps no field data).
@@ -49,7 +50,10 @@ def export_fe(job_path: str | Path, outdir: str | Path) -> list[Path]:
         membrane = point.membrane
         state = fe_prestretch_for(membrane, o.radial, o.circumferential, o.element, o.grading)
         count, n_max = max(m for m, _ in modes), max(abs(n) for _, n in modes)
-        fields = {kind: fe_modes(state, kind, count, n_max, o.mass) for kind in ("W", "UV")}
+        try:
+            fields = {kind: fe_modes(state, kind, count, n_max, o.mass) for kind in ("W", "UV")}
+        except ValueError as exc:
+            raise RunError(f"{job_path}: at {point.grid}: {exc}") from None
         scalar = state.mesh.basis(1)
         refined, _ = scalar.refinterp(np.zeros(scalar.N), nrefs=1)
         points = membrane.Re * np.column_stack([refined.p.T, np.zeros(refined.p.shape[1])])

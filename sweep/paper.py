@@ -29,7 +29,7 @@ from .launch import find_mpiexec
 PAPER_JOBS = (
     "table1", "table1-app1", "table1-app2", "table1-mooney-rivlin", "table1-gent", "table2", "tables-fe",
     "fig02-03-static", "fig04-06-frequencies",
-    "fig09-modes", "fig10-11-backbone", "fig12-inner-radius",
+    "fig08-inplane", "fig09-modes", "fig10-11-backbone", "fig10-full-backbone", "fig12-inner-radius",
     "fig13-resonance", "fig14-bifurcation-omega", "fig15-bifurcation-p0", "fig15-bruteforce", "fig15a-full",
     "fig14a-full",
     "fig16-17-damping", "fig17-cusp", "fig18-damping-resonance",
@@ -39,7 +39,7 @@ PAPER_JOBS = (
 #: Job files (``jobs/validation/<name>.toml``) of the checks in ``docs/validation.md`` beyond
 #: the paper: convergence in the basis, the modes and the RK4 steps, and brute-force checks.
 VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
-    "linear-basis", "full-static", "full-linear", "full-backbone", "full-backbone-order12", "backbone-modes", "fe-q1-576", "fe-q1-576-lumped",
+    "linear-basis", "full-static", "full-linear", "full-backbone-order12", "backbone-modes", "fe-q1-576", "fe-q1-576-lumped",
     "forced-modes-omega", "forced-modes-omega-fine", "forced-modes-p0", "forced-modes-p0-fine",
     "fig15a-full-order12", "fig15a-full-order12-fine", "fig15a-full-families", "fig15a-full-families-w",
     "fig15a-full-families-order12", "fig15a-full-families-fine", "fig15a-full-families-finer",

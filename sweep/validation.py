@@ -467,13 +467,44 @@ def section_families(results: Path) -> list[str]:
 #: Fig. 14a case drift by about 0.94 rad per period, and a settled response repeats to the
 #: integration's rounding, so both bounds are far from either kind.
 STANDING_DRIFT, STEADY_SIZE = 1e-3, 1e-3
+#: Size of a checked pattern, relative to the wave it is compared with, below which it has
+#: decayed back to the axisymmetric response.
+DECAYED = 1e-3
 
 
-def _wave_kind(drift: float, spread: float) -> str:
-    """What a time-integration check settled to, from its drift and the spread of its size."""
+def _wave_kind(drift: float, spread: float, size: float, reference: float) -> str:
+    """What a time-integration check settled to, from its drift, the spread of its size and
+    its size against the continued wave's."""
+    if size < DECAYED * reference:
+        return "the axisymmetric response (the pattern decayed)"
     if spread > STEADY_SIZE:
-        return "neither (its size still changes)"
+        return "neither kind (its size still changes)"
     return "a standing wave" if abs(drift) < STANDING_DRIFT else "a rotating wave"
+
+
+def _damping_factor(ds, b, omega):
+    """``exp(-alpha T)`` at ``omega`` (rad/s): the factor by which the viscous law's
+    mass-proportional damping shrinks every mode in a period (``alpha = c / (2 Gamma h)``)."""
+    alpha = float(b.c) / (2.0 * ds.attrs["membrane_Gamma"] * ds.attrs["membrane_h"])
+    return np.exp(-alpha * 2.0 * np.pi / np.asarray(omega))
+
+
+def _resonant_stretch(b):
+    """The axisymmetric branch from its start to its first saddle-node: Omega, the stable flag
+    and the largest multiplier modulus of each family."""
+    n = int(b.n_points)
+    omega, kind = b.Omega.values.ravel()[:n], b.point_type.values.ravel()[:n]
+    end = resonant_end(kind)
+    modulus = b.family_multiplier_modulus.values.reshape(b.sizes["point"], -1)[:end]
+    return omega[:end], b.stable.values.ravel()[:end], modulus
+
+
+def _unstable_families(b, values) -> list[list[int]]:
+    """Per parameter value, the families unstable at the nearest point of the resonant stretch."""
+    omega, _, modulus = _resonant_stretch(b)
+    families = b.family.values
+    return [[int(f) for f, mu in zip(families, modulus[int(np.argmin(np.abs(omega - v)))]) if mu > 1.0]
+            for v in values]
 
 
 def section_waves(results: Path) -> list[str]:
@@ -482,16 +513,20 @@ def section_waves(results: Path) -> list[str]:
     out = ["## Standing and rotating waves: the O(2) symmetry (Fig. 14a)", "",
            "The ROM (1,0) with the families n = 1 and n = 3 (two radial modes each) at delta = 1.1,",
            "delta_o = 0.2, P0 = 1 Pa, c = 0.05 N s/m^3 (`validation/waves-fig14a`; model/waves.py). The",
-           "asymmetric responses are computed in the ROM that carries the family's sine companions as well",
-           "as its cosine modes, which is symmetric under every rotation and the reflection (O(2)): a",
-           "rotation turns each (cosine, sine) pair of wave number n by n times its angle. Standing waves",
-           "(reflection-symmetric: sine coordinates zero) come from branch switching at the n = 1 branch",
+           "asymmetric responses are computed in the ROM of the axisymmetric mode and one family with its sine",
+           "companions as well as its cosine modes, which is symmetric under every rotation and the reflection",
+           "(O(2)): a rotation turns each (cosine, sine) pair of wave number n by n times its angle. Standing",
+           "waves (reflection-symmetric: sine coordinates zero) come from branch switching at the n = 1 branch",
            "point; their stability is the cosine block's (as before) and the sine block's, from which the",
-           "multiplier 1 of the group orbit (the standing wave turned) is removed. Rotating waves repeat",
-           "after one period turned by a drift angle, y(T) = R(drift) y(0): they are continued in (state,",
-           "drift, Omega) from the first n = 3 Neimark-Sacker point, with a phase condition fixing the",
-           "rotation, and their multipliers are those of the map in the turning frame without the group",
-           "orbit's.", ""]
+           "multiplier 1 of the group orbit (the standing wave turned) is removed. Rotating waves repeat after",
+           "one period turned by a drift angle, y(T) = R(drift) y(0): they are continued in (state, drift,",
+           "Omega) from the first n = 3 Neimark-Sacker point, with a phase condition fixing the rotation, and",
+           "their multipliers are those of the map in the turning frame without the group orbit's. Each ROM",
+           "carries one family: the stability below is against that family's perturbations (and the",
+           "axisymmetric mode's), not against the other family's. Under this viscous law every mode decays",
+           "by the same factor exp(-alpha T) per period (alpha = c / (2 Gamma h)), and the multiplier moduli",
+           "are shown over it: 1 means a perturbation decays at the damping's own rate; a wave is unstable where",
+           "the ratio exceeds exp(alpha T).", ""]
     ds = _open(results, "validation/waves-fig14a")
     if ds is None:
         return out + _missing("validation/waves-fig14a")
@@ -502,32 +537,41 @@ def section_waves(results: Path) -> list[str]:
     family = b.switched_mode_n.values.ravel() > 0
     odd, neutral = b.switched_odd_multiplier_modulus.values.ravel()[:m], b.switched_neutral_multiplier.values.ravel()[:m]
     even, stable = b.switched_multiplier_modulus.values.ravel()[:m], b.switched_stable_o2.values.ravel()[:m]
+    asym = b.switched_asymmetric_amplitude.values.ravel()[:m]
     size = np.sqrt((coords[:, family] ** 2).sum(axis=1))
+    decay = _damping_factor(ds, b, omega[:m])
     out += ["### Standing waves at the n = 1 branch point", "",
             f"Every tenth of the {m} points (the first is the branch point, where the group orbit is a point):", "",
-            "| Omega (rad/s) | asymmetric amplitude (m) | largest multiplier, cosine block | sine block, group "
-            "orbit's removed | group orbit's multiplier - 1 | stable (O(2)) |", "|---|---|---|---|---|---|"]
-    asym = b.switched_asymmetric_amplitude.values.ravel()[:m]
+            "| Omega (rad/s) | asymmetric amplitude (m) | largest multiplier / exp(-alpha T), cosine block | sine "
+            "block, group orbit's removed | group orbit's multiplier - 1 | stable (O(2), n = 1) |",
+            "|---|---|---|---|---|---|"]
     for k in list(range(0, m, 10)) + ([m - 1] if (m - 1) % 10 else []):
-        out.append(f"| {omega[k]:.4f} | {asym[k]:.4f} | {even[k]:.5f} | {odd[k]:.5f} | {neutral[k] - 1:+.1e} | "
-                   f"{'yes' if stable[k] == 1 else 'no'} |")
+        verdict = "branch point" if k == 0 else ("yes" if stable[k] == 1 else "no")
+        out.append(f"| {omega[k]:.4f} | {asym[k]:.4f} | {even[k] / decay[k]:.6f} | {odd[k] / decay[k]:.6f} | "
+                   f"{neutral[k] - 1:+.1e} | {verdict} |")
     after = slice(1, m)
-    out += ["", f"Past the branch point the standing waves are stable in the O(2) ROM at {int((stable[after] == 1).sum())} "
-            f"of {m - 1} points: the sine block's largest multiplier is at most {np.nanmax(odd[after]):.5f}, so no",
-            "perturbation turns them into travelling waves; the group orbit's multiplier is 1 within "
-            f"{np.nanmax(np.abs(neutral[after] - 1)):.1e}.", ""]
+    n3 = [k for k, fams in enumerate(_unstable_families(b, omega[:m])) if 3 in fams]
+    out += ["", f"exp(alpha T) is {1 / decay.max():.6f} to {1 / decay.min():.6f} on these points. Past the branch "
+            f"point the standing waves are stable against n = 1 perturbations, the sine",
+            f"companions' included, at {int((stable[after] == 1).sum())} of {m - 1} points: the sine block's largest "
+            f"multiplier is at most {np.nanmax(odd[after] / decay[after]):.6f} times the damping factor, and the",
+            f"group orbit's multiplier is 1 within {np.nanmax(np.abs(neutral[after] - 1)):.1e}. At {len(n3)} of the "
+            f"{m} points the axisymmetric response at the same Omega is also unstable to n = 3, which this ROM "
+            "does not carry: the standing waves' stability against n = 3 is not computed.", ""]
     if "switched_check_drift" in b:
         check = float(b.switched_check_Omega)
         drift, dspread = float(b.switched_check_drift), float(b.switched_check_drift_spread)
         wave, wspread = float(b.switched_check_wave_amplitude), float(b.switched_check_wave_spread)
         k = int(np.argmin(np.abs(omega[:m] - check)))
         periods = _job_option(results, "validation/waves-fig14a", "branch_switching", "periods")
+        kind = _wave_kind(drift, wspread, wave, size[k])
+        agrees = (kind == "a standing wave") == bool(stable[k] == 1)
         out += [f"Time integration ({periods} periods) from the last standing wave, Omega = {check:.4f} rad/s, with a",
-                "perturbation of 1 % of its size in the sine companions, across the group orbit: over the last tenth the",
+                "small perturbation of its sine coordinates that does not turn it as a whole: over the last tenth the",
                 f"pattern turns by {drift:+.2e} rad per period (range {dspread:.1e}) and its size on the section is "
                 f"{wave:.5f} m (range {wspread:.1e} of it) against the standing wave's {size[k]:.5f} m: it settles to "
-                f"{_wave_kind(drift, wspread)}, as the multipliers say.", ""]
-    out += _rotating_waves(b, results)
+                f"{kind}, {'as' if agrees else 'against what'} the multipliers say.", ""]
+    out += _rotating_waves(b, ds, results)
     return out
 
 
@@ -539,60 +583,75 @@ def _job_option(results: Path, name: str, key: str, field: str):
     return tomllib.loads(run_attributes(results / f"{name}.nc")["job_file"])["continuation"][key][field]
 
 
-def _rotating_waves(b, results: Path) -> list[str]:
+def _rotating_waves(b, ds, results: Path) -> list[str]:
     out = ["### Rotating waves at the n = 3 Neimark-Sacker point", ""]
     omega = b.rotating_Omega.values.ravel()
     m = int(np.isfinite(omega).sum())
-    if m == 0:
-        return out + ["*No n = 3 Neimark-Sacker point on the branch.*", ""]
+    if m < 7:
+        return out + [f"*{m} points of rotating waves: too few to describe.*", ""]
     wave, drift = b.rotating_wave_amplitude.values.ravel()[:m], b.rotating_drift.values.ravel()[:m]
     mod, neutral = b.rotating_multiplier_modulus.values.ravel()[:m], b.rotating_neutral_multiplier.values.ravel()[:m]
     stable = b.rotating_stable.values.ravel()[:m]
+    decay = _damping_factor(ds, b, omega)
     j = list(b.family.values).index(3)
-    branch_omega = b.Omega.values.ravel()
-    n = int(np.isfinite(branch_omega).sum())
-    modulus = b.family_multiplier_modulus.values.reshape(-1, b.sizes["family"])[:n, j]
-    intervals = unstable_intervals(branch_omega[:n], modulus)
+    stretch, _, modulus = _resonant_stretch(b)
+    intervals = unstable_intervals(stretch, modulus[:, j])
+    if not intervals:
+        return out + ["*The n = 3 family is not unstable on the resonant stretch.*", ""]
     first = min(intervals, key=lambda ab: min(abs(ab[0] - omega[0]), abs(ab[1] - omega[0])))
     lo, hi = min(first), max(first)
     step = max(m // 12, 1)
     out += [f"The axisymmetric response is unstable to n = 3 from {lo:.4f} to {hi:.4f} rad/s. From the",
             f"Neimark-Sacker point at {omega[0]:.4f} rad/s, every {step}th of the {m} points of the rotating waves:", "",
-            "| Omega (rad/s) | wave size on the section (m) | drift (rad/period) | largest multiplier, turning frame | "
-            "group orbit's multiplier - 1 | stable |", "|---|---|---|---|---|---|"]
+            "| Omega (rad/s) | wave size on the section (m) | drift (rad/period) | largest multiplier / exp(-alpha T), "
+            "turning frame | group orbit's multiplier - 1 | stable (O(2), n = 3) |", "|---|---|---|---|---|---|"]
     for k in list(range(0, m, step)) + ([m - 1] if (m - 1) % step else []):
-        out.append(f"| {omega[k]:.4f} | {wave[k]:.5f} | {drift[k]:+.5f} | {mod[k]:.5f} | {neutral[k] - 1:+.1e} | "
-                   f"{'yes' if stable[k] == 1 else 'no'} |")
-    d = omega[2:7] - omega[0]
-    ratio = wave[2:7] ** 2 / d
-    beyond = omega > hi
-    ns = int(np.argmin(np.abs(branch_omega[:n] - omega[0])))
-    shape = (b.sizes["point"], b.sizes["family"], -1)
-    mu = b.family_multiplier_real.values.reshape(shape)[ns, j] + 1j * b.family_multiplier_imag.values.reshape(shape)[ns, j]
+        verdict = "Neimark-Sacker point" if k == 0 else ("yes" if stable[k] == 1 else "no")
+        out.append(f"| {omega[k]:.4f} | {wave[k]:.5f} | {drift[k]:+.5f} | {mod[k] / decay[k]:.6f} | "
+                   f"{neutral[k] - 1:+.1e} | {verdict} |")
+    d = omega[1:6] - omega[0]
+    ratio = wave[1:6] ** 2 / d
+    inside = bool(np.all((omega[1:6] > lo) & (omega[1:6] < hi)))
+    kind = ("on the side where the axisymmetric response is unstable: a supercritical bifurcation" if inside else
+            "on the side where the axisymmetric response is stable: a subcritical bifurcation")
+    shape = (np.ptp(ratio) <= 0.1 * ratio.mean())
+    ns = int(np.argmin(np.abs(stretch - omega[0])))
+    shape_mu = (b.sizes["point"], b.sizes["family"], -1)
+    mu = (b.family_multiplier_real.values.reshape(shape_mu)[ns, j]
+          + 1j * b.family_multiplier_imag.values.reshape(shape_mu)[ns, j])
     upper = mu[mu.imag > 0]
     theta = float(np.angle(upper[np.argmin(np.abs(np.abs(upper) - 1.0))]))
-    out += ["", f"Near the point the wave size grows like sqrt(Omega - Omega_NS) (wave^2 / (Omega - Omega_NS) over "
-            f"the second to sixth points: {ratio.min():.4e} .. {ratio.max():.4e} m^2 s/rad), on the side where the",
-            "axisymmetric response is unstable: a supercritical bifurcation. The n = 3 block's critical multiplier at "
-            f"the point (continuation) has the angle {theta:.5f} rad, so -theta/3 = {-theta / 3:+.5f} rad per period; "
-            f"the rotating waves' drift at their second point is {drift[1]:+.5f}. The rotating waves are stable at "
-            f"{int((stable[1:] == 1).sum())} of {m - 1} points (largest multiplier {np.nanmax(mod[1:]):.5f}), "
-            f"and {int(beyond.sum())} of them lie beyond {hi:.4f} rad/s, where the axisymmetric response is stable "
-            "again: there the two coexist.", ""]
+    beyond = np.flatnonzero(omega > hi)
+    others = _unstable_families(b, omega[beyond])
+    unstable_n1 = sum(1 for fams in others if 1 in fams)
+    out += ["", f"Near the point the wave size {'grows like' if shape else 'does not follow'} sqrt(Omega - Omega_NS) "
+            f"(wave^2 / (Omega - Omega_NS) over the second to sixth points: {ratio.min():.4e} .. {ratio.max():.4e} "
+            f"m^2 s/rad), {kind}. The n = 3 block's critical multiplier at the point (continuation) has the angle "
+            f"{theta:.5f} rad, so -theta/3 = {-theta / 3:+.5f} rad per period; the rotating waves' drift at their "
+            f"second point is {drift[1]:+.5f}. They are stable against n = 3 perturbations at "
+            f"{int((stable[1:] == 1).sum())} of {m - 1} points (largest multiplier {np.nanmax(mod[1:] / decay[1:]):.6f} "
+            f"times the damping factor). {beyond.size} of them lie beyond {hi:.4f} rad/s, where the axisymmetric "
+            f"response is stable to n = 3; at {unstable_n1} of those it is unstable to n = 1, which this ROM does "
+            "not carry.", ""]
     if "rotating_check_drift" in b:
         check = float(b.rotating_check_Omega)
         k = int(np.argmin(np.abs(omega - check)))
         c_drift, c_dspread = float(b.rotating_check_drift), float(b.rotating_check_drift_spread)
         c_wave, c_wspread = float(b.rotating_check_wave_amplitude), float(b.rotating_check_wave_spread)
         periods = _job_option(results, "validation/waves-fig14a", "rotating_waves", "periods")
-        out += [f"Time integration ({periods} periods) at Omega = {check:.4f} rad/s from the unstable axisymmetric "
-                "response with a standing n = 3 perturbation (cosine coordinates 1e-4 m, a thousandth of that in the "
-                f"sine ones): over the last tenth the pattern turns by {c_drift:+.5f} rad per period (range "
-                f"{c_dspread:.1e}; the rotating wave there: {drift[k]:+.5f}, its mirror image {-drift[k]:+.5f}) at a "
-                f"size of {c_wave:.5f} m (range {c_wspread:.1e} of it; the rotating wave: {wave[k]:.5f} m). The "
-                f"standing perturbation settles to {_wave_kind(c_drift, c_wspread)}: of the two kinds born at the "
-                "Neimark-Sacker point, the rotating waves are the stable one, the standing waves (a torus of the "
-                "map, not continued here) the unstable one.", ""]
+        settled = _wave_kind(c_drift, c_wspread, c_wave, wave[k])
+        mirror = min(abs(c_drift - drift[k]), abs(c_drift + drift[k]))
+        out += [f"Time integration ({periods} periods) at Omega = {check:.4f} rad/s from the axisymmetric response, "
+                "unstable to n = 3 there, with a small standing n = 3 perturbation (a trace of it in the sine "
+                f"coordinates): over the last tenth the pattern turns by {c_drift:+.5f} rad per period (range "
+                f"{c_dspread:.1e}; the continued rotating wave there: {drift[k]:+.5f}, its mirror image "
+                f"{-drift[k]:+.5f}, the nearer of the two {mirror:.1e} away) at a size of {c_wave:.5f} m (range "
+                f"{c_wspread:.1e} of it; the rotating wave: {wave[k]:.5f} m). The standing perturbation settles to "
+                f"{settled}."]
+        if settled == "a rotating wave" and stable[k] == 1:
+            out += ["Of the two kinds born at the Neimark-Sacker point, the rotating waves are the stable one against",
+                    "n = 3 perturbations, the standing waves (a torus of the map, not continued here) unstable."]
+        out += [""]
     return out
 
 
@@ -1549,10 +1608,10 @@ def _turn(ds) -> str:
 def section_full_backbone(results: Path) -> list[str]:
     """The full model's backbone against the ROM's with 1, 3 and 6 modes, its in-plane
     displacements, and where its branch turns."""
-    names = ("validation/full-backbone", "validation/full-backbone-order12", "validation/backbone-modes")
+    names = ("fig10-full-backbone", "validation/full-backbone-order12", "validation/backbone-modes")
     out = ["## The full model's backbone: in-plane displacements and the ROM (Figs. 8, 10, 11)", "",
            "Free periodic orbits of the axisymmetric full model (in-plane displacement and inertia, 16 radial",
-           "functions per field; `validation/full-backbone`) by pseudo-arclength continuation and by the",
+           "functions per field; `fig10-full-backbone`) by pseudo-arclength continuation and by the",
            "peak-to-peak method on damped decays, against the ROM's (u = v = 0) with M = 1, 3, 6 axisymmetric",
            "modes (`validation/backbone-modes`) at the same target amplitudes max |w(0.5 Re, 0)|. \"peak-to-peak\"",
            "and \"order 12\" are relative differences from the 16-function continuation; \"ROM M = 6\" is the",
@@ -1602,6 +1661,47 @@ def section_full_backbone(results: Path) -> list[str]:
             "modes depends on the number of radial functions, so a turn that moves between 12 and 16 functions",
             "is a resonance with a mode that is not yet converged: beyond it the backbone of the full model is",
             "not established by these runs.", ""]
+    return out
+
+
+def section_fig08(results: Path) -> list[str]:
+    """Fig. 8: the full model's in-plane displacements over free orbits up to 0.5 m."""
+    out = ["## In-plane displacements during large free vibrations (Fig. 8)", ""]
+    ds = _open(results, "fig08-inplane")
+    if ds is None:
+        return out + _missing("fig08-inplane")
+    deltas = ", ".join(f"{float(d):g}" for d in ds.delta.values)
+    out += [f"The full model ({ds.attrs.get('model_order', '?')} radial functions per field; `fig08-inplane`) at "
+            f"delta = {deltas}, delta_o = 0.2: free periodic orbits of the first axisymmetric mode from "
+            f"{float(ds.amplitude.min()):g} m towards {float(ds.amplitude.max()):g} m (the paper's large amplitude), as far",
+            "as the branch of free orbits reaches. max |u| and max |w| over the orbit and the membrane, and u and w",
+            f"at rho = 0.55 Re (the paper's point) from the orbit's {ds.sizes['orbit_phase']} samples per period;",
+            "figure `fig08_inplane.png`. v vanishes identically: the orbits are axisymmetric.", "",
+            "| delta | A (m) | omega (rad/s) | max abs u / max abs w | max abs u at 0.55 Re / max abs w there |",
+            "|---|---|---|---|---|"]
+    notes = []
+    for d in ds.delta.values:
+        f = _point(ds, delta=d, delta_o=0.2)
+        amp, omega = f.amplitude.values.ravel(), f.omega_nl.values.ravel()
+        ok = np.flatnonzero(np.isfinite(omega))
+        k = int(np.argmin(np.abs(0.2 + 0.8 * f.orbit_radius.values - 0.55)))
+        u55 = np.abs(f.orbit_u.values[..., k]).max(axis=-1)
+        w55 = np.abs(f.orbit_w.values[..., k]).max(axis=-1)
+        ratio = f.max_abs_u.values.ravel() / f.max_abs_w.values.ravel()
+        shown = sorted({int(np.argmin(np.abs(amp - a))) for a in (0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5)
+                        if a <= amp[ok].max()} | {int(ok[-1])})
+        for j in shown:
+            out.append(f"| {float(d):g} | {amp[j]:.3f} | {omega[j]:.4f} | {ratio[j]:.4f} | {u55[j] / w55[j]:.4f} |")
+        turn = float(f.turn_amplitude)
+        reach = f"the orbits found reach {amp[ok[-1]]:.3f} m"
+        if np.isfinite(turn):
+            missed = amp[(amp < turn) & ~np.isfinite(omega)]
+            reach += (f"; the branch turns back at {turn:.3f} m" + (
+                f", and the targets {', '.join(f'{a:g}' for a in missed)} m below the turn have no orbit (the "
+                "continuation did not reach them)" if missed.size else ""))
+        notes.append(f"at delta = {float(d):g} {reach}, max |u| / max |w| at most {np.nanmax(ratio):.4f}")
+    out += ["", "In-plane displacements relative to the deflection (the paper calls them negligible): "
+            + "; ".join(notes) + ".", ""]
     return out
 
 
@@ -1671,7 +1771,7 @@ def section_fe_check(results: Path) -> list[str]:
 
 
 SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_model, section_fe_check,
-            section_backbone_modes, section_backbone_limits, section_full_backbone,
+            section_backbone_modes, section_backbone_limits, section_full_backbone, section_fig08,
             section_continuation_bruteforce, section_forced_modes, section_full_forced, section_full_families,
             section_cusp,
             section_families, section_waves, section_tongues, section_family_orbit, section_full_fig14a, section_full_fig14a_light,
@@ -1712,7 +1812,8 @@ def update_report(text: str, results: Path, names) -> str:
     """``text`` (a report) with the sections ``names`` (:func:`section_names`) generated anew
     from ``results`` (a section not in ``text`` goes where the report's order puts it) and the
     result-file table updated with the files of ``results``: the other sections are kept as
-    they are, for a results directory that holds only the new sections' files."""
+    they are, for a results directory that holds only the new sections' files.  A row of the
+    old table whose job file no longer exists (a renamed job) is dropped."""
     order = list(section_names())
     blocks = _blocks(text)
     for name in names:
@@ -1726,8 +1827,11 @@ def update_report(text: str, results: Path, names) -> str:
             blocks.insert(at, [])
         blocks[at] = new + [""]
     kept = [b for b in blocks if b[0] != PROVENANCE_TITLE]
+    jobs = Path(__file__).resolve().parents[1] / "jobs"
+    # the old rows of files this directory does not hold, unless their job file is gone
     rows = {line.split("|")[1].strip(): line for b in blocks if b[0] == PROVENANCE_TITLE
-            for line in b if line.startswith("| `")}
+            for line in b if line.startswith("| `")
+            and (jobs / line.split("`")[1]).with_suffix(".toml").exists()}
     fresh = section_provenance(results)
     rows.update({line.split("|")[1].strip(): line for line in fresh if line.startswith("| `")})
     table = [line for line in fresh if not line.startswith("| `")][:-1] + [rows[k] for k in sorted(rows)] + [""]

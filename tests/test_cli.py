@@ -2,8 +2,10 @@
 
 import io
 import os
+import re
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 import xarray as xr
@@ -14,6 +16,8 @@ from sweep.progress import Progress, format_duration
 from jobfiles import BAD, EXTRA, GOOD, job_text
 
 import fake_analysis
+
+JOBS = Path(__file__).resolve().parents[1] / "jobs"
 
 JOB = GOOD.replace('analysis = "fake"', 'analysis = "fake"\nchunk = 2')
 
@@ -215,6 +219,23 @@ def test_figures_dispatch(capsys, job, tmp_path):
     assert run(capsys, "run", job, "-o", tmp_path / "n.nc")[0] == 0
     code, out, _ = run(capsys, "figures", tmp_path / "n.nc", "-o", tmp_path / "figs")
     assert code == 0 and out.strip() == "analysis 'fake_nofig' has no figures"
+
+
+def test_figures_of_several_results_draw_each_and_compare(capsys, job, tmp_path):
+    """Two backbone results (two mode sets of Fig. 10-11, one point): each drawn in its own
+    directory, and the comparison; results of different analyses are refused in one line."""
+    text = (JOBS / "fig10-11-backbone.toml").read_text().replace("delta = [1.1, 1.2, 1.5, 2.0]", "delta = [2.0]")
+    text = text.replace("start = 0.001, stop = 0.4, num = 40", "start = 0.01, stop = 0.05, num = 3")
+    for name, modes in (("one", "[[1, 0]]"), ("two", "[[1, 0], [2, 0]]")):
+        (tmp_path / f"{name}.toml").write_text(re.sub(r"modes = \[.*\]", f"modes = {modes}", text))
+        assert run(capsys, "run", tmp_path / f"{name}.toml", "-o", tmp_path / f"{name}.nc")[0] == 0
+    code, out, _ = run(capsys, "figures", tmp_path / "one.nc", tmp_path / "two.nc", "-o", tmp_path / "figs")
+    assert code == 0
+    for path in ("one/backbone.png", "two/backbone.png", "backbone_comparison.png"):
+        assert (tmp_path / "figs" / path).exists() and str(tmp_path / "figs" / path) in out
+    assert run(capsys, "run", job, "-o", tmp_path / "fake.nc")[0] == 0
+    code, _, err = run(capsys, "figures", tmp_path / "one.nc", tmp_path / "fake.nc")
+    assert code == 1 and "results of different analyses (backbone, fake) cannot be drawn together" in err
 
 
 def test_figures_errors(capsys, tmp_path):

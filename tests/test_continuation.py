@@ -160,6 +160,9 @@ MEMBRANE = Membrane()
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
       "rotating_waves": {"max_points": 10, "n": 1, "speed": 2}}, GRID,
      "is invalid: must be a table {max_points = N, n = wave number, periods = P} (periods optional)"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
+      "branch_switching": {"points": 10}}, GRID,
+     "is invalid: must be a table {max_points = N, n = wave number, periods = P} (n and periods optional)"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": [2, 4]},
       "rotating_waves": {"max_points": 10, "n": 1}}, GRID,
      "continuation.rotating_waves = {'max_points': 10, 'n': 1} is invalid: needs one radial count in "

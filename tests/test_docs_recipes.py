@@ -22,7 +22,7 @@ RESULTS = {
     "fig10-11-backbone.nc": ("fig10-11-backbone", {"delta = [1.1, 1.2, 1.5, 2.0]": "delta = [1.1, 2.0]",
                                                    "num = 40": "num = 6"}),
     "fig09-modes.nc": ("fig09-modes", {"num = 60": "num = 8"}),
-    "full-backbone.nc": ("validation/full-backbone", {"delta = [1.1, 1.5, 2.0]": "delta = [1.1, 2.0]",
+    "fig10-full-backbone.nc": ("fig10-full-backbone", {"delta = [1.1, 1.5, 2.0]": "delta = [1.1, 2.0]",
                                                       "num = 40": "num = 6", "order = 16": "order = 8"}),
     "erosion-profile.nc": ("erosion-profile", {"num = 8": "num = 2", "num = 60": "num = 12"}),
     "backbone-a.nc": ("fig10-11-backbone", {"delta = [1.1, 1.2, 1.5, 2.0]": "delta = [1.1]", "num = 40": "num = 4"}),

@@ -106,3 +106,20 @@ def test_free_flow_derivative_is_that_of_the_rk4_steps(model):
         # 5 times the rounding of the smallest step
         for coarse, finer in zip(errors, errors[1:]):
             assert finer < max(coarse / 50, 1e-5)
+
+
+def test_a_flow_asking_for_too_many_steps_is_refused_as_a_failed_solve(model, monkeypatch):
+    # A Newton iterate gone astray (a wild state whose fastest mode asks for millions of steps)
+    # must fail like a singular solve, so that the backbone continuation halves its step,
+    # instead of running for hours
+    from model.full import free as free_module
+
+    free = free_module.FreeFull(model)
+    y0 = np.zeros(2 * free.dof)
+    duration = 0.25 * 2 * np.pi / free.linear_frequencies()[0][0]
+    steps = free.steps_for(y0[:free.dof], duration, 16)
+    monkeypatch.setattr(free_module, "MAX_FLOW_STEPS", steps - 1)
+    with pytest.raises(np.linalg.LinAlgError, match=f"asks for {steps} RK4 steps"):
+        free.flow(y0, duration, 16)
+    monkeypatch.setattr(free_module, "MAX_FLOW_STEPS", steps)
+    assert np.all(np.isfinite(free.flow(y0, duration, 16)[0]))

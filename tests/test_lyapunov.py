@@ -120,3 +120,18 @@ def test_an_escape_is_diverged():
 def test_bad_run_lengths_are_refused():
     with pytest.raises(ValueError, match="periods, blocks"):
         lyapunov_spectrum(ueda_map(), np.zeros(2), 15, 10)
+
+
+def test_a_lightly_damped_periodic_response_is_periodic_when_the_run_cannot_resolve_its_exponent():
+    """The paper's damping with a short run: the exponent of the forced periodic response,
+    -alpha = -c / (2 Gamma h), lies within the run's resolution 0.1 / (N T) of zero, and the
+    run starts off the orbit (a slow transient).  Newton on P finds the orbit the run tends to,
+    so the response is periodic, not quasi-periodic: the periodic search must not wait for
+    the exponent."""
+    fmap = _rom_map(1.0, modes=((1, 0),))
+    N = 20
+    alpha = 0.5 * fmap.forcing.damping_rate
+    assert alpha < 0.1 / (N * fmap.period)  # the premise: the exponent is not resolved
+    y = fmap.advance(np.array([0.01, 0.0]), 50)  # still on its way to the orbit
+    kind = classify(fmap, lyapunov_spectrum(fmap, y, N, 10))
+    assert kind.kind == PERIODIC and kind.period == 1

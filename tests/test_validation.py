@@ -22,7 +22,7 @@ def test_missing_results_name_the_jobs(tmp_path):
              + validation.section_full_forced(tmp_path) + validation.section_full_families(tmp_path)
              + validation.section_full_fig14a(tmp_path) + validation.section_full_fig14a_light(tmp_path)
              + validation.section_tongues(tmp_path) + validation.section_family_orbit(tmp_path)
-             + validation.section_waves(tmp_path))
+             + validation.section_waves(tmp_path) + validation.section_fig08(tmp_path))
     text = "\n".join(lines)
     for job in ("fig09-modes", "fig15-bifurcation-p0", "fig15-bruteforce", "fig19-basins",
                 "fig10-11-backbone", "fig12-inner-radius", "fig17-cusp", "fig16-17-damping",
@@ -40,11 +40,14 @@ def test_a_section_regenerated_alone_lands_where_the_whole_report_puts_it(tmp_pa
     assert without != whole
     assert validation.update_report(without, tmp_path, ["full_backbone"]) == whole
     assert validation.update_report(whole, tmp_path, ["table1", "linear_convergence"]) == whole
-    # a result file of the old table that the results directory does not hold stays listed
-    row = "| `old.nc` | as committed | 1 / 1 | 0.1.0 |"
-    kept = validation.update_report(whole.replace("|---|---|---|---|\n", "|---|---|---|---|\n" + row + "\n"),
+    # a result file of the old table that the results directory does not hold stays listed,
+    # unless its job file is gone
+    row = "| `table2.nc` | as committed | 1 / 1 | 0.1.0 |"
+    gone = "| `validation/renamed.nc` | as committed | 1 / 1 | 0.1.0 |"
+    kept = validation.update_report(whole.replace("|---|---|---|---|\n", f"|---|---|---|---|\n{row}\n{gone}\n"),
                                     tmp_path, ["table2"])
     assert row in kept.split("\n")
+    assert gone not in kept  # its job file does not exist: a renamed job's stale row
 
 
 def test_the_report_computes_nothing_from_the_model():

@@ -43,6 +43,38 @@ def test_rotation_is_the_exponential_of_its_generator():
     assert np.allclose(waves.rotation(modes, 2 * np.pi / 3), np.eye(10), atol=1e-13)  # n = 3: a third of a turn
 
 
+def test_the_rotation_turns_the_pattern_as_documented():
+    """``R_phi`` maps the coordinates of ``w`` to those of ``w(theta - phi)``: the field of the
+    turned coordinates, evaluated with the mode shapes of the ROM, at a radius and eight angles."""
+    from model.modes import bessel_roots, mode_shape
+
+    modes = [(1, 0), (1, 3), (2, 3), (1, -3), (2, -3)]
+    rho, theta, phi = 0.6, np.linspace(0.0, 2 * np.pi, 8, endpoint=False), 0.37
+    shapes = np.array([mode_shape(np.array([rho]), bessel_roots(abs(n), 0.2, m)[-1], abs(n), 1.0, 0.2)[0][0]
+                       for m, n in modes])
+
+    def field(q, angle):
+        angular = np.array([np.cos(n * angle) if n >= 0 else np.sin(-n * angle) for _, n in modes])
+        return (q * shapes) @ angular
+
+    q = np.array([0.3, 0.02, -0.01, 0.005, 0.015])
+    turned = waves.rotation(modes, phi)[:5, :5] @ q
+    assert np.allclose(field(turned, theta), field(q, theta - phi), atol=1e-15)
+
+
+def test_deflation_keeps_every_other_multiplier():
+    """The removed multiplier and the kept ones are the matrix's eigenvalues: a random matrix
+    with a known eigenvector of eigenvalue 1."""
+    rng = np.random.default_rng(7)
+    v = rng.standard_normal(5)
+    basis = np.column_stack([v, rng.standard_normal((5, 4))])
+    jac = basis @ np.block([[np.diag([1.0, 0.9, -0.5]), np.zeros((3, 2))],
+                            [np.zeros((2, 3)), np.array([[0.3, 0.2], [-0.2, 0.3]])]]) @ np.linalg.inv(basis)
+    rest, neutral = waves.deflated_multipliers(jac, v)
+    assert neutral == pytest.approx(v @ jac @ v / (v @ v), abs=1e-14)
+    assert np.sort_complex(np.append(rest, 1.0)) == pytest.approx(np.sort_complex(np.linalg.eigvals(jac)), abs=1e-12)
+
+
 def test_the_rom_commutes_with_the_rotation(n3):
     """``P(R_phi y) = R_phi P(y)`` for a generic state of the size of the waves (centimetres):
     the rotation as coded is the symmetry of the ROM built from the mode shapes.  Only turns by
@@ -77,14 +109,16 @@ def test_standing_waves_split_into_even_and_odd_blocks(fig14a_n1):
         waves.standing_wave_stability(fmap_o2, y)
 
 
-def test_rotating_waves_start_at_the_neimark_sacker_drift(n3):
-    rw, br = n3.waves, n3.branch
+def test_rotating_waves_near_the_point_drift_by_its_multiplier_angle(n3):
+    """The drift of the corrected rotating waves (Newton on the map, not the start) tends to
+    ``-theta / n`` of the critical multiplier ``exp(i theta)`` of the n = 3 block found by the
+    continuation: the difference shrinks with the wave size squared."""
+    rw = n3.waves
     mu = n3.branch.family_multipliers[n3.ns, 0]
     theta = np.angle(mu[np.argmin(np.abs(np.abs(mu) - 1.0) + (mu.imag <= 0))])
-    assert rw.value[0] == br.value[n3.ns] and rw.wave_amplitude[0] == 0.0
-    assert rw.drift[0] == pytest.approx(-theta / 3, abs=1e-6)
-    # away from the point the drift changes by O(amplitude^2) only
-    assert abs(rw.drift[3] - rw.drift[0]) <= 1e-3 * abs(rw.drift[0])
+    gap = np.abs(rw.drift[1:6] + theta / 3)
+    assert gap[0] <= 1e-5
+    assert np.all(gap / rw.wave_amplitude[1:6] ** 2 <= 2 * gap[-1] / rw.wave_amplitude[5] ** 2 + 1e-9)
 
 
 def test_rotating_waves_grow_like_a_square_root(n3):

@@ -39,6 +39,10 @@ STEPS_PER_PERIOD = 1024
 STABILITY_FRACTION = 2.0 / 2.8
 #: Largest relative numerical damping of the fastest mode over one flow (:meth:`FreeFull.steps_for`).
 FASTEST_MODE_DECAY = 0.1
+#: Most RK4 steps of one flow: a state whose highest frequency asks for more is a Newton iterate
+#: gone astray, rejected (an orbit's quarter period takes a few thousand steps even at order 32;
+#: one iterate near the delta = 1.1 turn at order 12 asked for 1.4e7).
+MAX_FLOW_STEPS = 200_000
 
 
 class DecayExtrema(NamedTuple):
@@ -134,10 +138,15 @@ class FreeFull:
     def flow(self, y0, duration: float, steps: int) -> tuple[np.ndarray, np.ndarray]:
         """State after ``duration`` (s) of the undamped motion from ``y0`` by at least ``steps``
         RK4 steps (:meth:`steps_for`), and its derivative in ``y0`` (the variational
-        equations of the same steps)."""
+        equations of the same steps).  Raises ``numpy.linalg.LinAlgError`` when the state asks for
+        more than :data:`MAX_FLOW_STEPS` steps."""
         m = self.model
         y = np.array(y0, dtype=float)
         steps = self.steps_for(y[:m.dof], duration, steps)
+        if steps > MAX_FLOW_STEPS:
+            # rejected as a failed solve: the continuation halves its step (model.backbone)
+            raise np.linalg.LinAlgError(f"a state whose fastest mode asks for {steps} RK4 steps (more than "
+                                        f"{MAX_FLOW_STEPS})")
         y, big = rk4_variational(*m.kernel_tables, m.inverse_mass, m.omega0_2, m.bias, 0.0, None, m.load, 0.0, 0.0,
                                  NO_PARAMETER, y, duration / steps, steps)
         return y, big[:, :-1]
@@ -176,6 +185,20 @@ class FreeFull:
         q0 = np.asarray(q0, float)
         steps = max(STEPS_PER_PERIOD, int(np.ceil(period / self._time_step(q0))))
         return self.model.free_motion(np.concatenate([q0, np.zeros(self.dof)]), period, steps), period / steps
+
+    def snapshots(self, q0, period: float, samples: int, rho) -> tuple[np.ndarray, np.ndarray]:
+        """``(u, w)`` (m), each ``(samples, len(rho))``: the displacements at the undeformed radii
+        ``rho`` (m) at ``samples`` equally spaced instants ``t = j T / samples`` of one period of
+        the orbit from rest at ``q0`` (the first at rest, the largest deflection), by the
+        integration of :meth:`orbit` (its step count raised to a multiple of ``samples``)."""
+        q0 = np.asarray(q0, float)
+        steps = max(STEPS_PER_PERIOD, int(np.ceil(period / self._time_step(q0))))
+        steps = samples * -(-steps // samples)
+        record = self.model.free_motion(np.concatenate([q0, np.zeros(self.dof)]), period, steps,
+                                        every=steps // samples)[:samples]
+        b, o, re = self.model.state.basis, self.model.order, self.model.membrane.Re
+        s = np.asarray(rho, float) / re  # the basis' scaled radius
+        return re * b.evaluate(record[:, :o], s)[0], re * b.evaluate(record[:, o:2 * o], s)[0]
 
     def extent(self, q0, period: float, radii: int = 201) -> tuple[float, float, float]:
         """``(max |u|, max |v|, max |w|)`` (m) over one period of the orbit from rest at ``q0``

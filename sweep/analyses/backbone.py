@@ -13,6 +13,12 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   ``A_10 > 0`` (models with modes: the ROM);
 * ``max_abs_u``, ``max_abs_v``, ``max_abs_w`` (``point``) -- the largest ``|u|``, ``|v|``,
   ``|w|`` (m) over the orbit and the membrane (models with in-plane motion: the full model);
+* ``orbit_u``, ``orbit_w`` (``point``, ``orbit_phase``, ``orbit_radius``) -- with
+  ``orbit_samples = N`` (models with in-plane motion): ``u`` and ``w`` (m) at ``N`` instants of
+  one period of each orbit (``orbit_phase``: the fraction of the period, the first at rest at
+  the largest deflection) and at :data:`ORBIT_RADII` equally spaced undeformed radii
+  (``orbit_radius``: ``(rho - Ro) / (Re - Ro)``, 0 at the inner edge, 1 at the outer) (Fig. 8;
+  ``v`` vanishes on these axisymmetric orbits);
 * ``turn_amplitude``, ``turn_omega`` -- where the pseudo-arclength branch of free orbits
   (:func:`model.backbone.backbone_branch`) first turns back in amplitude (an internal
   resonance), NaN when it reaches the largest target without turning; targets beyond it
@@ -39,10 +45,13 @@ from model.params import Membrane
 from sweep.models.rom import rom_for
 
 from . import options as opt
-from .base import DEFAULT_CONTEXT, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Variable, check_keys
+from .base import DEFAULT_CONTEXT, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable, check_keys
 
 #: Default amplitude targets: 1 mm to 0.4 m.
 DEFAULT_AMPLITUDE = {"start": 1e-3, "stop": 0.4, "num": 40}
+#: Radii of ``orbit_u`` and ``orbit_w``, equally spaced from the inner to the outer edge (81:
+#: ``rho = 0.55 Re``, the paper's Fig. 8 point, is one of them at ``delta_o = 0.2``).
+ORBIT_RADII = 81
 
 
 @dataclass(frozen=True)
@@ -57,6 +66,8 @@ class BackboneOptions:
     modal: bool = True
     #: whether the model has in-plane motion (``max_abs_u``, ``max_abs_v``, ``max_abs_w``)
     inplane: bool = False
+    #: instants per period of ``orbit_u``, ``orbit_w`` (0: none)
+    orbit_samples: int = 0
 
     @property
     def targets(self) -> np.ndarray:
@@ -76,12 +87,19 @@ class BackboneAnalysis(Analysis):
         "amplitude": "{start, stop, num}: target amplitudes max |w(0.5 Re, 0, t)| (m; default 1 mm to "
                      "0.4 m, 40 points)",
         "peak_damping": "damping c of the decays of the peak-to-peak method (N s/m^3, > 0; default 0.05)",
+        "orbit_samples": f"N: u and w over one period of each free orbit at N instants and {ORBIT_RADII} radii, "
+                         "orbit_u and orbit_w (Fig. 8; models with in-plane motion; default 0: none)",
     }
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
         check_keys(table, self.name, tuple(self.OPTIONS))
         opt.rom_only(table, self.name, context.model, ("modes",))
         model = context.model.model()
+        inplane = model.provides("inplane_frequencies")
+        samples = opt.number(table, self.name, "orbit_samples", 0, integer=True, low=0, high=4096)
+        if samples and not inplane:
+            raise JobError(f"{self.name}.orbit_samples", samples, f"needs a model with in-plane motion ([model] kind "
+                           f"= \"full\"); this job's model is {context.model.kind!r}")
         return BackboneOptions(
             modes=opt.modes(table, self.name),
             prestretch=opt.prestretch(table, self.name, context),
@@ -90,7 +108,7 @@ class BackboneAnalysis(Analysis):
             peak_damping=opt.number(table, self.name, "peak_damping", 0.05, low=0.0, low_open=True),
             material=membrane.law,
             modal=model.rom_features,
-            inplane=model.provides("inplane_frequencies"))
+            inplane=inplane, orbit_samples=samples)
 
     def variables(self, options):
         P, K = options.amplitude[2], len(options.modes)
@@ -115,12 +133,23 @@ class BackboneAnalysis(Analysis):
              if options.modal else []) + (
             [Variable(f"max_abs_{f}", ("point",), (P,), "f8", "m",
                       f"largest |{f}| over the free periodic orbit and the membrane") for f in "uvw"]
-            if options.inplane else [])
+            if options.inplane else []) + (
+            [Variable(f"orbit_{f}", ("point", "orbit_phase", "orbit_radius"), (P, options.orbit_samples, ORBIT_RADII),
+                      "f8", "m", f"{name} over one period of the free periodic orbit")
+             for f, name in (("u", "radial displacement u"), ("w", "transverse displacement w"))]
+            if options.orbit_samples else [])
 
     def coords(self, options):
+        orbit = {} if not options.orbit_samples else {
+            "orbit_phase": (("orbit_phase",), np.arange(options.orbit_samples) / options.orbit_samples,
+                            {"long_name": "time over the period of the free orbit, from rest at its largest "
+                                          "deflection", "units": "1"}),
+            "orbit_radius": (("orbit_radius",), np.linspace(0.0, 1.0, ORBIT_RADII),
+                             {"long_name": "(rho - Ro) / (Re - Ro): the undeformed radius across the annulus",
+                              "units": "1"})}
         return {"point": (("point",), np.arange(options.amplitude[2], dtype=np.int32),
                           {"long_name": "index of the target amplitude", "units": "1"}),
-                **(opt.mode_coords(options.modes) if options.modal else {})}
+                **(opt.mode_coords(options.modes) if options.modal else {}), **orbit}
 
     def warmups(self, options):
         return [partial(_compile_backbone, options.material)]
@@ -154,6 +183,14 @@ class BackboneAnalysis(Analysis):
             for j in np.flatnonzero(orbits.converged):
                 extent[j] = free.extent(orbits.modal[j], 2.0 * np.pi / orbits.omega[j])
             out.update(max_abs_u=extent[:, 0], max_abs_v=extent[:, 1], max_abs_w=extent[:, 2])
+        if options.orbit_samples:
+            shape = (targets.size, options.orbit_samples, ORBIT_RADII)
+            out["orbit_u"], out["orbit_w"] = np.full(shape, np.nan), np.full(shape, np.nan)
+            m = point.membrane
+            rho = np.linspace(m.Ro, m.Re, ORBIT_RADII)
+            for j in np.flatnonzero(orbits.converged):
+                out["orbit_u"][j], out["orbit_w"][j] = free.snapshots(orbits.modal[j], 2.0 * np.pi / orbits.omega[j],
+                                                                      options.orbit_samples, rho)
         return out
 
 

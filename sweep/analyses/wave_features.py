@@ -42,21 +42,22 @@ STANDING_KICK = 1e-2
 _FLAGS = {"flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "padding unstable stable"}
 
 
-def _wave_option(table, section, key, families, allowed) -> tuple[int, int, int]:
+def _wave_option(table, section, key, families, n_optional) -> tuple[int, int, int]:
     """``{max_points = N, n = wave number, periods = P}`` -> ``(N, n, P)``, ``(0, 0, 0)``
-    without the option; ``allowed``: whether ``n`` may be left out."""
+    without the option; ``n_optional``: whether ``n`` may be left out."""
     value = table.get(key)
     if value is None:
         return 0, 0, 0
     name = f"{section}.{key}"
     if not isinstance(value, dict) or not {"max_points"} <= set(value) <= {"max_points", "n", "periods"}:
-        n_help = "" if allowed else ", n = wave number"
-        raise JobError(name, value, f"must be a table {{max_points = N{n_help}, periods = P}} (periods optional)")
+        optional = "n and periods" if n_optional else "periods"
+        raise JobError(name, value, f"must be a table {{max_points = N, n = wave number, periods = P}} ({optional} "
+                                    "optional)")
     if families is None:
         raise JobError(name, value, "needs continuation.families (the points are found in the families)")
-    if not allowed and "n" not in value:
+    if not n_optional and "n" not in value:
         raise JobError(name, value, "needs n, the wave number of the family whose Neimark-Sacker point starts it")
-    n = opt.number(value, name, "n", 0, integer=True, low=0 if allowed else 1)
+    n = opt.number(value, name, "n", 0, integer=True, low=0 if n_optional else 1)
     if n and n not in families[0]:
         raise JobError(f"{name}.n", n, f"must be one of the families' wave numbers {list(families[0])}")
     points = opt.number(value, name, "max_points", integer=True, low=2, high=10_000)
@@ -155,7 +156,7 @@ class BranchSwitching(BranchFeature):
                                    {"long_name": "index along the switched (asymmetric) branch", "units": "1"})}
 
     def compute(self, ctx):
-        """"" as the problem also when the branch has no branch point of a family."""
+        """The outputs, and "" as the problem also when the branch has no branch point of a family."""
         options, br, fmap = ctx.options, ctx.branch, ctx.fmap
         out = blank_outputs(self.variables(options))
         n, p, K = options.switch_points, options.parameter, len(options.modes) + options.families[1]
@@ -179,10 +180,20 @@ class BranchSwitching(BranchFeature):
         out["switched_modal_coordinate"][:m] = sw.state[:, :K]
         modes = np.array(fmap_mixed.rom.modes, dtype=np.int32)
         out["switched_mode_m"], out["switched_mode_n"] = modes[:, 0], modes[:, 1]
+        problems = [] if sw.complete or m >= n else [f"switched branch: {sw.message}"]
+        try:
+            self._o2(out, options, fmap, fmap_mixed, family, sw)
+        except (RuntimeError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
+            problems.append(f"standing waves in O(2): {type(exc).__name__}: {exc}")
+        return out, "; ".join(problems)
+
+    @staticmethod
+    def _o2(out, options, fmap, fmap_mixed, family, sw) -> None:
+        """The standing waves' stability with the sine companions, and the check."""
+        p, m = options.parameter, sw.value.size
         fmap_o2 = fmap_mixed.with_rom(o2_rom(fmap.rom, family))
         Ka, M = fmap.dof, len(family.radial)
-        problems = [] if sw.complete or m >= n else [f"switched branch: {sw.message}"]
-        out["switched_stable_o2"][:m] = 0  # the branch point itself is not stable (nor computed)
+        out["switched_stable_o2"][:m] = 0  # as switched_stable: a located point is not stable
         for k in range(m):
             y = embed_standing(sw.state[k], Ka, M)
             if not np.any(rotation_generator(fmap_o2.rom.modes) @ y):
@@ -193,10 +204,11 @@ class BranchSwitching(BranchFeature):
             out["switched_stable_o2"][k] = st.stable and sw.kind[k] == 0
         if options.switch_periods and m > 1:
             y = embed_standing(sw.state[m - 1], Ka, M)
+            # sine coordinates with alternating signs over the radial modes: not along the group
+            # orbit (the standing wave turned), whose sine coordinates are n times its cosine ones
             y[Ka + M:Ka + 2 * M] = STANDING_KICK * np.abs(y[Ka:Ka + M]).max() * (-1.0) ** np.arange(M)
             _run_check(out, "switched", p, sw.value[m - 1], fmap_o2.varied(p, sw.value[m - 1]), y, family.n,
                        options.switch_periods)
-        return out, "; ".join(problems)
 
 
 class RotatingWaves(BranchFeature):
@@ -213,7 +225,9 @@ class RotatingWaves(BranchFeature):
         out = [
             Variable(f"rotating_{p}", rp, (n,), "f8", GRID_KEYS[p][0],
                      f"{p} along the rotating waves bifurcating at the first Neimark-Sacker point of the family"),
-            Variable("rotating_amplitude", rp, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)|"),
+            Variable("rotating_amplitude", rp, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)| (depends "
+                     "on the wave's orientation, which the continuation fixes arbitrarily; rotating_wave_amplitude "
+                     "does not)"),
             Variable("rotating_wave_amplitude", rp, (n,), "f8", "m", "size of the family's pattern, sqrt(sum of "
                      "squared cosine and sine coordinates), constant along a rotating wave"),
             Variable("rotating_drift", rp, (n,), "f8", "rad", "angle the pattern turns per forcing period"),
@@ -268,7 +282,10 @@ class RotatingWaves(BranchFeature):
                 problems.append(f"rotating-wave check: no rotating wave where the axisymmetric response is unstable "
                                 f"to n = {wave_number}")
             else:
-                problems += self._check(out, fmap, fmap_o2, family, p, rw.value[k], rw.state[k], periods)
+                try:
+                    problems += self._check(out, fmap, fmap_o2, family, p, rw.value[k], rw.state[k], periods)
+                except (RuntimeError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
+                    problems.append(f"rotating-wave check: {type(exc).__name__}: {exc}")
         return out, "; ".join(problems)
 
     @staticmethod
@@ -276,9 +293,13 @@ class RotatingWaves(BranchFeature):
         """From the axisymmetric response at ``value``, a standing perturbation with a trace of
         sine: which wave the motion settles to."""
         Ka, M, K = fmap.dof, len(family.radial), fmap_o2.dof
-        axi = shoot(fmap.varied(p, value), np.concatenate([state[:Ka], state[K:K + Ka]]))
+        at = fmap.varied(p, value)
+        axi = shoot(at, np.concatenate([state[:Ka], state[K:K + Ka]]))
         if not axi.converged:
             return [f"rotating-wave check: no axisymmetric response found at {p} = {value:.9g}"]
+        if np.abs(np.linalg.eigvals(at.family_monodromy(axi.state, family))).max() <= 1.0:
+            return [f"rotating-wave check: the axisymmetric response found at {p} = {value:.9g} is stable to "
+                    f"n = {family.n} (another of the coexisting responses)"]
         y = np.zeros(2 * K)
         y[:Ka], y[K:K + Ka] = axi.state[:Ka], axi.state[Ka:]
         y[Ka:Ka + M] = CHECK_SIZE

@@ -43,6 +43,24 @@ def drawer(analysis: str) -> Callable | None:
     return _REGISTERED.get(analysis, built_in.get(analysis))
 
 
+def comparer(analysis: str) -> Callable | None:
+    """The function that draws several results of the analysis named ``analysis`` together
+    (``comparer(name)(datasets, outdir)``), or None: the backbones (Fig. 10 across models)."""
+    from sweep.figures import backbone
+
+    return {"backbone": backbone.backbone_comparison}.get(analysis)
+
+
+def draw_comparison(analysis, datasets, outdir, *, fmt: str = "png", dpi: float | None = None,
+                    style=None) -> list[Path]:
+    """The figures comparing several results of ``analysis`` (:func:`comparer`), written to
+    ``outdir`` with the options of :func:`draw`; none when the analysis has no comparison."""
+    function = comparer(analysis.name)
+    if function is None:
+        return []
+    return _written(lambda where: function(list(datasets), where), outdir, fmt, dpi, style)
+
+
 def draw(analysis, ds, outdir, *, fmt: str = "png", dpi: float | None = None, style=None) -> list[Path]:
     """The standard figures of a result, written to ``outdir``.
 
@@ -65,6 +83,12 @@ def draw(analysis, ds, outdir, *, fmt: str = "png", dpi: float | None = None, st
     -------
     list of pathlib.Path
     """
+    return _written(lambda where: _figures(analysis, ds, where), outdir, fmt, dpi, style)
+
+
+def _written(drawing, outdir, fmt: str, dpi: float | None, style) -> list[Path]:
+    """``drawing(outdir)`` under the house style (and ``style``) with the files written in
+    ``fmt`` at ``dpi`` into ``outdir`` (created); the caller's ``rcParams`` are left alone."""
     import matplotlib.pyplot as plt
 
     if fmt not in FORMATS:
@@ -75,7 +99,7 @@ def draw(analysis, ds, outdir, *, fmt: str = "png", dpi: float | None = None, st
         with plt.rc_context(HOUSE_STYLE):
             if style is not None:
                 plt.style.use(style)
-            return _figures(analysis, ds, Path(outdir))
+            return drawing(Path(outdir))
     finally:
         OUTPUT.reset(token)
 

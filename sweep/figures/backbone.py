@@ -1,6 +1,7 @@
 """Figures of the ``backbone`` analysis: backbone curves (Figs. 10-12), modal amplitudes (Fig. 9)
 or, for a model with in-plane motion, the in-plane displacements against the transverse
-ones (Fig. 8's question)."""
+ones (Fig. 8's question) and, with ``orbit_samples``, the displacement fields of the largest
+orbit (Fig. 8)."""
 
 from __future__ import annotations
 
@@ -44,7 +45,41 @@ def backbone_figures(ds, outdir) -> list:
         paths.append(_modal_figure(plt, ds, sels, label, outdir))
     if "max_abs_u" in ds:
         paths.append(_inplane_figure(plt, ds, sels, label, outdir))
+    if "orbit_u" in ds:
+        paths.append(_orbit_figure(plt, ds, sels, label, outdir))
     return paths
+
+
+#: The radius of Fig. 8b over Re (the paper's point (rho, theta) = (0.55, 0)).
+FIG8_RHO = 0.55
+
+
+def _orbit_figure(plt, ds, sels, label, outdir):
+    """Fig. 8: per grid point, the largest orbit's u, v, w along the radius at its largest
+    deflection (a) and at rho = 0.55 Re over one period (b)."""
+    fig, axes = plt.subplots(2, len(sels), figsize=(4.6 * len(sels), 6.4), squeeze=False, layout="constrained")
+    for (top, bottom), sel in zip(axes.T, sels):
+        point = ds.sel(sel)
+        done = np.flatnonzero(np.isfinite(point.orbit_w.values[:, 0, 0]))
+        if done.size == 0:
+            top.set_title(f"{label(sel)}: no orbit")
+            continue
+        j = done[-1]
+        delta_o = float(sel.get("delta_o", ds.attrs.get("delta_o", np.nan)))
+        rho = delta_o + (1.0 - delta_o) * ds.orbit_radius.values  # rho / Re
+        u, w = point.orbit_u.values[j], point.orbit_w.values[j]
+        for values, name, style in ((u, "u", "-"), (np.zeros_like(u), "v", ":"), (w, "w", "--")):
+            top.plot(rho, values[0], ls=style, label=name)
+        top.set(xlabel=r"$\rho / R_e$", ylabel="displacement (m)",
+                title=f"{label(sel)}, A = {float(point.amplitude[j]):.3g} m: at rest (largest $w$)")
+        k = int(np.argmin(np.abs(rho - FIG8_RHO)))
+        t = ds.orbit_phase.values * 2 * np.pi / float(point.omega_nl[j])
+        for values, name, style in ((u, "u", "-"), (np.zeros_like(u), "v", ":"), (w, "w", "--")):
+            bottom.plot(t, values[:, k], ls=style, label=name)
+        bottom.set(xlabel="t (s)", ylabel="displacement (m)", title=rf"at $\rho$ = {rho[k]:.3g} $R_e$, $\theta$ = 0")
+        top.legend()
+    fig.suptitle("Displacements during a large free vibration (v = 0: axisymmetric orbit)")
+    return save_figure(fig, outdir, "fig08_inplane.png")
 
 
 def _modal_figure(plt, ds, sels, label, outdir):
@@ -71,3 +106,48 @@ def _inplane_figure(plt, ds, sels, label, outdir):
            title="In-plane displacements along the backbone")
     ax.legend()
     return save_figure(fig, outdir, "inplane_displacements.png")
+
+
+def result_label(ds) -> str:
+    """The model of a result in a legend: ``rom, 3 modes``, ``full, order 16``."""
+    model = ds.attrs.get("model", "rom")
+    if "model_order" in ds.attrs:
+        return f"{model}, order {int(ds.attrs['model_order'])}"
+    if "mode" in ds.dims:
+        return f"{model}, {ds.sizes['mode']} mode{'s' if ds.sizes['mode'] > 1 else ''}"
+    return str(model)
+
+
+def backbone_comparison(datasets, outdir) -> list:
+    """Fig. 10 across models: per grid point of the first result that every result has, the
+    backbones (top) and each result's frequency relative to the first one's at the first
+    one's target amplitudes (bottom; linear interpolation in amplitude)."""
+    plt = pyplot()
+    first = datasets[0]
+    sels = [sel for sel in grid_points(first, ())
+            if all(all(d in ds.dims and np.any(np.isclose(ds[d].values, v)) for d, v in sel.items())
+                   for ds in datasets[1:])]
+    if not sels:
+        return []
+    fig, axes = plt.subplots(2, len(sels), figsize=(4.6 * len(sels), 6.6), squeeze=False, layout="constrained",
+                             sharex="col")
+    for (top, bottom), sel in zip(axes.T, sels):
+        ref = first.sel(sel, method="nearest")
+        a_ref, w_ref = ref.amplitude.values, ref.omega_nl.values
+        for ds in datasets:
+            point = ds.sel(sel, method="nearest")
+            amp, omega = point.amplitude.values, point.omega_nl.values
+            ok = np.isfinite(omega)
+            line, = top.plot(omega[ok], amp[ok], label=result_label(ds))
+            if ds is not first and ok.sum() >= 2:
+                order = np.argsort(amp[ok])
+                inside = (a_ref >= amp[ok].min()) & (a_ref <= amp[ok].max()) & np.isfinite(w_ref)
+                at = np.interp(a_ref[inside], amp[ok][order], omega[ok][order])
+                bottom.plot(w_ref[inside], at / w_ref[inside] - 1, color=line.get_color(), label=result_label(ds))
+        top.set(ylabel=r"amplitude max $|w(0.5, 0)|$ (m)", title=point_label(sel), ylim=(0, None))
+        bottom.set(xlabel=r"frequency $\omega$ (rad/s) of " + result_label(first),
+                   ylabel=f"frequency / that of {result_label(first)} - 1")
+        bottom.axhline(0.0, color="k", lw=0.6)
+        top.legend()
+    fig.suptitle("Backbones of several results (Fig. 10)")
+    return [save_figure(fig, outdir, "backbone_comparison.png")]

@@ -133,18 +133,20 @@ def mode_figure(ds, outdir) -> list[Path]:
     if "delta_o" in ds.dims:
         omega = omega.sel(delta_o=delta_o)
     order = np.argsort(omega.values)[:3]
-    rho = np.linspace(delta_o, 1.0, 60)
-    theta = np.linspace(0, 2 * np.pi, 121)
-    fig, axes = plt.subplots(1, len(order), figsize=(3.6 * len(order), 3.4),
-                             subplot_kw={"projection": "polar"}, squeeze=False)
+    rho = np.linspace(delta_o, 1.0, 40)
+    theta = np.linspace(0, 2 * np.pi, 97)
+    R, T = np.meshgrid(rho, theta)
+    fig, axes = plt.subplots(1, len(order), figsize=(3.8 * len(order), 3.6),
+                             subplot_kw={"projection": "3d"}, squeeze=False)
     for ax, k in zip(axes[0], order):
         m, n = int(ds.m[k]), int(ds.n[k])
         phi = mode_shape(rho, bessel_roots(abs(n), delta_o, m)[-1], abs(n), 1.0, delta_o)[0]
-        w = np.outer(np.cos(n * theta) if n >= 0 else np.sin(-n * theta), phi)  # n < 0: sine companion
-        ax.pcolormesh(theta, rho, w.T / np.abs(w).max(), cmap="RdBu_r", vmin=-1, vmax=1, shading="auto")
-        ax.set_ylim(0, 1)
-        ax.set_yticklabels([])
-        ax.set_xticklabels([])
+        w = (np.cos(n * T) if n >= 0 else np.sin(-n * T)) * phi  # n < 0: sine companion
+        w = w / np.abs(w).max()
+        ax.plot_surface(R * np.cos(T), R * np.sin(T), w, cmap="RdBu_r", vmin=-1, vmax=1, rstride=2, cstride=1,
+                        linewidth=0, antialiased=True)
+        ax.set(xticks=[], yticks=[], zticks=[], zlim=(-1, 1))
+        ax.set_box_aspect((1, 1, 0.45))
         ax.set_title(f"m={m}, n={n}: {float(omega[k]):.2f} rad/s", fontsize=9)
     delta = float(ds.delta[0]) if "delta" in ds.dims else float("nan")
     fig.suptitle(rf"Mode shapes of Eq. 26, $\delta_o$ = {delta_o:g}, $\delta$ = {delta:g} (normalised $w$; "
