@@ -238,6 +238,16 @@ def test_figures_of_several_results_draw_each_and_compare(capsys, job, tmp_path)
     assert code == 1 and "results of different analyses (backbone, fake) cannot be drawn together" in err
 
 
+def test_forced_branches_of_two_mode_sets_are_compared(capsys, tmp_path):
+    text = (JOBS / "fig15-bifurcation-p0.toml").read_text().replace("delta = [1.1, 1.5, 2.0]", "delta = [1.1]")
+    text = text.replace("Omega = [33.5, 46.1, 47.35]", "Omega = [33.5]")
+    for name, modes in (("one", "[[1, 0]]"), ("two", "[[1, 0], [2, 0]]")):
+        (tmp_path / f"{name}.toml").write_text(text.replace("modes = [[1, 0]]", f"modes = {modes}"))
+        assert run(capsys, "run", tmp_path / f"{name}.toml", "-o", tmp_path / f"{name}.nc")[0] == 0
+    code, out, _ = run(capsys, "figures", tmp_path / "one.nc", tmp_path / "two.nc", "-o", tmp_path / "figs")
+    assert code == 0 and (tmp_path / "figs" / "bifurcation_P0_comparison.png").exists()
+
+
 def test_figures_errors(capsys, tmp_path):
     code, _, err = run(capsys, "figures", tmp_path / "x.nc")
     assert code == 1 and f"error: {tmp_path}/x.nc does not exist" in err

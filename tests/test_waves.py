@@ -193,3 +193,17 @@ def test_the_continuation_job_reports_standing_and_rotating_waves():
     assert out["switched_stable_o2"][0] == 0 and set(out["switched_stable_o2"][1:]) <= {0, 1}
     for prefix in ("switched", "rotating"):
         assert np.isfinite([out[f"{prefix}_check_{k}"] for k in ("Omega", "drift", "wave_amplitude")]).all()
+
+
+def test_the_rotating_check_is_taken_inside_the_unstable_interval_of_its_point():
+    """The check starts where the axisymmetric response is unstable to the family: the wave
+    nearest the middle of the interval that ends at the Neimark-Sacker point (a branch may run
+    backwards in the parameter), none when no wave lies inside."""
+    from sweep.analyses.wave_features import _check_point
+
+    branch = SimpleNamespace(value=np.array([40.0, 41.0, 44.0, 46.0, 45.0]),
+                             unstable_intervals=lambda j: [(44.0, 41.0), (46.0, 47.0)])
+    waves_at = np.array([41.0, 41.5, 42.4, 43.9, 45.0])
+    assert _check_point(branch, 0, 1, waves_at) == 2  # nearest 42.5, inside (41, 44)
+    assert _check_point(branch, 0, 1, np.array([40.5, 44.5])) is None
+    assert _check_point(SimpleNamespace(value=branch.value, unstable_intervals=lambda j: []), 0, 1, waves_at) is None

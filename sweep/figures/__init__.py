@@ -45,10 +45,12 @@ def drawer(analysis: str) -> Callable | None:
 
 def comparer(analysis: str) -> Callable | None:
     """The function that draws several results of the analysis named ``analysis`` together
-    (``comparer(name)(datasets, outdir)``), or None: the backbones (Fig. 10 across models)."""
-    from sweep.figures import backbone
+    (``comparer(name)(datasets, outdir)``), or None: the backbones (Fig. 10 across models) and
+    the forced branches (ROM against the full model)."""
+    from sweep.figures import backbone, continuation
 
-    return {"backbone": backbone.backbone_comparison}.get(analysis)
+    return {"backbone": backbone.backbone_comparison,
+            "continuation": continuation.continuation_comparison}.get(analysis)
 
 
 def draw_comparison(analysis, datasets, outdir, *, fmt: str = "png", dpi: float | None = None,

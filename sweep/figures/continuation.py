@@ -310,3 +310,37 @@ def _style_legend(ax):
                 for kind, marker in BIFURCATION_MARKERS.items()]
     handles.append(Line2D([], [], color="k", ls="none", marker="X", label="branch stopped early"))
     return ax.legend(handles=handles, loc="upper left", fontsize=7)
+
+
+def continuation_comparison(datasets, outdir) -> list:
+    """Forced branches of several results (ROM against the full model, mode sets): per grid
+    point of the first result that every result has (the same continued parameter), each
+    result's branch, stable solid and unstable dashed, labelled with its model."""
+    from sweep.figures.backbone import result_label
+
+    plt = pyplot()
+    first = datasets[0]
+    par = first.attrs.get("continued_parameter")
+    if any(ds.attrs.get("continued_parameter") != par or "mode_set" in ds.dims for ds in datasets):
+        return []
+    own = ("point", "fold", "multiplier", "mode", "curve_point", "cusp", "family", "family_multiplier")
+    panels = [sel for sel in computed_points(first, own)
+              if all(all(d in ds.dims and np.any(np.isclose(ds[d].values, v)) for d, v in sel.items())
+                     for ds in datasets[1:])]
+    if not panels:
+        return []
+    fig, axes = panel_axes(plt, len(panels))
+    cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for ax, sel in zip(axes, panels):
+        for j, ds in enumerate(datasets):
+            b = ds.sel(sel, method="nearest")
+            _draw_branch(ax, b[par].values.ravel(), b.amplitude.values.ravel(), b.stable.values.ravel(),
+                         b.point_type.values.ravel(), cycle[j % len(cycle)], result_label(ds))
+        ax.set(xlabel=r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)",
+               ylabel=r"amplitude of $w(0.5, 0)$ (mm)")
+        ax.set_title(point_label(sel), fontsize=9)
+        ax.add_artist(_style_legend(ax))
+        ax.legend(fontsize=7, loc="lower right")
+    fig.suptitle("Periodic responses of several results", fontsize=11)
+    fig.tight_layout()
+    return [save_figure(fig, outdir, f"bifurcation_{par}_comparison.png")]
