@@ -694,7 +694,7 @@ def section_bruteforce_diagram(results: Path) -> list[str]:
     om, kind, fam = c.Omega.values.ravel()[:n], c.point_type.values.ravel()[:n], c.point_family.values.ravel()[:n]
     end = resonant_end(kind)
     kinds = {2: "PD", 3: "NS", 4: "BP"}
-    modulus = c.family_multiplier_modulus.values.reshape(n, -1)[:end]
+    modulus = c.family_multiplier_modulus.values.reshape(c.sizes["point"], -1)[:end]
     intervals = []
     for j, f in enumerate(c.family.values):
         located = [f"{kinds[int(k)]} {o:.3f}" for k, g, o in zip(kind[:end], fam[:end], om[:end]) if g == f and k > 1]
