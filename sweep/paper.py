@@ -48,7 +48,7 @@ VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
     "families-viscous", "families-modal", "families-rayleigh",
     "families-1pct-viscous", "families-1pct-modal", "families-1pct-rayleigh", "tongues-1pct-viscous",
     "tongues-1pct-modal", "stability-map-fig14a-radial", "families-1pct-viscous-axi", "families-1pct-modal-axi",
-    "families-1pct-viscous-k8", "families-1pct-modal-k8",
+    "families-1pct-viscous-k8", "families-1pct-modal-k4", "families-1pct-modal-k8",
     "families-viscous-axi", "families-viscous-k8",
     "family-check", "fig14a-families-m2", "waves-fig14a",
     "fig19a-basins-brute",

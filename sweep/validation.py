@@ -976,7 +976,8 @@ def section_tongues(results: Path) -> list[str]:
 
 #: The studies of the families against the orbit's axisymmetric modes.
 ORBIT_STUDIES = ("validation/families-1pct-viscous-axi", "validation/families-1pct-viscous-k8",
-                 "validation/families-1pct-modal-axi", "validation/families-1pct-modal-k8",
+                 "validation/families-1pct-modal-axi", "validation/families-1pct-modal-k4",
+                 "validation/families-1pct-modal-k8",
                  "validation/families-viscous-axi", "validation/families-viscous-k8")
 
 
@@ -989,7 +990,8 @@ def section_family_orbit(results: Path) -> list[str]:
            "modes (a `mode_set` dimension) and each family M radial modes: intervals of Omega (rad/s) on the",
            "resonant stretch at delta = 1.1 where the family is unstable, in brackets its largest multiplier",
            "modulus there; `validation/families-1pct-<law>-axi` (P0 = 10 Pa, first-mode ratio 1 %, n = 1,",
-           "K = 1..6, M = 2..32; `-k8`: K = 8, M = 8, 16) and `validation/families-viscous-axi` (the paper's",
+           "K = 1..6, M = 2..32; `-k8`: K = 8, M = 8, 16; `validation/families-1pct-modal-k4`: n = 1..6, K = 4,",
+           "M = 2..16) and `validation/families-viscous-axi` (the paper's",
            "P0 = 1 Pa, c = 0.05 N s/m^3, n = 1..6, K = 1..4, M = 4, 8, 16; `-k8`: K = 8, M = 8, 16). Convergence",
            "criterion as above: from M to 2M the same number of",
            f"intervals, each end moving by less than {SETTLED:g} rad/s, at the last step.", ""]
