@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .continuation import LENGTH, MAX_TURN, bordered_newton, unit_tangent
+from .continuation import LENGTH, bordered_newton, step, unit_tangent
 from .families import Family
 from .forced import ForcedMap
 from .protocol import sorted_multipliers
@@ -106,16 +106,25 @@ def deflated_multipliers(jac: np.ndarray, direction: np.ndarray) -> tuple[np.nda
     return sorted_multipliers(b[1:, 1:]), float(t @ jac @ t)
 
 
+def embedded(state, dof: int) -> np.ndarray:
+    """A state ``(q, q')`` of a ROM whose modes are the first ones of a ROM of ``dof`` modes, as
+    a state of the larger one: the other coordinates zero."""
+    state = np.asarray(state, dtype=float)
+    K0 = state.size // 2
+    if state.shape != (2 * K0,) or K0 > dof:
+        raise ValueError(f"state shape {state.shape} is invalid: expected (2 K0,) with K0 <= {dof}")
+    y = np.zeros(2 * dof)
+    y[:K0], y[dof:dof + K0] = state[:K0], state[K0:]
+    return y
+
+
 def embed_standing(state, axisymmetric: int, family_size: int) -> np.ndarray:
     """A state of the ROM of axisymmetric plus cosine modes (``axisymmetric + M`` modes) as a
     state of the O(2) ROM (:func:`o2_rom`): the sine coordinates zero."""
-    state = np.asarray(state, dtype=float)
-    K0, K = axisymmetric + family_size, axisymmetric + 2 * family_size
-    if state.shape != (2 * K0,):
-        raise ValueError(f"state shape {state.shape} is invalid: expected ({2 * K0},)")
-    y = np.zeros(2 * K)
-    y[:K0], y[K:K + K0] = state[:K0], state[K0:]
-    return y
+    K0 = axisymmetric + family_size
+    if np.shape(state) != (2 * K0,):
+        raise ValueError(f"state shape {np.shape(state)} is invalid: expected ({2 * K0},)")
+    return embedded(state, axisymmetric + 2 * family_size)
 
 
 @dataclass
@@ -303,8 +312,7 @@ def continue_rotating_waves(fmap: ForcedMap, family: Family, parameter: str, sta
     v, theta = neimark_sacker_direction(at, state, family)
     fmap_o2 = at.with_rom(o2_rom(fmap.rom, family))
     Ka, M, K = fmap.dof, len(family.radial), fmap_o2.dof
-    y0 = np.zeros(2 * K)
-    y0[:Ka], y0[K:K + Ka] = state[:Ka], state[Ka:]
+    y0 = embedded(state, K)
     direction = np.zeros(2 * K)
     for off, part in ((0, v[:M]), (K, v[M:])):  # a - i b along the eigenvector: the pattern turns
         direction[off + Ka:off + Ka + M] = part.real
@@ -323,23 +331,19 @@ def continue_rotating_waves(fmap: ForcedMap, family: Family, parameter: str, sta
         pts.append((lam, y, phi, fmap_o2.varied(parameter, lam).amplitude(y), float(np.linalg.norm(y[wave])),
                     mu, neutral))
 
+    def correct(guess, normal, anchor, sigma, tol):
+        """Newton from ``guess`` with the phase fixed there: ``(x, jac, jac_y, r, iters)``."""
+        prob.set_phase(guess)
+        found = bordered_newton(prob.evaluate, guess, normal, anchor, sigma, tol, 8)
+        return None if found is None else (found[0], found[1][1], found[1][2], found[1][3], found[2])
+
     message, complete = "max_points reached", False
     while len(pts) < max_points:
-        result = None
-        while ds >= ds_min:
-            guess = x + ds * t
-            prob.set_phase(guess)
-            result = bordered_newton(prob.evaluate, guess, t, x, ds, tol, 8)
-            if result is not None:
-                t_new = unit_tangent(result[1][1], t)
-                if t_new @ t >= np.cos(MAX_TURN):
-                    break
-                result = None
-            ds *= 0.5
+        result, t_new, ds = step(correct, unit_tangent, x, t, ds, ds_min, tol)
         if result is None:
             message = "step size fell below ds_min"
             break
-        x, (_, _, jac_y, r), iters = result
+        x, _, jac_y, r, iters = result
         t = t_new
         if not prob.lo <= prob.unpack(x)[2] <= prob.hi:
             complete, message = True, "left the parameter range"

@@ -490,18 +490,19 @@ def _damping_factor(ds, b, omega):
 
 
 def _resonant_stretch(b):
-    """The axisymmetric branch from its start to its first saddle-node: Omega, the stable flag
-    and the largest multiplier modulus of each family."""
+    """The axisymmetric branch of one grid point from its start to its first saddle-node:
+    Omega, the stable flag, the largest multiplier modulus of each family (point, family), and
+    each point's kind and family."""
     n = int(b.n_points)
     omega, kind = b.Omega.values.ravel()[:n], b.point_type.values.ravel()[:n]
     end = resonant_end(kind)
     modulus = b.family_multiplier_modulus.values.reshape(b.sizes["point"], -1)[:end]
-    return omega[:end], b.stable.values.ravel()[:end], modulus
+    return omega[:end], b.stable.values.ravel()[:end], modulus, kind[:end], b.point_family.values.ravel()[:end]
 
 
 def _unstable_families(b, values) -> list[list[int]]:
     """Per parameter value, the families unstable at the nearest point of the resonant stretch."""
-    omega, _, modulus = _resonant_stretch(b)
+    omega, _, modulus, _, _ = _resonant_stretch(b)
     families = b.family.values
     return [[int(f) for f, mu in zip(families, modulus[int(np.argmin(np.abs(omega - v)))]) if mu > 1.0]
             for v in values]
@@ -594,7 +595,7 @@ def _rotating_waves(b, ds, results: Path) -> list[str]:
     stable = b.rotating_stable.values.ravel()[:m]
     decay = _damping_factor(ds, b, omega)
     j = list(b.family.values).index(3)
-    stretch, _, modulus = _resonant_stretch(b)
+    stretch, _, modulus, _, _ = _resonant_stretch(b)
     intervals = unstable_intervals(stretch, modulus[:, j])
     if not intervals:
         return out + ["*The n = 3 family is not unstable on the resonant stretch.*", ""]
@@ -690,19 +691,16 @@ def section_bruteforce_diagram(results: Path) -> list[str]:
         return out + _missing(*names)
     case = dict(delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
     c = _point(cont, **case)
-    n = int(c.n_points)
-    om, kind, fam = c.Omega.values.ravel()[:n], c.point_type.values.ravel()[:n], c.point_family.values.ravel()[:n]
-    end = resonant_end(kind)
+    om, _, modulus, kind, fam = _resonant_stretch(c)
     kinds = {2: "PD", 3: "NS", 4: "BP"}
-    modulus = c.family_multiplier_modulus.values.reshape(c.sizes["point"], -1)[:end]
     intervals = []
     for j, f in enumerate(c.family.values):
-        located = [f"{kinds[int(k)]} {o:.3f}" for k, g, o in zip(kind[:end], fam[:end], om[:end]) if g == f and k > 1]
-        found = unstable_intervals(om[:end], modulus[:, j])
+        located = [f"{kinds[int(k)]} {o:.3f}" for k, g, o in zip(kind, fam, om) if g == f and k > 1]
+        found = unstable_intervals(om, modulus[:, j])
         intervals += found
         out.append(f"* family n = {int(f)}: located points on the resonant stretch {', '.join(located) or 'none'}; "
                    f"unstable on {_fmt_intervals(found)} rad/s.")
-    out += ["", f"The resonant stretch ends at its saddle-node, Omega = {om[end - 1]:.3f} rad/s.", ""]
+    out += ["", f"The resonant stretch ends at its saddle-node, Omega = {om[-1]:.3f} rad/s.", ""]
     d = _point(diagram, **case)
     modes = list(zip(d.m.values.tolist(), d.n.values.tolist()))
     axi = modes.index((1, 0))
@@ -724,7 +722,7 @@ def section_bruteforce_diagram(results: Path) -> list[str]:
                       "-" if np.isnan(rot[i, k]) else f"{rot[i, k]:.4f}"]
         out.append("| " + " | ".join(cells) + " |")
     inside = [any(a < o < b for a, b in intervals) for o in omega]
-    on_stretch = omega <= om[end - 1]
+    on_stretch = omega <= om[-1]
     up = labels[str(d.direction.values[0])]
     agree_in = sum(1 for k in range(omega.size) if inside[k] and on_stretch[k] and up[k] != "period 1 axisymmetric")
     n_in = sum(1 for k in range(omega.size) if inside[k] and on_stretch[k])

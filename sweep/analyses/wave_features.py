@@ -24,8 +24,8 @@ import numpy as np
 from model.continuation import BRANCH_POINT, NEIMARK_SACKER
 from model.shooting import shoot
 from model.switching import follow_bifurcated_branch
-from model.waves import (continue_rotating_waves, embed_standing, o2_rom, rotation_generator, standing_wave_stability,
-                         wave_motion)
+from model.waves import (continue_rotating_waves, embed_standing, embedded, o2_rom, rotation_generator,
+                         standing_wave_stability, wave_motion)
 
 from . import options as opt
 from .base import GRID_KEYS, JobError, Variable, blank_outputs
@@ -300,8 +300,7 @@ class RotatingWaves(BranchFeature):
         if np.abs(np.linalg.eigvals(at.family_monodromy(axi.state, family))).max() <= 1.0:
             return [f"rotating-wave check: the axisymmetric response found at {p} = {value:.9g} is stable to "
                     f"n = {family.n} (another of the coexisting responses)"]
-        y = np.zeros(2 * K)
-        y[:Ka], y[K:K + Ka] = axi.state[:Ka], axi.state[Ka:]
+        y = embedded(axi.state, K)
         y[Ka:Ka + M] = CHECK_SIZE
         y[Ka + M:K] = CHECK_SIZE * CHECK_ODD
         _run_check(out, "rotating", p, value, fmap_o2.varied(p, value), y, family.n, periods)
