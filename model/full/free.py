@@ -186,16 +186,17 @@ class FreeFull:
         steps = max(STEPS_PER_PERIOD, int(np.ceil(period / self._time_step(q0))))
         return self.model.free_motion(np.concatenate([q0, np.zeros(self.dof)]), period, steps), period / steps
 
-    def snapshots(self, q0, period: float, samples: int, rho) -> tuple[np.ndarray, np.ndarray]:
-        """``(u, w)`` (m), each ``(samples, len(rho))``: the displacements at the undeformed radii
-        ``rho`` (m) at ``samples`` equally spaced instants ``t = j T / samples`` of one period of
-        the orbit from rest at ``q0`` (the first at rest, the largest deflection), by the
-        integration of :meth:`orbit` (its step count raised to a multiple of ``samples``)."""
+    def snapshots(self, q0, period: float, samples: int, rho, periods: int = 1) -> tuple[np.ndarray, np.ndarray]:
+        """``(u, w)`` (m), each ``(periods samples, len(rho))``: the displacements at the undeformed
+        radii ``rho`` (m) at ``samples`` equally spaced instants ``t = j T / samples`` of each of
+        ``periods`` periods of the orbit from rest at ``q0`` (the first at rest, the largest
+        deflection), by the integration of :meth:`orbit` (its step count raised to a multiple
+        of ``samples``)."""
         q0 = np.asarray(q0, float)
         steps = max(STEPS_PER_PERIOD, int(np.ceil(period / self._time_step(q0))))
         steps = samples * -(-steps // samples)
-        record = self.model.free_motion(np.concatenate([q0, np.zeros(self.dof)]), period, steps,
-                                        every=steps // samples)[:samples]
+        record = self.model.free_motion(np.concatenate([q0, np.zeros(self.dof)]), periods * period, periods * steps,
+                                        every=steps // samples)[:periods * samples]
         b, o, re = self.model.state.basis, self.model.order, self.model.membrane.Re
         s = np.asarray(rho, float) / re  # the basis' scaled radius
         return re * b.evaluate(record[:, :o], s)[0], re * b.evaluate(record[:, o:2 * o], s)[0]

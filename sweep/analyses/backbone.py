@@ -19,6 +19,14 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   the largest deflection) and at :data:`ORBIT_RADII` equally spaced undeformed radii
   (``orbit_radius``: ``(rho - Ro) / (Re - Ro)``, 0 at the inner edge, 1 at the outer) (Fig. 8;
   ``v`` vanishes on these axisymmetric orbits);
+* ``fe_omega``, ``fe_omega_spread``, ``fe_w_deviation``, ``fe_u_deviation`` (``point``,
+  ``fe_radial``) -- with
+  ``fe_check = {radial = [...], around, periods}`` (the full model): the membrane on the
+  two-dimensional finite-element meshes of ``radial`` P2 elements across and ``around``
+  times as many around (:mod:`model.fe_motion`), integrated for ``periods`` periods from
+  rest at each orbit's state; its frequency from the extrema of ``w`` at the probe and the
+  range of its half periods' frequencies, and the largest deviations of ``w`` and ``u`` from the orbit along the ray ``theta = 0``
+  (:func:`model.fe_motion.check_free_orbit`);
 * ``turn_amplitude``, ``turn_omega`` -- where the pseudo-arclength branch of free orbits
   (:func:`model.backbone.backbone_branch`) first turns back in amplitude (an internal
   resonance), NaN when it reaches the largest target without turning; targets beyond it
@@ -68,6 +76,9 @@ class BackboneOptions:
     inplane: bool = False
     #: instants per period of ``orbit_u``, ``orbit_w`` (0: none)
     orbit_samples: int = 0
+    #: ``fe_check``: the meshes' radial elements, the elements around per radial one and the
+    #: periods integrated; ``((), 0, 0)``: no check
+    fe_check: tuple[tuple[int, ...], int, int] = ((), 0, 0)
 
     @property
     def targets(self) -> np.ndarray:
@@ -89,6 +100,10 @@ class BackboneAnalysis(Analysis):
         "peak_damping": "damping c of the decays of the peak-to-peak method (N s/m^3, > 0; default 0.05)",
         "orbit_samples": f"N: u and w over one period of each free orbit at N instants and {ORBIT_RADII} radii, "
                          "orbit_u and orbit_w (Fig. 8; models with in-plane motion; default 0: none)",
+        "fe_check": "{radial = [4, 8, 16], around = 4, periods = 2}: each free orbit's motion on two-dimensional "
+                    "finite-element meshes of radial P2 elements across and around x radial around, integrated "
+                    "for periods periods from rest at the orbit's state; fe_omega, fe_omega_spread, fe_w_deviation, "
+                    "fe_u_deviation (the full model; docs/validation.md, \"The finite-element free vibration\")",
     }
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
@@ -100,6 +115,7 @@ class BackboneAnalysis(Analysis):
         if samples and not inplane:
             raise JobError(f"{self.name}.orbit_samples", samples, f"needs a model with in-plane motion ([model] kind "
                            f"= \"full\"); this job's model is {context.model.kind!r}")
+        fe_check = _fe_check_option(table.get("fe_check"), context) if "fe_check" in table else ((), 0, 0)
         return BackboneOptions(
             modes=opt.modes(table, self.name),
             prestretch=opt.prestretch(table, self.name, context),
@@ -108,7 +124,7 @@ class BackboneAnalysis(Analysis):
             peak_damping=opt.number(table, self.name, "peak_damping", 0.05, low=0.0, low_open=True),
             material=membrane.law,
             modal=model.rom_features,
-            inplane=inplane, orbit_samples=samples)
+            inplane=inplane, orbit_samples=samples, fe_check=fe_check)
 
     def variables(self, options):
         P, K = options.amplitude[2], len(options.modes)
@@ -137,7 +153,7 @@ class BackboneAnalysis(Analysis):
             [Variable(f"orbit_{f}", ("point", "orbit_phase", "orbit_radius"), (P, options.orbit_samples, ORBIT_RADII),
                       "f8", "m", f"{name} over one period of the free periodic orbit")
              for f, name in (("u", "radial displacement u"), ("w", "transverse displacement w"))]
-            if options.orbit_samples else [])
+            if options.orbit_samples else []) + _fe_variables(options)
 
     def coords(self, options):
         orbit = {} if not options.orbit_samples else {
@@ -147,6 +163,10 @@ class BackboneAnalysis(Analysis):
             "orbit_radius": (("orbit_radius",), np.linspace(0.0, 1.0, ORBIT_RADII),
                              {"long_name": "(rho - Ro) / (Re - Ro): the undeformed radius across the annulus",
                               "units": "1"})}
+        if options.fe_check[0]:
+            orbit["fe_radial"] = (("fe_radial",), np.array(options.fe_check[0], np.int32),
+                                  {"long_name": "P2 elements across the annulus of the finite-element mesh "
+                                                f"({options.fe_check[1]} times as many around)", "units": "1"})
         return {"point": (("point",), np.arange(options.amplitude[2], dtype=np.int32),
                           {"long_name": "index of the target amplitude", "units": "1"}),
                 **(opt.mode_coords(options.modes) if options.modal else {}), **orbit}
@@ -191,10 +211,69 @@ class BackboneAnalysis(Analysis):
             for j in np.flatnonzero(orbits.converged):
                 out["orbit_u"][j], out["orbit_w"][j] = free.snapshots(orbits.modal[j], 2.0 * np.pi / orbits.omega[j],
                                                                       options.orbit_samples, rho)
+        if options.fe_check[0]:
+            out.update(_fe_check(point, free, orbits, *options.fe_check))
         return out
 
 
 BACKBONE = BackboneAnalysis()
+
+
+def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int]:
+    """``fe_check = {radial = [...], around = A, periods = P}`` as ``(radial, A, P)``."""
+    key = "backbone.fe_check"
+    if context.model.kind != "full":
+        raise JobError(key, value, f"a check of the full model's orbits ([model] kind = \"full\"); this job's "
+                       f"model is {context.model.kind!r}")
+    if not isinstance(value, dict):
+        raise JobError(key, value, "a table {radial = [4, 8, 16], around = 4, periods = 2}")
+    check_keys(value, key, ("radial", "around", "periods"))
+    radial = value.get("radial", [4, 8, 16])
+    radial = radial if isinstance(radial, list) else [radial]
+    sizes = tuple(opt.number({"radial": r}, key, "radial", low=1, high=64, integer=True) for r in radial)
+    if not sizes or list(sizes) != sorted(set(sizes)):
+        raise JobError(f"{key}.radial", value.get("radial"), "a non-empty list of distinct increasing element "
+                       "counts in 1..64")
+    around = opt.number(value, key, "around", 4, low=1, high=32, integer=True)
+    if around * sizes[0] < 8:
+        raise JobError(f"{key}.around", around, f"at least {-(-8 // sizes[0])} (8 elements around or more on "
+                       f"the coarsest mesh of {sizes[0]} across)")
+    return sizes, around, opt.number(value, key, "periods", 2, low=1, high=100, integer=True)
+
+
+def _fe_variables(options) -> list[Variable]:
+    if not options.fe_check[0]:
+        return []
+    dims, shape = ("point", "fe_radial"), (options.amplitude[2], len(options.fe_check[0]))
+    return [
+        Variable("fe_omega", dims, shape, "f8", "rad s-1", "frequency of the motion on the finite-element mesh "
+                 "from rest at the free orbit's state, from the instants of the extrema of w at the probe"),
+        Variable("fe_omega_spread", dims, shape, "f8", "rad s-1", "range of the frequencies pi / (t_(k+1) - t_k) of "
+                 "the half periods between those extrema (t_0 = 0, the start): a difference from omega_nl below it "
+                 "is not resolved"),
+        Variable("fe_w_deviation", dims, shape, "f8", "1", "largest |w_fe - w| over the instants and the radii "
+                 "of the ray theta = 0, over the orbit's largest |w| there"),
+        Variable("fe_u_deviation", dims, shape, "f8", "1", "the same for the radial displacement u"),
+    ]
+
+
+def _fe_check(point, free, orbits, radial, around, periods) -> dict[str, np.ndarray]:
+    """The outputs of ``fe_check`` (:func:`model.fe_motion.check_free_orbit`) for the
+    converged orbits (NaN elsewhere)."""
+    from model.fe_motion import check_free_orbit
+    from sweep.models.fe2d import fe_motion_for
+
+    names = ("fe_omega", "fe_omega_spread", "fe_w_deviation", "fe_u_deviation")
+    out = {k: np.full((orbits.omega.size, len(radial)), np.nan) for k in names}
+    m = point.membrane
+    rho = np.linspace(m.Ro, m.Re, ORBIT_RADII)
+    for k, r in enumerate(radial):
+        motion = fe_motion_for(m, r, around * r)
+        for j in np.flatnonzero(orbits.converged):
+            check = check_free_orbit(motion, free, orbits.modal[j], 2.0 * np.pi / orbits.omega[j], periods, rho)
+            for name, value in zip(names, check):
+                out[name][j, k] = value
+    return out
 
 
 def _compile_backbone(material: str) -> None:

@@ -42,6 +42,15 @@ def fe_prestretch_for(membrane, radial: int, circumferential: int, element: str,
     return solve_fe_prestretch(AnnulusMesh.build(membrane, radial, circumferential, element, grading))
 
 
+@functools.lru_cache(maxsize=4)
+def fe_motion_for(membrane, radial: int, circumferential: int):
+    """The free motion (:class:`model.fe_motion.FeMotion`) on the P2 mesh with logarithmic
+    grading (cached)."""
+    from model.fe_motion import FeMotion
+
+    return FeMotion.build(fe_prestretch_for(membrane, radial, circumferential, "P2", "logarithmic"))
+
+
 class FeModel(Model):
     """The membrane on a 2-D mesh of ``radial`` x ``circumferential`` elements."""
 

@@ -1,0 +1,292 @@
+"""Free vibration of the membrane on the two-dimensional finite-element mesh: the independent
+check of the full model's nonlinear motion (docs/model.md, "The two-dimensional
+finite-element check").
+
+The three Cartesian displacement components ``D = (d_x, d_y, d_z)`` (over ``Re``) on the
+scalar basis of an :class:`model.fe_annulus.AnnulusMesh` about its pre-stretch
+(:func:`model.fe_annulus.solve_fe_prestretch`), the exact energy ``h C1 Re^2 int W / C1 dA``
+of :mod:`model.full.surface` with the deformation gradient's columns
+``a_j = e_j + dD/dX_j``, the consistent mass ``Gamma h Re^2 int phi_k phi_l dA`` of each
+component, both edges held at the pre-stretch.  Lagrange's equations are
+
+    M D'' = -omega_0^2 f(D),     omega_0^2 = C1 / (Gamma Re^2),
+
+``f`` the gradient of ``int W / C1 dA`` -- the full model's equations (docs/model.md,
+"Axisymmetric motion") without its polar reduction.  The force is a sum over the quadrature
+points: with the sparse operators ``G_j`` that give ``dD/dX_j`` at the points,
+``f = G_1^T (w P_1) + G_2^T (w P_2)`` (``P_j = dW/da_j``, ``w`` the quadrature weights); the
+motion uses the same sum compiled as one loop over the elements (:mod:`model.fe_kernels`).
+Time integration by the classical Runge-Kutta scheme (the full model's), stable for
+``omega_max dt < 2.8``: at half of that limit the transverse motion takes about a thousand
+steps per period on 16 elements across, where RK4's phase error, ``(omega dt)^4 / 120``, is
+below 1e-10 -- far below the mesh's error.  (The central-difference scheme of explicit
+structural codes errs by ``(omega dt)^2 / 24`` at the same step, 2e-6, which is the size of
+the mesh's frequency error there: its time error would decide the comparison.)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+from skfem import BilinearForm
+
+from model.fe_annulus import FePrestretch, _tangent_moduli
+from model.fe_kernels import fe_force
+from model.full import surface
+
+#: Fraction of RK4's stability limit ``2.8 / omega_max`` the time step takes (RK4 damps the
+#: mesh's fastest modes, excited by the lifted start, by about 5 % per step there).
+STABILITY_FRACTION = 0.5
+
+
+@dataclass(frozen=True, eq=False)
+class FeMotion:
+    """The free motion of the membrane on the mesh of ``state`` (build with :meth:`build`).
+
+    Attributes
+    ----------
+    state : FePrestretch
+    basis : skfem.Basis
+        The scalar basis; a displacement field is ``(3, basis.N)`` (scaled by ``Re``).
+    rest : numpy.ndarray
+        The pre-stretched state ``(3, N)``: the pre-stretch in-plane, ``d_z = 0``.
+    free : numpy.ndarray
+        The scalar dofs off both edges.
+    """
+
+    state: FePrestretch
+    basis: object
+    rest: np.ndarray
+    free: np.ndarray
+    gradient_x: sp.csr_matrix
+    gradient_y: sp.csr_matrix
+    weights: np.ndarray
+    #: what :func:`model.fe_kernels.fe_force` takes before the state: the law, each element's
+    #: dofs ``(elements, 6)``, the basis functions' derivatives ``(elements, points, 6)`` in
+    #: ``X`` and ``Y`` and the weights ``(elements, points)``
+    kernel_tables: tuple
+    mass: sp.csc_matrix
+    mass_factor: object
+    omega0_2: float
+
+    @classmethod
+    def build(cls, state: FePrestretch) -> FeMotion:
+        """The operators of the motion about ``state``."""
+        basis = state.mesh.basis(1)
+        nodes = basis.N
+        points = basis.X.shape[1]
+        elements = basis.nelems
+        rows = np.arange(elements * points).reshape(elements, points)
+        grads = np.array([basis.basis[i][0].grad for i in range(basis.Nbfun)])  # (functions, 2, elements, points)
+        cols = np.broadcast_to(basis.element_dofs[:, :, None], (basis.Nbfun, elements, points))
+        shape = (elements * points, nodes)
+        operators = [sp.csr_matrix((grads[:, j].ravel(), (np.broadcast_to(rows, cols.shape).ravel(), cols.ravel())),
+                                   shape=shape) for j in range(2)]
+        local = [np.ascontiguousarray(grads[:, j].transpose(1, 2, 0)) for j in range(2)]
+        tables = (state.mesh.membrane.material, np.ascontiguousarray(basis.element_dofs.T, dtype=np.int64),
+                  *local, np.ascontiguousarray(basis.dx))
+
+        @BilinearForm
+        def inertia(u, v, w):
+            return u * v
+
+        mass = inertia.assemble(basis)
+        free = np.setdiff1d(np.arange(nodes), basis.get_dofs().all())
+        mass_free = mass[free][:, free].tocsc()
+        rest = np.zeros((3, nodes))
+        for c, dofs in enumerate(state.basis.split_indices()):
+            rest[c] = state.d[dofs]
+        m = state.mesh.membrane
+        return cls(state, basis, rest, free, operators[0], operators[1], basis.dx.ravel(), tables, mass_free,
+                   spla.splu(mass_free), m.C1 / (m.Gamma * m.Re**2))
+
+    def columns(self, D):
+        """``a1``, ``a2`` (``(points, 3)``) of the deformation ``X + D``."""
+        a1 = (self.gradient_x @ D.T)
+        a2 = (self.gradient_y @ D.T)
+        a1[:, 0] += 1.0
+        a2[:, 1] += 1.0
+        return a1, a2
+
+    def energy(self, D) -> float:
+        """``int W / C1 dA`` (the energy over ``h C1 Re^2``)."""
+        return float(surface.energy(self.state.mesh.membrane.material, *self.columns(D)) @ self.weights)
+
+    def force(self, D) -> np.ndarray:
+        """``f = d energy / dD`` (``(3, N)``) by sparse products (the reference of
+        :meth:`compiled_force`)."""
+        p1, p2 = surface.gradient(self.state.mesh.membrane.material, *self.columns(D))
+        return (self.gradient_x.T @ (self.weights[:, None] * p1) + self.gradient_y.T @ (self.weights[:, None] * p2)).T
+
+    def compiled_force(self, D) -> np.ndarray:
+        """:meth:`force` by the compiled element loop (:func:`model.fe_kernels.fe_force`)."""
+        out = np.empty((3, self.basis.N))
+        fe_force(*self.kernel_tables, np.ascontiguousarray(D, dtype=float), out)
+        return out
+
+    def acceleration(self, D) -> np.ndarray:
+        """``D''`` (s-2) on the free dofs (``(3, free)``)."""
+        return -self.omega0_2 * self.mass_factor.solve(np.ascontiguousarray(self.compiled_force(D)[:, self.free].T)).T
+
+    def kinetic(self, V) -> float:
+        """``(1/2) V^T M V`` over ``omega_0^2`` for velocities ``(3, free)``: the kinetic energy in
+        the units of :meth:`energy`."""
+        return 0.5 * float(sum(v @ (self.mass @ v) for v in V)) / self.omega0_2
+
+    def highest_frequency(self) -> float:
+        """The highest natural frequency (rad s-1) of the mesh about the pre-stretch, in-plane or
+        transverse (it bounds the time step)."""
+        A = _tangent_moduli(self.state)
+        gx, gy = self.gradient_x[:, self.free], self.gradient_y[:, self.free]
+        g = (gx, gy)
+        largest = 0.0
+        for fields in ((0, 1), (2,)):
+            blocks = [[sum(g[j].T @ sp.diags(self.weights * A[..., 3 * j + i, 3 * l + k].ravel()) @ g[l]
+                           for j in range(2) for l in range(2)) for k in fields] for i in fields]
+            K = sp.bmat(blocks).tocsc()
+            M = sp.block_diag([self.mass] * len(fields)).tocsc()
+            lam = spla.eigsh(K, k=1, M=M, which="LA", return_eigenvectors=False, tol=1e-6)[0]
+            largest = max(largest, lam)
+        return float(np.sqrt(self.omega0_2 * largest))
+
+    def lift(self, u, w):
+        """The field ``(3, N)``: the rest state plus the axisymmetric displacement ``u(rho) e_r +
+        w(rho) e_z`` (callables of the scaled undeformed radius, in units of ``Re``)."""
+        X = self.basis.doflocs
+        rho = np.hypot(X[0], X[1])
+        D = self.rest.copy()
+        radial = u(rho)
+        D[0] += radial * X[0] / rho
+        D[1] += radial * X[1] / rho
+        D[2] += w(rho)
+        return D
+
+    def probe(self, rho: float) -> sp.csr_matrix:
+        """The row that evaluates a scalar field at the undeformed point ``(rho, 0)`` (scaled).
+
+        The ray ``theta = 0`` is made of element edges whose midpoints lie at the mean radius
+        of their ends (:meth:`model.fe_annulus.AnnulusMesh.build`), so that along it a P2 field
+        is the quadratic in ``rho`` through its three nodal values on the edge: exact."""
+        X = self.basis.doflocs
+        on_ray = np.flatnonzero((np.abs(X[1]) < 1e-12) & (X[0] > 0))
+        on_ray = on_ray[np.argsort(X[0, on_ray])]
+        r = X[0, on_ray]
+        if not r[0] <= rho <= r[-1]:
+            raise ValueError(f"rho = {rho!r} is invalid: must lie in [{r[0]:g}, {r[-1]:g}]")
+        if self.state.mesh.element != "P2":
+            raise ValueError(f"element = {self.state.mesh.element!r} is invalid: the probe needs P2")
+        # the edges: vertex, midpoint, vertex; the first vertex of the edge holding rho
+        first = min(2 * (np.searchsorted(r, rho, side="right") - 1) // 2, r.size - 3)
+        nodes = on_ray[first:first + 3]
+        x = r[first:first + 3]
+        weights = [np.prod([(rho - x[k]) / (x[i] - x[k]) for k in range(3) if k != i]) for i in range(3)]
+        return sp.csr_matrix((weights, (np.zeros(3, int), nodes)), shape=(1, self.basis.N))
+
+    def motion(self, D0, dt: float, steps: int, record) -> None:
+        """The free motion from rest at ``D0`` by ``steps`` RK4 steps of ``dt`` (s);
+        ``record(step, D)`` is called on the displacement at ``t = step dt``, ``step = 0 ..
+        steps``."""
+        D = np.array(D0, float)
+        x = D[:, self.free].copy()
+        v = np.zeros_like(x)
+
+        def rate(x_, v_):
+            D[:, self.free] = x_
+            return v_, self.acceleration(D)
+
+        record(0, D)
+        for step in range(1, steps + 1):
+            k1 = rate(x, v)
+            k2 = rate(x + 0.5 * dt * k1[0], v + 0.5 * dt * k1[1])
+            k3 = rate(x + 0.5 * dt * k2[0], v + 0.5 * dt * k2[1])
+            k4 = rate(x + dt * k3[0], v + dt * k3[1])
+            x = x + dt / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0])
+            v = v + dt / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1])
+            D[:, self.free] = x
+            record(step, D)
+
+    def time_step(self) -> float:
+        """:data:`STABILITY_FRACTION` of RK4's limit ``2.8 / omega_max`` (s)."""
+        return STABILITY_FRACTION * 2.8 / self.highest_frequency()
+
+
+class FeOrbitCheck(NamedTuple):
+    """The motion on the mesh from the turning point of a full-model free orbit
+    (:func:`check_free_orbit`)."""
+
+    #: frequency (rad s-1) of the motion on the mesh, from the instants of its extrema of ``w``
+    #: at the probe
+    omega: float
+    #: the range (rad s-1) of the frequencies ``pi / (t_(k+1) - t_k)`` of its half periods
+    #: (``t_0 = 0``, the start at rest): the motion from the lifted start also carries the
+    #: mesh's other modes, and a frequency difference below this range is not resolved
+    omega_spread: float
+    #: ``max |w_fe - w_full|`` over the instants and radii, over ``max |w_full|``
+    w_deviation: float
+    #: the same for the radial displacement ``u`` (from the pre-stretch)
+    u_deviation: float
+    #: the time step (s)
+    dt: float
+
+
+def extremum_times(signal, dt: float) -> np.ndarray:
+    """Instants (s) of the interior extrema of ``signal`` (sampled every ``dt`` from ``t = 0``),
+    each at the vertex of the parabola through its sample and the two neighbours."""
+    s = np.asarray(signal, float)
+    i = 1 + np.flatnonzero((s[1:-1] - s[:-2]) * (s[2:] - s[1:-1]) < 0)
+    left, mid, right = s[i - 1], s[i], s[i + 1]
+    return dt * (i + 0.5 * (left - right) / (left - 2.0 * mid + right))
+
+
+def check_free_orbit(motion: FeMotion, free, q0, period: float, periods: int, rho,
+                     samples: int = 64) -> FeOrbitCheck:
+    """Integrate the mesh's motion from rest at the full model's orbit state ``q0`` and
+    compare it with the orbit.
+
+    Parameters
+    ----------
+    motion : FeMotion
+    free : model.full.free.FreeFull
+        The full model whose free periodic orbit from rest at ``q0`` has ``period`` (s).
+    periods : int
+        Periods integrated (>= 1).
+    rho : array_like
+        Undeformed radii (m) on the ray ``theta = 0`` where ``u`` and ``w`` are compared, at
+        ``samples`` instants per period.
+
+    Returns
+    -------
+    FeOrbitCheck
+        The frequency from the extrema of ``w`` at ``free.probe_rho`` (the interior ones of
+        the ``2 periods`` half periods) and its spread, and the deviations.
+    """
+    re = motion.state.mesh.membrane.Re
+    basis, order = free.model.state.basis, free.model.order
+    q0 = np.asarray(q0, float)
+    D0 = motion.lift(lambda s: basis.evaluate(q0[:order], s)[0], lambda s: basis.evaluate(q0[order:], s)[0])
+    rows = sp.vstack([motion.probe(r / re) for r in rho]).tocsr()
+    probe = motion.probe(free.probe_rho / re)
+    every = int(np.ceil(period / samples / motion.time_step()))
+    steps = periods * samples * every
+    trace, u, w = np.empty(steps + 1), [], []
+
+    def record(step, D):
+        trace[step] = (probe @ D[2])[0]
+        if step % every == 0:
+            u.append(rows @ (D[0] - motion.rest[0]))
+            w.append(rows @ D[2])
+
+    dt = period / (samples * every)
+    motion.motion(D0, dt, steps, record)
+    u_full, w_full = free.snapshots(q0, period, samples, rho, periods=periods)
+    u_fe, w_fe = re * np.array(u)[:-1], re * np.array(w)[:-1]
+    times = extremum_times(trace, dt)
+    half_periods = np.arange(1, times.size + 1)
+    omega = np.pi * float(half_periods @ times) / float(times @ times)  # t_k = k pi / omega, least squares
+    halves = np.pi / np.diff(np.concatenate([[0.0], times]))
+    return FeOrbitCheck(omega, float(np.ptp(halves)), float(np.abs(w_fe - w_full).max() / np.abs(w_full).max()),
+                        float(np.abs(u_fe - u_full).max() / np.abs(u_full).max()), dt)

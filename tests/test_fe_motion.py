@@ -1,0 +1,152 @@
+"""The membrane's free motion on the two-dimensional finite-element mesh (model/fe_motion.py,
+``backbone.fe_check``): its force, its linear oscillation against the mesh's eigenvalue
+problem, and its nonlinear motion against the full model's free orbits, converging at the
+element's order."""
+
+import numpy as np
+import pytest
+
+from model.backbone import continue_free_orbits
+from model.fe_annulus import AnnulusMesh, fe_modes, solve_fe_prestretch
+from model.fe_motion import FeMotion, check_free_orbit, extremum_times
+from model.full import surface
+from model.full.axisymmetric import AxisymmetricFull
+from model.full.free import FreeFull
+from model.full.static import solve_full_prestretch
+from model.params import Membrane
+from sweep import cli
+from tests.test_full_jobs import JOBS, _run
+
+MEMBRANE = Membrane(delta=1.5, delta_o=0.2)
+
+
+@pytest.fixture(scope="module")
+def coarse():
+    return FeMotion.build(solve_fe_prestretch(AnnulusMesh.build(MEMBRANE, 4, 16)))
+
+
+def test_the_force_is_the_gradient_of_the_energy_and_vanishes_at_rest(coarse):
+    rng = np.random.default_rng(1)
+    D = coarse.rest.copy()
+    D[:, coarse.free] += 0.01 * rng.standard_normal((3, coarse.free.size))
+    dD = np.zeros_like(D)
+    dD[:, coarse.free] = rng.standard_normal((3, coarse.free.size))
+    h = 1e-20  # complex step: exact to rounding
+    complex_step = (surface.energy(MEMBRANE.material, *coarse.columns(D + 1j * h * dD)) @ coarse.weights).imag / h
+    assert complex_step == pytest.approx(float((coarse.force(D) * dD).sum()), rel=1e-12)
+    # the pre-stretch solves the in-plane residual to Newton's 1e-12 step
+    assert np.abs(coarse.acceleration(coarse.rest)).max() < 1e-8
+
+
+@pytest.mark.parametrize("law, C2", [("neo-hookean", 0.0), ("mooney-rivlin", 0.1 * MEMBRANE.C1)])
+def test_the_compiled_force_is_the_sparse_product_force(law, C2):
+    membrane = Membrane(delta=1.5, delta_o=0.2, law=law, C2=C2)
+    motion = FeMotion.build(solve_fe_prestretch(AnnulusMesh.build(membrane, 2, 8)))
+    D = motion.rest.copy()
+    D[:, motion.free] += 0.01 * np.random.default_rng(2).standard_normal((3, motion.free.size))
+    reference = motion.force(D)
+    assert np.abs(motion.compiled_force(D) - reference).max() <= 1e-12 * np.abs(reference).max()
+
+
+def test_the_probe_is_exact_for_quadratics_along_the_ray(coarse):
+    X = coarse.basis.doflocs
+    field = X[0] ** 2 + X[1] ** 2  # rho^2: quadratic along every edge of the ray theta = 0
+    for rho in (0.2, 0.37, 0.55, 0.9, 1.0):
+        assert (coarse.probe(rho) @ field)[0] == pytest.approx(rho**2, rel=1e-13)
+    with pytest.raises(ValueError, match="rho = 0.1 is invalid"):
+        coarse.probe(0.1)
+
+
+def test_a_small_oscillation_has_the_frequency_of_the_lowest_mode(coarse):
+    """The mesh's lowest transverse n = 0 eigenpair (:func:`fe_modes`, an independent eigenvalue
+    solve of the same forms), a 1 um deflection: the motion's frequency is the eigenvalue's.
+    RK4's phase error at its step (``(omega dt)^4 / 120``, 1e-8) and the nonlinearity (1e-12)
+    are far below the parabolic extrema's, less than ``(omega dt)^2 / 8`` of half a step over
+    the two periods' span: 1e-6."""
+    omega, shapes = fe_modes(coarse.state, "W", 1, n_max=0)[0]
+    shape = shapes[:, 0] / np.abs(shapes[:, 0]).max()
+    D0 = coarse.rest.copy()
+    D0[2] = 1e-6 * shape
+    k = int(np.argmax(np.abs(shape)))
+    trace = []
+    steps = int(np.ceil(4 * np.pi / omega[0] / coarse.time_step()))
+    dt = 4 * np.pi / omega[0] / steps
+    coarse.motion(D0, dt, steps, lambda step, D: trace.append(D[2, k]))
+    times = extremum_times(np.array(trace), dt)
+    assert times.size == 3
+    measured = np.pi * np.arange(1, 4) @ times / (times @ times)
+    assert measured == pytest.approx(omega[0], rel=1e-6)
+
+
+@pytest.fixture(scope="module")
+def orbit():
+    free = FreeFull(AxisymmetricFull(solve_full_prestretch(MEMBRANE, 16)))
+    orbits, _ = continue_free_orbits(free, np.array([0.05]))
+    assert orbits.converged.all()
+    return free, orbits.modal[0], 2.0 * np.pi / orbits.omega[0]
+
+
+def test_the_mesh_follows_the_full_models_orbit_converging_at_the_elements_order(orbit, coarse):
+    """From rest at a 5 cm orbit of the full model (16 functions: spectrally converged), two
+    periods on 4 x 16, 8 x 32 and 16 x 64 P2 elements: quadratic elements approximate
+    displacements to O(h^3), so halving h divides the deviations by about 8; the measured
+    orders must exceed 2.5 (u, second order in the deflection and driven by the square of
+    w's slope, enters its asymptotic range later: 2.4 between 4 and 8 elements, so its order is
+    taken between 8 and 16).  The frequency from the extrema is bounded by the deviation: the
+    other modes in the motion shift an extremum of ``A cos(omega t)`` by about their share of
+    ``w`` times ``omega_c / (pi omega)``, which is of order one for the lowest of them.  A
+    smaller time step (at most 0.7 of it: the rule that puts a whole number of steps between
+    the samples rounds half of the limit) changes the frequency by less than 1 % of the
+    mesh's difference (the time error is negligible)."""
+    free, q0, period = orbit
+    rho = np.linspace(MEMBRANE.Ro, MEMBRANE.Re, 41)
+    meshes = [coarse] + [FeMotion.build(solve_fe_prestretch(AnnulusMesh.build(MEMBRANE, r, 4 * r))) for r in (8, 16)]
+    checks = [check_free_orbit(m, free, q0, period, 2, rho) for m in meshes]
+    omega = 2.0 * np.pi / period
+    for a, b in zip(checks, checks[1:]):
+        assert np.log2(a.w_deviation / b.w_deviation) > 2.5
+    assert np.log2(checks[1].u_deviation / checks[2].u_deviation) > 2.5
+    assert all(abs(c.omega / omega - 1) < c.w_deviation for c in checks)
+
+    class HalfStep:  # the coarse mesh at half its time step
+        def __getattr__(self, name):
+            return getattr(coarse, name)
+
+        def time_step(self):
+            return 0.5 * coarse.time_step()
+
+    halved = check_free_orbit(HalfStep(), free, q0, period, 2, rho)
+    assert halved.dt < 0.7 * checks[0].dt
+    assert abs(halved.omega - checks[0].omega) < 0.01 * abs(checks[0].omega - omega)
+
+
+def test_the_backbone_fe_check_option_writes_the_mesh_study(tmp_path):
+    text = (JOBS / "validation/fe-free-vibration.toml").read_text()
+    text = (text.replace("order = 16", "order = 8").replace("delta = [1.1, 1.5, 2.0]", "delta = [1.5]")
+            .replace("start = 0.02, stop = 0.1, num = 3", "start = 0.02, stop = 0.04, num = 2")
+            .replace("radial = [4, 8, 16]", "radial = [2, 4]"))
+    ds = _run(tmp_path, "fe", text).squeeze()
+    assert list(ds.fe_radial.values) == [2, 4]
+    assert ds.fe_omega.dims == ("point", "fe_radial") and np.isfinite(ds.fe_omega).all()
+    assert (ds.fe_omega_spread >= 0).all()
+    # the finer mesh is closer to the full model's orbit in frequency and in both fields
+    for name in ("fe_w_deviation", "fe_u_deviation"):
+        assert (ds[name].isel(fe_radial=1) < ds[name].isel(fe_radial=0)).all()
+    error = np.abs(ds.fe_omega / ds.omega_nl - 1)
+    assert (error.isel(fe_radial=1) < error.isel(fe_radial=0)).all()
+
+
+@pytest.mark.parametrize("job, change, message", [
+    ("fig10-11-backbone.toml", ("[backbone]", "[backbone]\nfe_check = {radial = [4]}"),
+     "backbone.fe_check = {'radial': [4]} is invalid: a check of the full model's orbits"),
+    ("validation/fe-free-vibration.toml", ("radial = [4, 8, 16]", "radial = [8, 4]"),
+     "backbone.fe_check.radial = [8, 4] is invalid: a non-empty list of distinct increasing"),
+    ("validation/fe-free-vibration.toml", ("around = 4", "around = 1"),
+     "backbone.fe_check.around = 1 is invalid: at least 2"),
+])
+def test_bad_fe_checks_are_refused_in_one_line(tmp_path, capsys, job, change, message):
+    path = tmp_path / "bad.toml"
+    path.write_text((JOBS / job).read_text().replace(*change))
+    assert cli.main(["run", str(path), "-o", str(tmp_path / "bad.nc")]) != 0
+    assert message in capsys.readouterr().err
+
