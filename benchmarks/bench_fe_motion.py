@@ -120,7 +120,7 @@ def main(argv=None) -> None:
         times["scikit-fem assembly"].append((time.perf_counter() - t0) / states * 1e9)
         end = []
         t0 = time.perf_counter()
-        motion.motion(D0, dt, steps, lambda step, D: step == steps and end.append(D[:, motion.free].copy()))
+        motion.motion(D0, dt, steps, lambda step, D, V: step == steps and end.append(D[:, motion.free].copy()))
         times["RK4 step"].append((time.perf_counter() - t0) / steps * 1e9)
         t0 = time.perf_counter()
         ivp = solve_ivp(rhs, (0.0, steps * dt), y0, method="RK45", rtol=1e-8, atol=1e-12)

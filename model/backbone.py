@@ -38,7 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .continuation import bordered_newton, step, unit_tangent
+from .continuation import bordered_newton, locate, step, unit_tangent
 from .protocol import FreeVibration
 
 
@@ -167,12 +167,20 @@ class BackboneBranch(NamedTuple):
     turning : (N,) bool ndarray
         The amplitude turns back between this point and the next (the amplitude
         component of the tangent changes sign).
+    located_amplitude, located_omega : (T,) ndarrays
+        Target amplitudes (m) that the branch crossed before it first turned back, and the
+        frequencies (rad s-1) of its orbits there, located on the branch by arclength.
+    located_q0 : (T, K) ndarray
+        Their turning points.
     """
 
     amplitude: np.ndarray
     omega: np.ndarray
     q0: np.ndarray
     turning: np.ndarray
+    located_amplitude: np.ndarray = np.empty(0)
+    located_omega: np.ndarray = np.empty(0)
+    located_q0: np.ndarray = np.empty((0, 0))
 
     @property
     def first_stretch(self) -> int:
@@ -198,7 +206,7 @@ MAX_PERIOD_RATIO = 10.0
 
 
 def backbone_branch(free: FreeVibration, a_max: float, steps: int = 256, ds_max: float = 0.05,
-                    max_points: int = 400, tol: float = 1e-10) -> BackboneBranch:
+                    max_points: int = 400, tol: float = 1e-10, targets=()) -> BackboneBranch:
     """The backbone branch from the linear limit until the amplitude reaches ``a_max`` (m).
 
     Pseudo-arclength (predictor along the unit tangent, Newton on the bordered system,
@@ -209,6 +217,12 @@ def backbone_branch(free: FreeVibration, a_max: float, steps: int = 256, ds_max:
     ``ds_max`` and is halved on failure, down to ``ds_max / 2^12``.  The branch starts at
     ``A = a_max / 1000``.  It ends at ``a_max``, after ``max_points``, when ``ds`` falls
     below its minimum, or when the amplitude returns to zero.
+
+    Each of ``targets`` (m) that a step crosses while the amplitude still grows (before the
+    first turn) is located on the step by arclength (:func:`model.continuation.locate`:
+    the bordered system's corrector, well conditioned through internal resonances, where a
+    Newton solve at fixed amplitude from the interpolated orbits can fail to converge); when
+    the corrector fails inside the step, the step is halved and taken again.
     """
     if not (np.isfinite(a_max) and a_max > 0.0):
         raise ValueError(f"a_max = {a_max!r} is invalid: need a finite amplitude > 0 (m)")
@@ -254,10 +268,27 @@ def backbone_branch(free: FreeVibration, a_max: float, steps: int = 256, ds_max:
     t = unit_tangent(evaluate(x)[1], e_amp)
     points, ds, ds_min = [x], ds_max, ds_max / 2**12
     tangents = [t]
+    wanted = np.sort(np.asarray(targets, float).ravel()) / a_max
+    located = []
+    growing = True
     while len(points) < max_points and x[K + 1] < 1.0:
         res, t_new, used = step(correct, unit_tangent, x, t, ds, ds_min, tol)
         if res is None or not (res[0][K + 1] > 0.0 and res[0][K] > 0.0):
             break
+        crossed = []
+        if growing and t_new[K + 1] > 0.0 and res[0][K + 1] > x[K + 1]:
+            for target in wanted[(wanted > x[K + 1]) & (wanted <= res[0][K + 1])]:
+                found = locate(correct, lambda r: r[0][K + 1] - target, x, t, used, x[K + 1] - target,
+                               res[0][K + 1] - target, tol)
+                crossed.append(None if found is None else found[1][0])
+            if any(c is None for c in crossed) and used >= 2.0 * ds_min:
+                # the branch between the two points is not a graph over the step's hyperplanes
+                # (an internal resonance): a shorter step
+                ds = 0.5 * used
+                continue
+        else:
+            growing = False
+        located += [c for c in crossed if c is not None]
         x, t = res[0], t_new
         points.append(x)
         tangents.append(t)
@@ -266,18 +297,20 @@ def backbone_branch(free: FreeVibration, a_max: float, steps: int = 256, ds_max:
     T = np.array(tangents)
     turning = np.zeros(len(points), bool)
     turning[:-1] = np.sign(T[1:, K + 1]) != np.sign(T[:-1, K + 1])
-    return BackboneBranch(X[:, K + 1], 2.0 * np.pi / (4.0 * X[:, K]), X[:, :K], turning)
+    L = np.array(located).reshape(-1, K + 2) / scale
+    return BackboneBranch(X[:, K + 1], 2.0 * np.pi / (4.0 * X[:, K]), X[:, :K], turning,
+                          L[:, K + 1], 2.0 * np.pi / (4.0 * L[:, K]), L[:, :K])
 
 
 def continue_free_orbits(free: FreeVibration, amplitudes, steps: int = 256, ds_max: float = 0.05,
                          branch: BackboneBranch | None = None) -> tuple[Backbone, BackboneBranch]:
     """Backbone at requested amplitudes: free periodic orbits of the undamped model.
 
-    The orbits are solved (:func:`free_orbit`) at each target from the interpolated orbits
-    of the pseudo-arclength branch (:func:`backbone_branch`, up to the largest target) on
-    its stretch from the linear limit to the first turning point of the amplitude; targets
-    beyond it (or beyond the branch's end) are not converged (NaN): the branch itself says
-    what happens there.
+    The orbits are solved (:func:`free_orbit`) at each target from the orbit the
+    pseudo-arclength branch (:func:`backbone_branch`, up to the largest target) located there
+    on its stretch from the linear limit to the first turning point of the amplitude, or
+    else from its interpolated orbits; targets beyond that stretch (or beyond the branch's
+    end) are not converged (NaN): the branch itself says what happens there.
 
     Parameters
     ----------
@@ -303,7 +336,7 @@ def continue_free_orbits(free: FreeVibration, amplitudes, steps: int = 256, ds_m
         raise ValueError(f"amplitudes = {amplitudes!r} is invalid: need finite values > 0 (m)")
     K = free.dof
     if branch is None:
-        branch = backbone_branch(free, float(amps.max()), steps, ds_max)
+        branch = backbone_branch(free, float(amps.max()), steps, ds_max, targets=amps)
     omega = np.full(amps.size, np.nan)
     modal = np.full((amps.size, K), np.nan)
     done = np.zeros(amps.size, dtype=bool)
@@ -313,7 +346,10 @@ def continue_free_orbits(free: FreeVibration, amplitudes, steps: int = 256, ds_m
     for j, target in enumerate(amps):
         if target > a[-1] * (1.0 + 1e-12):
             continue
-        if target <= a[0]:  # below the branch's start: its first orbit, scaled
+        at = np.flatnonzero(np.abs(branch.located_amplitude - target) <= 1e-9 * target)
+        if at.size:  # located on the branch
+            guess, tau_guess = branch.located_q0[at[0]], 0.5 * np.pi / branch.located_omega[at[0]]
+        elif target <= a[0]:  # below the branch's start: its first orbit, scaled
             guess, tau_guess = q[0] * (target / a[0]) ** power, tau[0]
         else:
             i = int(np.searchsorted(a, target))

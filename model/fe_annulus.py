@@ -118,11 +118,16 @@ class FePrestretch:
         """``(rho, r)`` (m): the deformed radius at the mesh's nodes on the ray ``theta = 0``."""
         re = self.mesh.membrane.Re
         dofs = self.basis.split_indices()[0]
-        X = self.basis.doflocs[:, dofs]
-        on_ray = np.nonzero((np.abs(X[1]) < 1e-12) & (X[0] > 0))[0]
-        order = np.argsort(X[0, on_ray])
-        rho = X[0, on_ray][order]
-        return re * rho, re * (rho + self.d[dofs[on_ray][order]])
+        on_ray = ray_nodes(self.basis.doflocs[:, dofs])
+        rho = self.basis.doflocs[0, dofs[on_ray]]
+        return re * rho, re * (rho + self.d[dofs[on_ray]])
+
+
+def ray_nodes(X) -> np.ndarray:
+    """The indices of the nodes ``X`` (``(2, nodes)``, scaled) on the ray ``theta = 0``, by
+    increasing radius."""
+    on_ray = np.flatnonzero((np.abs(X[1]) < 1e-12) & (X[0] > 0))
+    return on_ray[np.argsort(X[0, on_ray])]
 
 
 def solve_fe_prestretch(mesh: AnnulusMesh) -> FePrestretch:
@@ -241,30 +246,7 @@ def fe_modes(state: FePrestretch, fields: str, count: int, n_max: int = 3, mass:
     if 2 * n_max >= mesh.circumferential:
         raise ValueError(f"n = {n_max} is invalid on {mesh.circumferential} elements around: the mesh resolves "
                          f"wave numbers below {mesh.circumferential / 2:g}")
-    A = _tangent_moduli(state)
-    if fields == "W":
-        basis = mesh.basis(1)
-
-        @BilinearForm
-        def stiffness(u, v, w):
-            return sum(A[..., 3 * j + 2, 3 * l + 2] * u.grad[l] * v.grad[j] for j in range(2) for l in range(2))
-
-        @BilinearForm
-        def inertia(u, v, w):
-            return u * v
-    elif fields == "UV":
-        basis = mesh.basis(2)
-
-        @BilinearForm
-        def stiffness(u, v, w):
-            return _inplane_tangent(A, u, v)
-
-        @BilinearForm
-        def inertia(u, v, w):
-            return dot(u, v)
-    else:
-        raise ValueError(f"fields = {fields!r} is invalid: must be 'W' or 'UV'")
-    K, M = stiffness.assemble(basis), inertia.assemble(basis)
+    basis, K, M = linear_operators(state, fields)
     if mass == "lumped":
         M = sp.diags(np.asarray(M.sum(axis=1)).ravel()).tocsr()
     free = np.setdiff1d(np.arange(basis.N), basis.get_dofs().all())
@@ -280,6 +262,36 @@ def fe_modes(state: FePrestretch, fields: str, count: int, n_max: int = 3, mass:
             raise ValueError(f"count = {count} is invalid: only {found[short[0]][0].size} frequencies of n = "
                              f"{short[0]} on this mesh ({fields})")
         k *= 2
+
+
+def linear_operators(state: FePrestretch, fields: str):
+    """The basis of ``fields`` (``"W"``: scalar, ``"UV"``: in-plane vector), the stiffness
+    ``int grad(dx) : A : grad(dx) dA`` about the pre-stretch and the consistent mass
+    ``int dx . dx dA`` on it (all dofs, edges included)."""
+    A = _tangent_moduli(state)
+    if fields == "W":
+        basis = state.mesh.basis(1)
+
+        @BilinearForm
+        def stiffness(u, v, w):
+            return sum(A[..., 3 * j + 2, 3 * l + 2] * u.grad[l] * v.grad[j] for j in range(2) for l in range(2))
+
+        @BilinearForm
+        def inertia(u, v, w):
+            return u * v
+    elif fields == "UV":
+        basis = state.mesh.basis(2)
+
+        @BilinearForm
+        def stiffness(u, v, w):
+            return _inplane_tangent(A, u, v)
+
+        @BilinearForm
+        def inertia(u, v, w):
+            return dot(u, v)
+    else:
+        raise ValueError(f"fields = {fields!r} is invalid: must be 'W' or 'UV'")
+    return basis, stiffness.assemble(basis), inertia.assemble(basis)
 
 
 def fe_frequencies(state: FePrestretch, fields: str, count: int, n_max: int = 3, mass: str = "consistent"):

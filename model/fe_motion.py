@@ -3,11 +3,13 @@ check of the full model's nonlinear motion (docs/model.md, "The two-dimensional
 finite-element check").
 
 The three Cartesian displacement components ``D = (d_x, d_y, d_z)`` (over ``Re``) on the
-scalar basis of an :class:`model.fe_annulus.AnnulusMesh` about its pre-stretch
-(:func:`model.fe_annulus.solve_fe_prestretch`), the exact energy ``h C1 Re^2 int W / C1 dA``
-of :mod:`model.full.surface` with the deformation gradient's columns
-``a_j = e_j + dD/dX_j``, the consistent mass ``Gamma h Re^2 int phi_k phi_l dA`` of each
-component, both edges held at the pre-stretch.  Lagrange's equations are
+scalar basis of an :class:`model.fe_annulus.AnnulusMesh` (coordinates over ``Re``) about its
+pre-stretch (:func:`model.fe_annulus.solve_fe_prestretch`): the exact energy
+``h C1 Re^2 int W / C1 dA`` of :mod:`model.full.surface` with the deformation gradient's
+columns ``a_j = e_j + dD/dX_j``, the kinetic energy ``(1/2) Gamma h Re^4 int |D'|^2 dA`` (the
+consistent mass ``M = int phi_k phi_l dA`` of each component), both edges held at their
+values in the start (the pre-stretch for the states of :meth:`FeMotion.lift`).  Lagrange's
+equations are
 
     M D'' = -omega_0^2 f(D),     omega_0^2 = C1 / (Gamma Re^2),
 
@@ -20,8 +22,8 @@ Time integration by the classical Runge-Kutta scheme (the full model's), stable 
 ``omega_max dt < 2.8``: at half of that limit the transverse motion takes about a thousand
 steps per period on 16 elements across, where RK4's phase error, ``(omega dt)^4 / 120``, is
 below 1e-10 -- far below the mesh's error.  (The central-difference scheme of explicit
-structural codes errs by ``(omega dt)^2 / 24`` at the same step, 2e-6, which is the size of
-the mesh's frequency error there: its time error would decide the comparison.)
+structural codes errs by ``(omega dt)^2 / 24`` at the same step, 2e-6, and with the step
+bound to the mesh its error falls only as ``h^2``, below the elements' order.)
 """
 
 from __future__ import annotations
@@ -32,9 +34,8 @@ from typing import NamedTuple
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from skfem import BilinearForm
 
-from model.fe_annulus import FePrestretch, _tangent_moduli
+from model.fe_annulus import FePrestretch, linear_operators, ray_nodes
 from model.fe_kernels import fe_force
 from model.full import surface
 
@@ -72,11 +73,23 @@ class FeMotion:
     mass: sp.csc_matrix
     mass_factor: object
     omega0_2: float
+    #: the highest natural frequency (rad s-1) of the mesh about the pre-stretch, in-plane or
+    #: transverse (it bounds the time step)
+    omega_max: float
 
     @classmethod
     def build(cls, state: FePrestretch) -> FeMotion:
         """The operators of the motion about ``state``."""
-        basis = state.mesh.basis(1)
+        m = state.mesh.membrane
+        omega0_2 = m.C1 / (m.Gamma * m.Re**2)
+        largest = 0.0  # the largest eigenvalue of the transverse and the in-plane problem
+        for fields in ("UV", "W"):
+            basis, K, mass = linear_operators(state, fields)
+            free = np.setdiff1d(np.arange(basis.N), basis.get_dofs().all())
+            mass_free = mass[free][:, free].tocsc()
+            largest = max(largest, spla.eigsh(K[free][:, free].tocsc(), k=1, M=mass_free, which="LA",
+                                              return_eigenvectors=False, tol=1e-6)[0])
+        # the transverse basis, mass and free dofs serve every component
         nodes = basis.N
         points = basis.X.shape[1]
         elements = basis.nelems
@@ -87,22 +100,13 @@ class FeMotion:
         operators = [sp.csr_matrix((grads[:, j].ravel(), (np.broadcast_to(rows, cols.shape).ravel(), cols.ravel())),
                                    shape=shape) for j in range(2)]
         local = [np.ascontiguousarray(grads[:, j].transpose(1, 2, 0)) for j in range(2)]
-        tables = (state.mesh.membrane.material, np.ascontiguousarray(basis.element_dofs.T, dtype=np.int64),
-                  *local, np.ascontiguousarray(basis.dx))
-
-        @BilinearForm
-        def inertia(u, v, w):
-            return u * v
-
-        mass = inertia.assemble(basis)
-        free = np.setdiff1d(np.arange(nodes), basis.get_dofs().all())
-        mass_free = mass[free][:, free].tocsc()
+        tables = (m.material, np.ascontiguousarray(basis.element_dofs.T, dtype=np.int64), *local,
+                  np.ascontiguousarray(basis.dx))
         rest = np.zeros((3, nodes))
         for c, dofs in enumerate(state.basis.split_indices()):
             rest[c] = state.d[dofs]
-        m = state.mesh.membrane
         return cls(state, basis, rest, free, operators[0], operators[1], basis.dx.ravel(), tables, mass_free,
-                   spla.splu(mass_free), m.C1 / (m.Gamma * m.Re**2))
+                   spla.splu(mass_free), omega0_2, float(np.sqrt(omega0_2 * largest)))
 
     def columns(self, D):
         """``a1``, ``a2`` (``(points, 3)``) of the deformation ``X + D``."""
@@ -137,22 +141,6 @@ class FeMotion:
         the units of :meth:`energy`."""
         return 0.5 * float(sum(v @ (self.mass @ v) for v in V)) / self.omega0_2
 
-    def highest_frequency(self) -> float:
-        """The highest natural frequency (rad s-1) of the mesh about the pre-stretch, in-plane or
-        transverse (it bounds the time step)."""
-        A = _tangent_moduli(self.state)
-        gx, gy = self.gradient_x[:, self.free], self.gradient_y[:, self.free]
-        g = (gx, gy)
-        largest = 0.0
-        for fields in ((0, 1), (2,)):
-            blocks = [[sum(g[j].T @ sp.diags(self.weights * A[..., 3 * j + i, 3 * l + k].ravel()) @ g[l]
-                           for j in range(2) for l in range(2)) for k in fields] for i in fields]
-            K = sp.bmat(blocks).tocsc()
-            M = sp.block_diag([self.mass] * len(fields)).tocsc()
-            lam = spla.eigsh(K, k=1, M=M, which="LA", return_eigenvectors=False, tol=1e-6)[0]
-            largest = max(largest, lam)
-        return float(np.sqrt(self.omega0_2 * largest))
-
     def lift(self, u, w):
         """The field ``(3, N)``: the rest state plus the axisymmetric displacement ``u(rho) e_r +
         w(rho) e_z`` (callables of the scaled undeformed radius, in units of ``Re``)."""
@@ -171,25 +159,22 @@ class FeMotion:
         The ray ``theta = 0`` is made of element edges whose midpoints lie at the mean radius
         of their ends (:meth:`model.fe_annulus.AnnulusMesh.build`), so that along it a P2 field
         is the quadratic in ``rho`` through its three nodal values on the edge: exact."""
-        X = self.basis.doflocs
-        on_ray = np.flatnonzero((np.abs(X[1]) < 1e-12) & (X[0] > 0))
-        on_ray = on_ray[np.argsort(X[0, on_ray])]
-        r = X[0, on_ray]
-        if not r[0] <= rho <= r[-1]:
-            raise ValueError(f"rho = {rho!r} is invalid: must lie in [{r[0]:g}, {r[-1]:g}]")
         if self.state.mesh.element != "P2":
             raise ValueError(f"element = {self.state.mesh.element!r} is invalid: the probe needs P2")
-        # the edges: vertex, midpoint, vertex; the first vertex of the edge holding rho
-        first = min(2 * (np.searchsorted(r, rho, side="right") - 1) // 2, r.size - 3)
-        nodes = on_ray[first:first + 3]
-        x = r[first:first + 3]
+        on_ray = ray_nodes(self.basis.doflocs)
+        r = self.basis.doflocs[0, on_ray]  # vertex, midpoint, vertex, midpoint, ..., vertex
+        if not r[0] * (1.0 - 1e-12) <= rho <= r[-1] * (1.0 + 1e-12):
+            raise ValueError(f"rho = {float(rho)!r} is invalid: must lie in [{r[0]:g}, {r[-1]:g}]")
+        edge = min(int(np.searchsorted(r[::2], rho, side="right")) - 1, r.size // 2 - 1)
+        first = 2 * max(edge, 0)
+        nodes, x = on_ray[first:first + 3], r[first:first + 3]
         weights = [np.prod([(rho - x[k]) / (x[i] - x[k]) for k in range(3) if k != i]) for i in range(3)]
         return sp.csr_matrix((weights, (np.zeros(3, int), nodes)), shape=(1, self.basis.N))
 
     def motion(self, D0, dt: float, steps: int, record) -> None:
         """The free motion from rest at ``D0`` by ``steps`` RK4 steps of ``dt`` (s);
-        ``record(step, D)`` is called on the displacement at ``t = step dt``, ``step = 0 ..
-        steps``."""
+        ``record(step, D, V)`` is called on the displacement (``(3, N)``) and the velocities of
+        the free dofs (``(3, free)``, s-1) at ``t = step dt``, ``step = 0 .. steps``."""
         D = np.array(D0, float)
         x = D[:, self.free].copy()
         v = np.zeros_like(x)
@@ -198,7 +183,7 @@ class FeMotion:
             D[:, self.free] = x_
             return v_, self.acceleration(D)
 
-        record(0, D)
+        record(0, D, v)
         for step in range(1, steps + 1):
             k1 = rate(x, v)
             k2 = rate(x + 0.5 * dt * k1[0], v + 0.5 * dt * k1[1])
@@ -207,11 +192,11 @@ class FeMotion:
             x = x + dt / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0])
             v = v + dt / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1])
             D[:, self.free] = x
-            record(step, D)
+            record(step, D, v)
 
     def time_step(self) -> float:
         """:data:`STABILITY_FRACTION` of RK4's limit ``2.8 / omega_max`` (s)."""
-        return STABILITY_FRACTION * 2.8 / self.highest_frequency()
+        return STABILITY_FRACTION * 2.8 / self.omega_max
 
 
 class FeOrbitCheck(NamedTuple):
@@ -219,7 +204,7 @@ class FeOrbitCheck(NamedTuple):
     (:func:`check_free_orbit`)."""
 
     #: frequency (rad s-1) of the motion on the mesh, from the instants of its extrema of ``w``
-    #: at the probe
+    #: at the probe (NaN when they are not one per half period)
     omega: float
     #: the range (rad s-1) of the frequencies ``pi / (t_(k+1) - t_k)`` of its half periods
     #: (``t_0 = 0``, the start at rest): the motion from the lifted start also carries the
@@ -261,8 +246,12 @@ def check_free_orbit(motion: FeMotion, free, q0, period: float, periods: int, rh
     Returns
     -------
     FeOrbitCheck
-        The frequency from the extrema of ``w`` at ``free.probe_rho`` (the interior ones of
-        the ``2 periods`` half periods) and its spread, and the deviations.
+        The deviations over the ``periods`` periods; the frequency from the instants
+        ``t_1 .. t_2P`` of the extrema of ``w`` at ``free.probe_rho`` (the trace runs a quarter
+        period longer, so that the last is interior), the slope of ``k = omega t_k / pi`` by
+        least squares through the origin, and the range of its half periods' frequencies;
+        both NaN when the trace does not have exactly ``2 periods`` extrema there (other
+        modes bending ``w`` into extra ones).
     """
     re = motion.state.mesh.membrane.Re
     basis, order = free.model.state.basis, free.model.order
@@ -272,21 +261,24 @@ def check_free_orbit(motion: FeMotion, free, q0, period: float, periods: int, rh
     probe = motion.probe(free.probe_rho / re)
     every = int(np.ceil(period / samples / motion.time_step()))
     steps = periods * samples * every
-    trace, u, w = np.empty(steps + 1), [], []
+    extra = samples * every // 4  # a quarter period more for the trace
+    trace, u, w = np.empty(steps + extra + 1), [], []
 
-    def record(step, D):
+    def record(step, D, V):
         trace[step] = (probe @ D[2])[0]
-        if step % every == 0:
+        if step % every == 0 and step < steps:
             u.append(rows @ (D[0] - motion.rest[0]))
             w.append(rows @ D[2])
 
     dt = period / (samples * every)
-    motion.motion(D0, dt, steps, record)
+    motion.motion(D0, dt, steps + extra, record)
     u_full, w_full = free.snapshots(q0, period, samples, rho, periods=periods)
-    u_fe, w_fe = re * np.array(u)[:-1], re * np.array(w)[:-1]
+    u_fe, w_fe = re * np.array(u), re * np.array(w)
     times = extremum_times(trace, dt)
-    half_periods = np.arange(1, times.size + 1)
-    omega = np.pi * float(half_periods @ times) / float(times @ times)  # t_k = k pi / omega, least squares
-    halves = np.pi / np.diff(np.concatenate([[0.0], times]))
-    return FeOrbitCheck(omega, float(np.ptp(halves)), float(np.abs(w_fe - w_full).max() / np.abs(w_full).max()),
+    omega = spread = np.nan
+    if times.size == 2 * periods:
+        k = np.arange(1, times.size + 1)
+        omega = np.pi * float(k @ times) / float(times @ times)
+        spread = float(np.ptp(np.pi / np.diff(np.concatenate([[0.0], times]))))
+    return FeOrbitCheck(omega, spread, float(np.abs(w_fe - w_full).max() / np.abs(w_full).max()),
                         float(np.abs(u_fe - u_full).max() / np.abs(u_full).max()), dt)

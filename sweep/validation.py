@@ -576,12 +576,12 @@ def section_waves(results: Path) -> list[str]:
     return out
 
 
-def _job_option(results: Path, name: str, key: str, field: str):
-    """A field of an inline table of ``[continuation]`` in the job text the result file
-    ``name`` was run with."""
+def _job_option(results: Path, name: str, key: str, field: str, section: str = "continuation"):
+    """A field of an inline table of ``[section]`` in the job text the result file ``name``
+    was run with."""
     import tomllib
 
-    return tomllib.loads(run_attributes(results / f"{name}.nc")["job_file"])["continuation"][key][field]
+    return tomllib.loads(run_attributes(results / f"{name}.nc")["job_file"])[section][key][field]
 
 
 def _rotating_waves(b, ds, results: Path) -> list[str]:
@@ -1661,7 +1661,26 @@ def section_full_backbone(results: Path) -> list[str]:
             "modes depends on the number of radial functions, so a turn that moves between 12 and 16 functions",
             "is a resonance with a mode that is not yet converged: beyond it the backbone of the full model is",
             "not established by these runs.", ""]
+    out += _turn_against_fig08(results, full)
     return out
+
+
+def _turn_against_fig08(results: Path, full) -> list[str]:
+    """Where ``fig08-inplane`` (the same resolution, other targets) first turns back at the
+    stretches where ``full`` (the 16-function backbone) turns too, when that differs."""
+    other = _open(results, "fig08-inplane")
+    if other is None or other.attrs.get("model_order") != full.attrs.get("model_order"):
+        return []
+    lines = []
+    for d in sorted(set(full.delta.values) & set(other.delta.values)):
+        a, b = (float(_point(x, delta=d, delta_o=0.2).turn_amplitude) for x in (full, other))
+        if np.isfinite(a) and np.isfinite(b) and abs(b / a - 1) > 1e-3:
+            lines.append(f"At delta = {float(d):g} `fig08-inplane`, with the same {full.attrs.get('model_order')} "
+                         f"functions but other targets (and so other continuation steps), turns back at {b:.4f} m "
+                         f"instead of {a:.4f} m: near these amplitudes the branch passes closely spaced internal "
+                         "resonances, whose loops a continuation follows or steps over depending on its steps; "
+                         "where the backbone first turns is not established by these runs either.")
+    return lines + ([""] if lines else [])
 
 
 def section_fig08(results: Path) -> list[str]:
@@ -1777,11 +1796,14 @@ def section_fe_motion(results: Path) -> list[str]:
     if ds is None:
         return out + _missing("validation/fe-free-vibration")
     radial = [int(r) for r in ds.fe_radial.values]
+    around = _job_option(results, "validation/fe-free-vibration", "fe_check", "around", "backbone")
+    periods = _job_option(results, "validation/fe-free-vibration", "fe_check", "periods", "backbone")
     meshes = " / ".join(str(r) for r in radial)
     out += [f"`validation/fe-free-vibration`: free periodic orbits of the full model ({ds.attrs.get('model_order', '?')} "
             "radial functions per field) and, from rest",
-            f"at each orbit's state, the membrane on P2 meshes of {meshes} elements across (4 times as many around;",
-            "Cartesian components, no polar reduction; `model/fe_motion.py`) integrated by RK4 for two periods.",
+            f"at each orbit's state, the membrane on P2 meshes of {meshes} elements across ({around} times as many "
+            "around;", f"Cartesian components, no polar reduction; `model/fe_motion.py`) integrated by RK4 for "
+            f"{periods} periods.",
             "Columns per mesh: the largest deviations of w and u from the orbit along the ray theta = 0 (81 radii, 64",
             "instants per period) over the orbit's largest |w|, |u| there; the relative difference of the mesh's",
             "frequency (from the extrema of w(0.5 Re, 0)) from the orbit's, and in brackets the range of its half",
@@ -1818,13 +1840,13 @@ def section_fe_motion(results: Path) -> list[str]:
             "the", "element counts; quadratic elements: 3 for displacements, 4 for frequencies):", ""]
     out += [f"* {k}: " + "; ".join(f"{radial[i]} -> {radial[i + 1]}: {span(k, i)}" for i in range(pairs)) for k in "wu"]
     unresolved = sum(e < s for e, s in finest["frequency"])
-    bound = max(finest["w"]) / (2.0 * np.pi * 2)
+    bound = max(finest["w"]) / (2.0 * np.pi * periods)
     out += [f"* the frequency: resolved (a difference above the range of the half periods' frequencies on both meshes) "
             f"in {resolved.size} pairs" + (f", orders {resolved.min():.1f} to {resolved.max():.1f}" if resolved.size else ""),
             "", f"On {radial[-1]} elements across w deviates from the orbit by at most {max(finest['w']):.1e} of its "
             f"largest value and u by {max(finest['u']):.1e}.", f"The frequency's difference, at most "
             f"{max(e for e, _ in finest['frequency']):.1e} there, lies below its half periods' range at {unresolved} of "
-            f"the {len(finest['w'])} orbits: two periods of a motion that",
+            f"the {len(finest['w'])} orbits: {periods} periods of a motion that",
             "also carries the mesh's other modes (the start is the orbit's fields interpolated at the nodes) do not "
             "resolve it", "by extrema. The deviations bound it instead: a relative frequency error e moves w by about "
             f"2 pi P e of its amplitude", f"after P periods, so on the finest mesh e is below {bound:.1e}.",
@@ -1832,6 +1854,7 @@ def section_fe_motion(results: Path) -> list[str]:
             "axisymmetry built in, and a 2-D mesh with none -- agree to the mesh's error, which falls at the",
             "element's order.", ""]
     return out
+
 
 SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_model, section_fe_check,
             section_fe_motion,

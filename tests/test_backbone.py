@@ -12,7 +12,7 @@ import pytest
 import xarray as xr
 
 from model import dopri
-from model.backbone import continue_free_orbits, free_orbit, linear_mode, peak_to_peak
+from model.backbone import backbone_branch, continue_free_orbits, free_orbit, linear_mode, peak_to_peak
 from model.free import FreeRom
 from model.linear import frequency_bound, galerkin_frequencies
 from model.params import Membrane
@@ -138,6 +138,19 @@ def test_peak_to_peak_agrees_with_shooting(rom1, rom3, bb1, bb3, which, tol):
     np.testing.assert_allclose(pk.omega, bb.omega, rtol=tol)
     if which == "1":
         np.testing.assert_allclose(pk.modal, bb.modal, rtol=1e-9)
+
+
+def test_targets_are_located_on_the_branch_by_arclength(rom3):
+    """Targets the branch crosses are located on it (the arclength corrector, before any
+    turn): the located orbits have the target amplitudes to the corrector's tolerance, and
+    the orbits solved at fixed amplitude from them are the same orbits (a Newton solve from a
+    point already on the branch moves it by no more than that tolerance)."""
+    free = FreeRom(rom3)
+    branch = backbone_branch(free, 0.4, targets=AMPS[1:])
+    np.testing.assert_allclose(branch.located_amplitude, AMPS[1:], rtol=1e-9)
+    orbits, _ = continue_free_orbits(free, AMPS[1:], branch=branch)
+    assert orbits.converged.all()
+    np.testing.assert_allclose(orbits.omega, branch.located_omega, rtol=1e-8)
 
 
 def test_failed_newton_is_reported_not_raised(rom1):

@@ -142,7 +142,7 @@ MEMBRANE = Membrane()
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": [4, 2]}}, GRID,
      "continuation.families.radial = [4, 2] is invalid: an integer from 1 to 32, or a list of distinct increasing"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": [2, 40]}}, GRID,
-     "continuation.families.radial = 40 is invalid: must be <= 32"),
+     "continuation.families.radial = [2, 40] is invalid: an integer from 1 to 32, or a list of distinct"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": [2, 4]},
       "branch_switching": {"max_points": 10}}, GRID,
      "continuation.branch_switching = {'max_points': 10} is invalid: needs one radial count in continuation.families"),

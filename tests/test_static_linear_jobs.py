@@ -83,7 +83,7 @@ def test_frequency_figures(tmp_path):
     ("[linear]\nbasis = [2, 8]\nmodes = [[3, 0]]\n", "linear.basis = [2, 8] is invalid: must be >= the largest m in linear.modes (3)"),
     ("[linear]\nbasis = [16, 8]\n", "linear.basis = [16, 8] is invalid: a list of distinct increasing sizes"),
     ("[linear]\nbasis = []\n", "linear.basis = [] is invalid: a basis size or a non-empty list of sizes"),
-    ("[linear]\nbasis = [8, 'x']\n", "linear.basis = 'x' is invalid"),
+    ("[linear]\nbasis = [8, 'x']\n", "linear.basis = [8, 'x'] is invalid: a list of distinct increasing sizes"),
     ("[linear]\nspeed = 1\n", "linear.speed = 1 is invalid: unknown key; the keys of [linear] are modes, prestretch, basis"),
     ("[linear]\nmodes = [{n = 0, radial = 2, sine = true}]\n", "n = 0 has no sine companions"),
     ("[linear]\nmodes = [{n = 1}]\n", "a family shorthand is a table {n = N, radial = M} (optionally sine = true)"),

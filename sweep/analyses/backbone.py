@@ -178,7 +178,8 @@ class BackboneAnalysis(Analysis):
         free = point.model.free_vibration(point, options)
         targets = options.targets
         c = options.peak_damping
-        branch = backbone_branch(free, float(decay_start(free, targets.max(), c, PEAK_CYCLES)))
+        starts = decay_start(free, targets, c, PEAK_CYCLES)  # the peak-to-peak method's orbits
+        branch = backbone_branch(free, float(starts.max()), targets=np.concatenate([targets, starts]))
         orbits, _ = continue_free_orbits(free, targets, branch=branch)
         peaks = peak_to_peak(free, targets, c=c, branch=branch)
         turns = np.flatnonzero(branch.turning)
@@ -229,11 +230,8 @@ def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int]:
         raise JobError(key, value, "a table {radial = [4, 8, 16], around = 4, periods = 2}")
     check_keys(value, key, ("radial", "around", "periods"))
     radial = value.get("radial", [4, 8, 16])
-    radial = radial if isinstance(radial, list) else [radial]
-    sizes = tuple(opt.number({"radial": r}, key, "radial", low=1, high=64, integer=True) for r in radial)
-    if not sizes or list(sizes) != sorted(set(sizes)):
-        raise JobError(f"{key}.radial", value.get("radial"), "a non-empty list of distinct increasing element "
-                       "counts in 1..64")
+    sizes = opt.increasing(radial if isinstance(radial, list) else [radial], f"{key}.radial", "a non-empty list of "
+                           "distinct increasing element counts from 1 to 64", 1, 64)
     around = opt.number(value, key, "around", 4, low=1, high=32, integer=True)
     if around * sizes[0] < 8:
         raise JobError(f"{key}.around", around, f"at least {-(-8 // sizes[0])} (8 elements around or more on "
@@ -267,9 +265,10 @@ def _fe_check(point, free, orbits, radial, around, periods) -> dict[str, np.ndar
     out = {k: np.full((orbits.omega.size, len(radial)), np.nan) for k in names}
     m = point.membrane
     rho = np.linspace(m.Ro, m.Re, ORBIT_RADII)
-    for k, r in enumerate(radial):
+    converged = np.flatnonzero(orbits.converged)
+    for k, r in enumerate(radial if converged.size else ()):
         motion = fe_motion_for(m, r, around * r)
-        for j in np.flatnonzero(orbits.converged):
+        for j in converged:
             check = check_free_orbit(motion, free, orbits.modal[j], 2.0 * np.pi / orbits.omega[j], periods, rho)
             for name, value in zip(names, check):
                 out[name][j, k] = value

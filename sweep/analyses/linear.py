@@ -62,12 +62,11 @@ class LinearAnalysis(Analysis):
         if study and not value:
             raise JobError("linear.basis", value, "a basis size or a non-empty list of sizes")
         basis = None
-        if value is not None:
-            basis = tuple(opt.number({"basis": v}, self.name, "basis", low=1, high=MAX_BASIS, integer=True)
-                          for v in (value if study else [value]))
-            if list(basis) != sorted(set(basis)):
-                raise JobError("linear.basis", value, "a list of distinct increasing sizes (the last is the "
-                               "reference of a convergence study)")
+        if study:
+            basis = opt.increasing(value, "linear.basis", f"a list of distinct increasing sizes from 1 to {MAX_BASIS} "
+                                   "(the last is the reference of a convergence study)", 1, MAX_BASIS)
+        elif value is not None:
+            basis = (opt.number(table, self.name, "basis", low=1, high=MAX_BASIS, integer=True),)
         mmax = max(m for m, _ in modes)
         if basis is not None and mmax > min(basis):
             raise JobError("linear.basis", value, f"must be >= the largest m in linear.modes ({mmax})")

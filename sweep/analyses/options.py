@@ -236,6 +236,16 @@ class FamiliesOption(NamedTuple):
     inplane: bool = False
 
 
+def increasing(values, key: str, what: str, low: int, high: int) -> tuple[int, ...]:
+    """``values`` (a list) as a convergence study's sizes: distinct increasing integers from
+    ``low`` to ``high``; otherwise one line saying that ``key`` must be ``what``."""
+    if not (isinstance(values, list) and values
+            and all(isinstance(v, int) and not isinstance(v, bool) and low <= v <= high for v in values)
+            and values == sorted(set(values))):
+        raise JobError(key, values, what)
+    return tuple(values)
+
+
 def families(table, section: str, mode_list, model=None) -> FamiliesOption | None:
     """The ``families = {n = [..], radial = M, inplane = ..}`` option or None;
     ``radial = [M1, M2, ..]`` (distinct, increasing) is a convergence study: ``M`` is then
@@ -259,10 +269,8 @@ def families(table, section: str, mode_list, model=None) -> FamiliesOption | Non
         raise JobError(f"{key}.n", ns, "must be a non-empty list of distinct integers >= 1")
     high, inplane_allowed = (32, False) if model is None else model.model().family_limits(model.options)
     if isinstance(value["radial"], list):
-        counts = value["radial"]
-        radial = tuple(number({"radial": m}, key, "radial", integer=True, low=1, high=high) for m in counts)
-        if not radial or list(radial) != sorted(set(radial)):
-            raise JobError(f"{key}.radial", counts, f"an integer from 1 to {high}, or a list of distinct increasing ones")
+        radial = increasing(value["radial"], f"{key}.radial", f"an integer from 1 to {high}, or a list of distinct "
+                            "increasing ones", 1, high)
     else:
         radial = number(value, key, "radial", integer=True, low=1, high=high)
     inplane = value.get("inplane", inplane_allowed)
