@@ -200,13 +200,16 @@ def _quarter_conditions(free: FreeVibration, q0, tau, steps):
     return yq[rows], phi[rows, :K], rate[rows]
 
 
+#: Most points of a backbone branch (:func:`backbone_branch`).
+MAX_BRANCH_POINTS = 400
+
 #: Longest period of a free orbit the backbone branch admits, over the linear one: backbones
 #: harden (shorter periods), an internal resonance bends them by a few per cent, not tenfold.
 MAX_PERIOD_RATIO = 10.0
 
 
 def backbone_branch(free: FreeVibration, a_max: float, steps: int = 256, ds_max: float = 0.05,
-                    max_points: int = 400, tol: float = 1e-10, targets=()) -> BackboneBranch:
+                    max_points: int = MAX_BRANCH_POINTS, tol: float = 1e-10, targets=()) -> BackboneBranch:
     """The backbone branch from the linear limit until the amplitude reaches ``a_max`` (m).
 
     Pseudo-arclength (predictor along the unit tangent, Newton on the bordered system,

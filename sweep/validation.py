@@ -1605,6 +1605,23 @@ def _turn(ds) -> str:
     return "none below the largest target" if np.isnan(a) else f"{a:.4f} m, {w:.4f} rad/s"
 
 
+def _beyond_turn(point) -> str:
+    """What the branch as followed (``branch_amplitude``, ``branch_omega``) does after its first
+    turn, or nothing for results without it."""
+    if "branch_amplitude" not in point:
+        return ""
+    a, w = point.branch_amplitude.values.ravel(), point.branch_omega.values.ravel()
+    a, w = a[np.isfinite(a)], w[np.isfinite(a)]
+    turns = np.flatnonzero(np.sign(np.diff(a[1:])) != np.sign(np.diff(a[:-1]))) + 1
+    if not turns.size:
+        return ""
+    after = slice(turns[0], None)
+    return (f" Followed on through it, the branch ({a.size} points) turns {turns.size} times in amplitude, between "
+            f"{a[after].min():.4f} and {a[after].max():.4f} m and {w[after].min():.4f} to {w[after].max():.4f} rad/s"
+            + (", and ends at the continuation's limit of points" if a.size == point.sizes.get("branch_point", 0)
+               else "") + ".")
+
+
 def section_full_backbone(results: Path) -> list[str]:
     """The full model's backbone against the ROM's with 1, 3 and 6 modes, its in-plane
     displacements, and where its branch turns."""
@@ -1652,7 +1669,7 @@ def section_full_backbone(results: Path) -> list[str]:
             notes.append(f"* delta = {float(d):g}: the branch turns back at {_turn(f)} with 16 functions, at "
                          f"{_turn(c)} with 12 (the turning amplitude moves by {abs(turns[1] / turns[0] - 1):.1%}); "
                          f"max |u| / max |w| grows from {ratio_u[ok[0]]:.4f} at {amp[ok[0]]:g} m to {ratio_u[ok[-1]]:.4f} at "
-                         f"{amp[ok[-1]]:.4f} m, the last target before the turn.")
+                         f"{amp[ok[-1]]:.4f} m, the last target before the turn." + _beyond_turn(f))
     out += ["", "Where the branches of free orbits first turn back in amplitude (`turn_amplitude`, `turn_omega`):", "",
             *notes, "",
             "A turning point of a free-orbit branch is an internal resonance: a harmonic of the orbit's frequency",

@@ -193,6 +193,14 @@ def test_analysis_compute_and_figures(tmp_path):
     for var in BACKBONE.variables(options):
         assert np.shape(out[var.name]) == var.shape
     assert out["omega_bound"] == pytest.approx(frequency_bound(Membrane(), _rom().alpha[0]))
+    # the branch as followed passes through the orbits at the targets: interpolated linearly
+    # between its points (steps of at most 0.05 in its scaled arclength) at a target amplitude
+    # its frequency is the target orbit's within the interpolation error (the backbone's
+    # frequency bends by a few per cent over 0.3 m; a per mille is far above that error)
+    branch = np.isfinite(out["branch_amplitude"])
+    assert branch.sum() >= 10 and np.all(np.diff(out["branch_amplitude"][branch]) > 0)  # no turn below 0.3 m
+    on_branch = np.interp(out["amplitude"], out["branch_amplitude"][branch], out["branch_omega"][branch])
+    np.testing.assert_allclose(on_branch, out["omega_nl"], rtol=1e-3)
     data = {v.name: (("delta", "delta_o", *v.dims), np.reshape(out[v.name], (1, 1, *v.shape)))
             for v in BACKBONE.variables(options)}
     coords = {"delta": [1.1], "delta_o": [0.2],

@@ -31,6 +31,9 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   (:func:`model.backbone.backbone_branch`) first turns back in amplitude (an internal
   resonance), NaN when it reaches the largest target without turning; targets beyond it
   are NaN;
+* ``branch_amplitude``, ``branch_omega`` (``branch_point``) -- that branch as followed, through
+  its turns, point by point along its arclength (NaN after its last point): what it does at
+  internal resonances;
 * ``omega_linear`` -- the small-amplitude limit of the model, and ``omega_bound`` -- the
   upper bound of Eq. (29) for the backbone's mode (the ROM's neo-Hookean law).
 
@@ -46,7 +49,8 @@ from functools import partial
 
 import numpy as np
 
-from model.backbone import PEAK_CYCLES, backbone_branch, continue_free_orbits, decay_start, linear_mode, peak_to_peak
+from model.backbone import (MAX_BRANCH_POINTS, PEAK_CYCLES, backbone_branch, continue_free_orbits, decay_start,
+                            linear_mode, peak_to_peak)
 from model.free import FreeRom
 from model.params import Membrane
 
@@ -144,6 +148,11 @@ class BackboneAnalysis(Analysis):
                      "amplitude where the branch of free periodic orbits first turns back (NaN: no turn "
                      "below the largest target)"),
             Variable("turn_omega", (), (), "f8", "rad s-1", "frequency there"),
+            Variable("branch_amplitude", ("branch_point",), (MAX_BRANCH_POINTS,), "f8", "m",
+                     "amplitude along the pseudo-arclength branch of free periodic orbits, through its turns "
+                     "(NaN after its last point)"),
+            Variable("branch_omega", ("branch_point",), (MAX_BRANCH_POINTS,), "f8", "rad s-1",
+                     "frequency along that branch"),
         ] + ([Variable("modal_amplitude", ("point", "mode"), (P, K), "f8", "m",
                        "modal amplitude A_mn of the free periodic orbit (Eq. 31 normalisation)")]
              if options.modal else []) + (
@@ -167,6 +176,8 @@ class BackboneAnalysis(Analysis):
             orbit["fe_radial"] = (("fe_radial",), np.array(options.fe_check[0], np.int32),
                                   {"long_name": "P2 elements across the annulus of the finite-element mesh "
                                                 f"({options.fe_check[1]} times as many around)", "units": "1"})
+        orbit["branch_point"] = (("branch_point",), np.arange(MAX_BRANCH_POINTS, dtype=np.int32),
+                                 {"long_name": "index of the point along the branch of free orbits", "units": "1"})
         return {"point": (("point",), np.arange(options.amplitude[2], dtype=np.int32),
                           {"long_name": "index of the target amplitude", "units": "1"}),
                 **(opt.mode_coords(options.modes) if options.modal else {}), **orbit}
@@ -191,6 +202,7 @@ class BackboneAnalysis(Analysis):
                "omega_linear": linear_mode(free)[0],
                "omega_bound": getattr(free, "frequency_bound", lambda: np.nan)(),
                "turn_amplitude": turn[0], "turn_omega": turn[1],
+               "branch_amplitude": _padded(branch.amplitude), "branch_omega": _padded(branch.omega),
                "status": STATUS_OK if ok else STATUS_NOT_CONVERGED}
         if not ok:
             where = (f"; the branch of free orbits turns back at {turn[0]:.6g} m, {turn[1]:.6g} rad/s"
@@ -218,6 +230,12 @@ class BackboneAnalysis(Analysis):
 
 
 BACKBONE = BackboneAnalysis()
+
+
+def _padded(values) -> np.ndarray:
+    out = np.full(MAX_BRANCH_POINTS, np.nan)
+    out[:values.size] = values
+    return out
 
 
 def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int]:

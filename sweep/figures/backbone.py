@@ -13,7 +13,8 @@ from sweep.figures.panels import grid_points, point_label
 
 
 def backbone_figures(ds, outdir) -> list:
-    """Backbone curves (Figs. 10-12) with the branch's turning point, and the modal amplitudes
+    """Backbone curves (Figs. 10-12) with the branch's turning point and the branch as followed
+    through its turns, and the modal amplitudes
     (Fig. 9) or the ratios ``max |u| / max |w|`` and ``max |v| / max |w|``."""
     plt = pyplot()
     sels = list(grid_points(ds, ()))
@@ -32,10 +33,14 @@ def backbone_figures(ds, outdir) -> list:
             ax.axvline(float(ds.omega_bound.sel(sel)), ls="--", lw=1.0, color=line.get_color())
         ax.plot(ds.turn_omega.sel(sel), ds.turn_amplitude.sel(sel), ls="none", marker="x", ms=7,
                 color=line.get_color())
+        if "branch_omega" in ds:  # the branch as followed, through its turns
+            ax.plot(ds.branch_omega.sel(sel), ds.branch_amplitude.sel(sel), lw=0.7, ls=":", color=line.get_color())
     ax.plot([], [], "k-", label="periodic orbits (continuation)")
     ax.plot([], [], "ko", mfc="none", ms=3.5, ls="none", label="peak-to-peak (damped decay)")
     ax.plot([], [], "k--", lw=1.0, label="bound, Eq. 29")
     ax.plot([], [], "kx", ms=7, ls="none", label="branch turns back")
+    if "branch_omega" in ds:
+        ax.plot([], [], "k:", lw=0.7, label="branch as followed")
     ax.set(xlabel=r"frequency $\omega$ (rad/s)", ylabel=r"amplitude max $|w(0.5, 0)|$ (m)",
            title="Frequency-amplitude relation", ylim=(0, None))
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0))
