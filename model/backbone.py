@@ -168,8 +168,9 @@ class BackboneBranch(NamedTuple):
         The amplitude turns back between this point and the next (the amplitude
         component of the tangent changes sign).
     located_amplitude, located_omega : (T,) ndarrays
-        Target amplitudes (m) that the branch crossed before it first turned back, and the
-        frequencies (rad s-1) of its orbits there, located on the branch by arclength.
+        Amplitudes (m) and frequencies (rad s-1) of the orbits located on the branch by
+        arclength at the targets it crossed before it first turned back (the amplitudes
+        equal the targets to the location's tolerance).
     located_q0 : (T, K) ndarray
         Their turning points.
     """
@@ -225,7 +226,10 @@ def backbone_branch(free: FreeVibration, a_max: float, steps: int = 256, ds_max:
     first turn) is located on the step by arclength (:func:`model.continuation.locate`:
     the bordered system's corrector, well conditioned through internal resonances, where a
     Newton solve at fixed amplitude from the interpolated orbits can fail to converge); when
-    the corrector fails inside the step, the step is halved and taken again.
+    the corrector fails inside the step, the step is halved and taken again, down to twice
+    the smallest step, below which the step is kept and the target left to
+    :func:`continue_free_orbits`' interpolation.  The branch's steps, and so where it is
+    found to turn near closely spaced internal resonances, depend on the targets.
     """
     if not (np.isfinite(a_max) and a_max > 0.0):
         raise ValueError(f"a_max = {a_max!r} is invalid: need a finite amplitude > 0 (m)")

@@ -22,6 +22,7 @@ import numpy as np
 
 from model.continuation import (FOLD, KIND_LABELS, NEIMARK_SACKER, resonant_end, stable_amplitudes_at,
                                 unstable_intervals, unstable_points)
+from sweep.analyses.backbone import FE_AROUND, FE_PERIODS
 from sweep.analyses.branch_features import CURVE_DS_MAX
 from sweep.analyses.mode_sets import select
 from sweep.errors import RunError
@@ -576,12 +577,12 @@ def section_waves(results: Path) -> list[str]:
     return out
 
 
-def _job_option(results: Path, name: str, key: str, field: str, section: str = "continuation"):
+def _job_option(results: Path, name: str, key: str, field: str, section: str = "continuation", default=None):
     """A field of an inline table of ``[section]`` in the job text the result file ``name``
-    was run with."""
+    was run with (``default`` when the job leaves it out)."""
     import tomllib
 
-    return tomllib.loads(run_attributes(results / f"{name}.nc")["job_file"])[section][key][field]
+    return tomllib.loads(run_attributes(results / f"{name}.nc")["job_file"])[section][key].get(field, default)
 
 
 def _rotating_waves(b, ds, results: Path) -> list[str]:
@@ -1616,7 +1617,7 @@ def _beyond_turn(point) -> str:
     if not turns.size:
         return ""
     after = slice(turns[0], None)
-    return (f" Followed on through it, the branch ({a.size} points) turns {turns.size} times in amplitude, between "
+    return (f" Followed on through it, the branch ({a.size} points) has {turns.size} turns in amplitude in all, between "
             f"{a[after].min():.4f} and {a[after].max():.4f} m and {w[after].min():.4f} to {w[after].max():.4f} rad/s"
             + (", and ends at the continuation's limit of points" if a.size == point.sizes.get("branch_point", 0)
                else "") + ".")
@@ -1738,6 +1739,19 @@ def section_fig08(results: Path) -> list[str]:
         notes.append(f"at delta = {float(d):g} {reach}, max |u| / max |w| at most {np.nanmax(ratio):.4f}")
     out += ["", "In-plane displacements relative to the deflection (the paper calls them negligible): "
             + "; ".join(notes) + ".", ""]
+    other = _open(results, "fig10-full-backbone")
+    for d in ds.delta.values if other is not None and other.attrs.get("model_order") == ds.attrs.get("model_order") else ():
+        if d not in other.delta.values:
+            continue
+        turn = float(_point(other, delta=d, delta_o=0.2).turn_amplitude)
+        f = _point(ds, delta=d, delta_o=0.2)
+        beyond = f.amplitude.values.ravel()[np.isfinite(f.omega_nl.values.ravel())]
+        beyond = beyond[beyond > turn]
+        if beyond.size:
+            out += [f"At delta = {float(d):g} the orbits above {turn:.3f} m ({', '.join(f'{a:g}' for a in beyond)} m) lie "
+                    "where `fig10-full-backbone`'s continuation, with the same functions, turns back: they are on "
+                    "this continuation's path through the internal resonances, and their in-plane share is the "
+                    "resonance's, not the backbone's trend.", ""]
     return out
 
 
@@ -1813,8 +1827,8 @@ def section_fe_motion(results: Path) -> list[str]:
     if ds is None:
         return out + _missing("validation/fe-free-vibration")
     radial = [int(r) for r in ds.fe_radial.values]
-    around = _job_option(results, "validation/fe-free-vibration", "fe_check", "around", "backbone")
-    periods = _job_option(results, "validation/fe-free-vibration", "fe_check", "periods", "backbone")
+    around = _job_option(results, "validation/fe-free-vibration", "fe_check", "around", "backbone", FE_AROUND)
+    periods = _job_option(results, "validation/fe-free-vibration", "fe_check", "periods", "backbone", FE_PERIODS)
     meshes = " / ".join(str(r) for r in radial)
     out += [f"`validation/fe-free-vibration`: free periodic orbits of the full model ({ds.attrs.get('model_order', '?')} "
             "radial functions per field) and, from rest",

@@ -64,6 +64,7 @@ def test_the_report_computes_nothing_from_the_model():
     through_sweep = {(node.module, alias.name) for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)
                      and (node.module or "").startswith("sweep.") for alias in node.names}
     assert through_sweep <= {("sweep.analyses.branch_features", "CURVE_DS_MAX"), ("sweep.analyses.mode_sets", "select"),
+                             ("sweep.analyses.backbone", "FE_AROUND"), ("sweep.analyses.backbone", "FE_PERIODS"),
                              ("sweep.errors", "RunError"), ("sweep.storage.netcdf", "run_attributes")}
     assert imported <= {("model.continuation", "KIND_LABELS"), ("model.continuation", "NEIMARK_SACKER"), ("model.continuation", "resonant_end"),
                         ("model.continuation", "stable_amplitudes_at"), ("model.continuation", "unstable_intervals"),

@@ -61,6 +61,8 @@ from .base import DEFAULT_CONTEXT, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Jo
 
 #: Default amplitude targets: 1 mm to 0.4 m.
 DEFAULT_AMPLITUDE = {"start": 1e-3, "stop": 0.4, "num": 40}
+#: ``fe_check``'s defaults: elements around per element across, periods integrated.
+FE_AROUND, FE_PERIODS = 4, 2
 #: Radii of ``orbit_u`` and ``orbit_w``, equally spaced from the inner to the outer edge (81:
 #: ``rho = 0.55 Re``, the paper's Fig. 8 point, is one of them at ``delta_o = 0.2``).
 ORBIT_RADII = 81
@@ -189,8 +191,9 @@ class BackboneAnalysis(Analysis):
         free = point.model.free_vibration(point, options)
         targets = options.targets
         c = options.peak_damping
-        starts = decay_start(free, targets, c, PEAK_CYCLES)  # the peak-to-peak method's orbits
-        branch = backbone_branch(free, float(starts.max()), targets=np.concatenate([targets, starts]))
+        starts = decay_start(free, targets, c, PEAK_CYCLES)  # the peak-to-peak method's orbits (several modes)
+        branch = backbone_branch(free, float(starts.max()),
+                                 targets=np.concatenate([targets, starts]) if free.dof > 1 else targets)
         orbits, _ = continue_free_orbits(free, targets, branch=branch)
         peaks = peak_to_peak(free, targets, c=c, branch=branch)
         turns = np.flatnonzero(branch.turning)
@@ -248,13 +251,14 @@ def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int]:
         raise JobError(key, value, "a table {radial = [4, 8, 16], around = 4, periods = 2}")
     check_keys(value, key, ("radial", "around", "periods"))
     radial = value.get("radial", [4, 8, 16])
-    sizes = opt.increasing(radial if isinstance(radial, list) else [radial], f"{key}.radial", "a non-empty list of "
-                           "distinct increasing element counts from 1 to 64", 1, 64)
-    around = opt.number(value, key, "around", 4, low=1, high=32, integer=True)
+    what = "a non-empty list of distinct increasing element counts from 1 to 64"
+    sizes = (opt.increasing(radial, f"{key}.radial", what, 1, 64) if isinstance(radial, list) else
+             (opt.number(value, key, "radial", low=1, high=64, integer=True),))
+    around = opt.number(value, key, "around", FE_AROUND, low=1, high=32, integer=True)
     if around * sizes[0] < 8:
         raise JobError(f"{key}.around", around, f"at least {-(-8 // sizes[0])} (8 elements around or more on "
                        f"the coarsest mesh of {sizes[0]} across)")
-    return sizes, around, opt.number(value, key, "periods", 2, low=1, high=100, integer=True)
+    return sizes, around, opt.number(value, key, "periods", FE_PERIODS, low=1, high=100, integer=True)
 
 
 def _fe_variables(options) -> list[Variable]:
