@@ -7,6 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 import xarray as xr
 
@@ -246,6 +247,31 @@ def test_forced_branches_of_two_mode_sets_are_compared(capsys, tmp_path):
         assert run(capsys, "run", tmp_path / f"{name}.toml", "-o", tmp_path / f"{name}.nc")[0] == 0
     code, out, _ = run(capsys, "figures", tmp_path / "one.nc", tmp_path / "two.nc", "-o", tmp_path / "figs")
     assert code == 0 and (tmp_path / "figs" / "bifurcation_P0_comparison.png").exists()
+
+
+def _family_branch(model: str, families, unstable_n: int) -> xr.Dataset:
+    """A continuation result of one grid point whose branch is unstable to ``unstable_n`` only."""
+    omega = np.linspace(30.0, 40.0, 11)
+    modulus = np.full((1, 11, len(families)), 0.9)
+    modulus[0, 4:7, list(families).index(unstable_n)] = 1.2
+    return xr.Dataset(
+        {"Omega": (("delta", "point"), omega[None]), "amplitude": (("delta", "point"), np.full((1, 11), 0.01)),
+         "stable": (("delta", "point"), np.ones((1, 11), bool)), "point_type": (("delta", "point"), np.zeros((1, 11), int)),
+         "family_multiplier_modulus": (("delta", "point", "family"), modulus)},
+        coords={"delta": [1.1], "point": np.arange(11), "family": list(families)},
+        attrs={"analysis": "continuation", "continued_parameter": "Omega", "model": model})
+
+
+def test_families_of_two_results_are_compared_on_their_common_wave_numbers(tmp_path):
+    """The full model's and the ROM's families: one row per wave number both have; none
+    without a common one."""
+    from sweep.figures.continuation import continuation_comparison
+
+    full, rom = _family_branch("full", (1, 2, 3), 3), _family_branch("rom", (1, 3), 1)
+    paths = continuation_comparison([full, rom], tmp_path / "a")
+    assert [p.name for p in paths] == ["bifurcation_Omega_comparison.png", "family_stability_Omega_comparison.png"]
+    paths = continuation_comparison([full.sel(family=[2]), rom], tmp_path / "b")
+    assert [p.name for p in paths] == ["bifurcation_Omega_comparison.png"]
 
 
 def test_figures_errors(capsys, tmp_path):

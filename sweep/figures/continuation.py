@@ -343,4 +343,38 @@ def continuation_comparison(datasets, outdir) -> list:
         ax.legend(fontsize=7, loc="lower right")
     fig.suptitle("Periodic responses of several results", fontsize=11)
     fig.tight_layout()
-    return [save_figure(fig, outdir, f"bifurcation_{par}_comparison.png")]
+    paths = [save_figure(fig, outdir, f"bifurcation_{par}_comparison.png")]
+    if all("family_multiplier_modulus" in ds for ds in datasets):
+        paths += _family_comparison(plt, datasets, panels, par, outdir)
+    return paths
+
+
+def _family_comparison(plt, datasets, panels, par, outdir) -> list:
+    """The largest multiplier modulus of each wave number that every result has along its
+    branch, one row per wave number, one line per result (a study in radial modes per family:
+    its largest count), with the stability limit 1."""
+    from sweep.figures.backbone import result_label
+
+    datasets = [ds.isel(family_radial=-1) if "family_radial" in ds.dims else ds for ds in datasets]
+    common = sorted(set.intersection(*(set(ds.family.values.tolist()) for ds in datasets)))
+    if not common:
+        return []
+    cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    fig, axes = plt.subplots(len(common), len(panels), figsize=(max(5.0 * len(panels), 6.0), 1.9 * len(common) + 1.0),
+                             squeeze=False, sharex="col")
+    for col, sel in enumerate(panels):
+        for row, n in enumerate(common):
+            ax = axes[row, col]
+            for j, ds in enumerate(datasets):
+                b = ds.sel(sel, method="nearest").sel(family=n)
+                ax.plot(b[par].values.ravel(), b.family_multiplier_modulus.values.ravel(), lw=1.0,
+                        color=cycle[j % len(cycle)], label=result_label(ds))
+            ax.axhline(1.0, color="k", lw=0.6, ls=":")
+            ax.set_ylabel(f"n = {n}", fontsize=9)
+        axes[0, col].set_title(point_label(sel), fontsize=9)
+        axes[-1, col].set_xlabel(f"{SYMBOLS.get(par, par)} ({GRID_UNITS.get(par, '')})")
+    axes[0, 0].legend(fontsize=7, loc="lower left")
+    fig.suptitle("Largest multiplier modulus of each asymmetric family along the branch\n"
+                 "(above 1: the axisymmetric response is unstable to that family)", fontsize=10)
+    fig.tight_layout()
+    return [save_figure(fig, outdir, f"family_stability_{par}_comparison.png")]
