@@ -40,15 +40,16 @@ def test_every_benchmark_has_a_generated_block_in_the_performance_page():
 
 
 def test_full_axisymmetric():
-    """The full model's axisymmetric force and RK4 motion: numpy and (with a compiler) the C
-    program of the same algorithms agree with the numba kernels to rounding (1e-12 relative is
+    """The full model's axisymmetric force, Hessian and RK4 motion: numpy and (with a compiler)
+    the C program of the same algorithms agree with the numba kernels to rounding (1e-12 relative is
     far above it); solve_ivp ends within its tolerance of the RK4 state."""
     out = smoke("bench_full_axisymmetric")
     forces = _rows(out, "ns per call")
     steps = _rows(out, "ns per step")
-    assert [n for n, _, _ in forces if not n.startswith("C")] == ["numba force", "numpy force"]
+    assert [n for n, _, _ in forces if not n.startswith("C")] == ["numba force", "numpy force", "numba Hessian",
+                                                                  "numpy Hessian"]
     assert [n for n, _, _ in steps if not n.startswith("C")] == ["numba RK4"]
-    assert (len(forces) + len(steps) == 5) != ("C reference skipped" in out)
+    assert (len(forces) + len(steps) == 8) != ("C reference skipped" in out)
     assert all(float(err) < 1e-12 for _, _, err in forces + steps)
     ivp = re.search(r"final states differ by ([0-9.e+-]+) relative", out)
     assert ivp and float(ivp.group(1)) < 1e-5

@@ -155,13 +155,18 @@ def even_moduli(law, x0, x1, x2, tT, tD, d):
     return w_t, w_d
 
 
-@nb.njit(cache=True, fastmath=True, error_model="numpy")
+@nb.njit(cache=True, fastmath=True, error_model="numpy", pipeline_class=NoAliasCompiler)
 def axisymmetric_hessian(law, phi, dphi, s, sw, w, r0, dr0, q, out):
     """``out[:, :] = d^2(int W/C1 s ds)/dq^2`` for the coordinates ``q = (U, W)`` (the numpy
     :meth:`model.full.axisymmetric.AxisymmetricFull.hessian`, compiled).
 
     With ``x = (a1_r, a1_z, a2_theta)`` and ``d2W/dx2`` of :func:`even_moduli`: ``U_k`` moves
-    ``x`` by ``(phi_k', 0, phi_k / s)`` and ``W_k`` by ``(0, phi_k', 0)``."""
+    ``x`` by ``(phi_k', 0, phi_k / s)`` and ``W_k`` by ``(0, phi_k', 0)``.
+
+    Compiled with :class:`model.noalias.NoAliasCompiler` (``out`` must not overlap the other
+    arrays) and writing through the four blocks' rows as views, as the gradient does: offset
+    indices (``order + m``) carry numba's test for negative indices and keep the loop over the
+    basis scalar."""
     points, order = phi.shape
     out[:, :] = 0.0
     qu, qw = q[:order], q[order:]
@@ -176,23 +181,33 @@ def axisymmetric_hessian(law, phi, dphi, s, sw, w, r0, dr0, q, out):
         even_moduli(law, x0, x1, x2, tT, tD, d)
         c = sw[p]
         inv_s = 1.0 / s[p]
+        f = phi[p]
+        df = dphi[p]
+        # the moduli times the weight, as scalars the loops keep in registers
+        d00, d01, d02 = c * d[0, 0], c * d[0, 1], c * d[0, 2]
+        d10, d11, d12 = c * d[1, 0], c * d[1, 1], c * d[1, 2]
+        d20, d21, d22 = c * d[2, 0], c * d[2, 1], c * d[2, 2]
         for k in range(order):
-            ak = dphi[p, k]
-            bk = phi[p, k] * inv_s
+            ak = df[k]
+            bk = f[k] * inv_s
             # row k of U: d/dU_k x = (ak, 0, bk); row k of W: (0, ak, 0)
-            ru0 = c * (d[0, 0] * ak + d[2, 0] * bk)
-            ru1 = c * (d[0, 1] * ak + d[2, 1] * bk)
-            ru2 = c * (d[0, 2] * ak + d[2, 2] * bk)
-            rw0 = c * d[1, 0] * ak
-            rw1 = c * d[1, 1] * ak
-            rw2 = c * d[1, 2] * ak
+            ru0 = d00 * ak + d20 * bk
+            ru1 = d01 * ak + d21 * bk
+            ru2 = d02 * ak + d22 * bk
+            rw0 = d10 * ak
+            rw1 = d11 * ak
+            rw2 = d12 * ak
+            uu = out[k, :order]
+            uw = out[k, order:]
+            wu = out[order + k, :order]
+            ww = out[order + k, order:]
             for m in range(order):
-                al = dphi[p, m]
-                bl = phi[p, m] * inv_s
-                out[k, m] += ru0 * al + ru2 * bl
-                out[k, order + m] += ru1 * al
-                out[order + k, m] += rw0 * al + rw2 * bl
-                out[order + k, order + m] += rw1 * al
+                al = df[m]
+                bl = f[m] * inv_s
+                uu[m] += ru0 * al + ru2 * bl
+                uw[m] += ru1 * al
+                wu[m] += rw0 * al + rw2 * bl
+                ww[m] += rw1 * al
 
 
 #: What the last column of :func:`rk4_variational` differentiates by: nothing, ``Omega`` (at
