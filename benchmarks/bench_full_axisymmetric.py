@@ -125,7 +125,7 @@ def main(argv=None) -> None:
             times["C RK4"].append(float(step_ns))
             times["C Hessian"].append(float(hessian_ns))
     err = {"numba force": 0.0, "numpy force": _rel(numpy_g, G), "numba Hessian": 0.0,
-           "numpy Hessian": _rel(0.5 * (H + H.transpose(0, 2, 1)), numpy_h), "numba RK4": 0.0}
+           "numpy Hessian": _rel(H, numpy_h), "numba RK4": 0.0}
     if exe is not None:
         c = np.fromfile(work / "out.bin")
         n = states * model.dof

@@ -12,8 +12,9 @@ stable step: ``steps_per_period``) and returns ``P(y)`` and ``dP/dy``; ``solve_i
 ``AxisymmetricFull.hessian``.  The two agree to the compiled map's RK4 error, not to rounding
 (the compiled map is the exact derivative of its discrete RK4 map): the difference is printed
 at the default steps and at four times as many, where RK4's error is 256 times smaller.  The
-force, the Hessian and the free RK4 step have C programs of the same algorithms in
-``benchmarks/bench_full_axisymmetric.py``; the variational flow itself has none.  The plain
+force, the Hessian and the free RK4 step have C programs of the same algorithms
+(``benchmarks/c/full_axisymmetric.c``, run by ``benchmarks/bench_full_axisymmetric.py``); the
+variational flow itself has none.  The plain
 compiled period (``ForcedFull.advance``) is printed beside it, so that the variational flow's
 cost is seen in units of the force's.
 Variants are interleaved in each of ``--rounds`` rounds (medians printed, compilation

@@ -272,6 +272,12 @@ def test_families_of_two_results_are_compared_on_their_common_wave_numbers(tmp_p
     assert [p.name for p in paths] == ["bifurcation_Omega_comparison.png", "family_stability_Omega_comparison.png"]
     paths = continuation_comparison([full.sel(family=[2]), rom], tmp_path / "b")
     assert [p.name for p in paths] == ["bifurcation_Omega_comparison.png"]
+    # a grid dimension of one value that the other result lacks (the ROM's c) is no difference,
+    # in either order; one of several values would merge branches: no comparison
+    with_c = rom.expand_dims(c=[0.05])
+    for pair in ([full, with_c], [with_c, full]):
+        assert len(continuation_comparison(pair, tmp_path / "c")) == 2
+    assert continuation_comparison([full, xr.concat([with_c, with_c.assign_coords(c=[0.1])], "c")], tmp_path / "d") == []
 
 
 def test_figures_errors(capsys, tmp_path):

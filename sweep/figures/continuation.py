@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from sweep.analyses.base import GRID_KEYS
 from sweep.figures.output import pyplot, save_figure
 from sweep.figures.panels import GRID_UNITS, SYMBOLS, computed_points, grid_points, panel_axes, point_label
 
@@ -324,8 +325,14 @@ def continuation_comparison(datasets, outdir) -> list:
     if any(ds.attrs.get("continued_parameter") != par or "mode_set" in ds.dims for ds in datasets):
         return []
     own = ("point", "fold", "multiplier", "mode", "curve_point", "cusp", "family", "family_multiplier")
+    # a grid dimension of one value that another result lacks is no difference; one of several
+    # values that the first lacks would merge branches under one label: not compared
+    if any(ds.sizes[d] > 1 for ds in datasets[1:] for d in GRID_KEYS if d in ds.dims and d not in first.dims):
+        return []
+    datasets = [first] + [ds.isel({d: 0 for d in GRID_KEYS if d in ds.dims and d not in first.dims}) for ds in datasets[1:]]
     panels = [sel for sel in computed_points(first, own)
-              if all(all(d in ds.dims and np.any(np.isclose(ds[d].values, v)) for d, v in sel.items())
+              if all(all((d not in ds.dims and first.sizes[d] == 1) or
+                         (d in ds.dims and np.any(np.isclose(ds[d].values, v))) for d, v in sel.items())
                      for ds in datasets[1:])]
     if not panels:
         return []
@@ -333,7 +340,7 @@ def continuation_comparison(datasets, outdir) -> list:
     cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for ax, sel in zip(axes, panels):
         for j, ds in enumerate(datasets):
-            b = ds.sel(sel, method="nearest")
+            b = ds.sel({d: v for d, v in sel.items() if d in ds.dims}, method="nearest")
             _draw_branch(ax, b[par].values.ravel(), b.amplitude.values.ravel(), b.stable.values.ravel(),
                          b.point_type.values.ravel(), cycle[j % len(cycle)], result_label(ds))
         ax.set(xlabel=r"forcing frequency $\Omega$ (rad/s)" if par == "Omega" else r"pressure amplitude $P_0$ (Pa)",
@@ -366,7 +373,7 @@ def _family_comparison(plt, datasets, panels, par, outdir) -> list:
         for row, n in enumerate(common):
             ax = axes[row, col]
             for j, ds in enumerate(datasets):
-                b = ds.sel(sel, method="nearest").sel(family=n)
+                b = ds.sel({d: v for d, v in sel.items() if d in ds.dims}, method="nearest").sel(family=n)
                 ax.plot(b[par].values.ravel(), b.family_multiplier_modulus.values.ravel(), lw=1.0,
                         color=cycle[j % len(cycle)], label=result_label(ds))
             ax.axhline(1.0, color="k", lw=0.6, ls=":")
