@@ -3,6 +3,7 @@
 import ast
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from sweep import paper, validation
@@ -81,3 +82,39 @@ def test_every_job_of_the_paper_runner_is_valid(name):
 def test_the_paper_runner_runs_every_validation_job():
     found = {f"validation/{p.stem}" for p in (JOBS / "validation").glob("*.toml")}
     assert found == set(paper.VALIDATION_JOBS)
+
+
+def _backbone_result(turns, order=16, branch=None):
+    """A backbone result at delta = 1.1, 1.5 (delta_o = 0.2) with the given first turns."""
+    import xarray as xr
+
+    data = {"turn_amplitude": (("delta", "delta_o"), np.array(turns, float)[:, None])}
+    if branch is not None:
+        data["branch_amplitude"] = (("delta", "delta_o", "branch_point"), np.array(branch, float)[:, None, :])
+        data["branch_omega"] = (("delta", "delta_o", "branch_point"), 30.0 + np.array(branch, float)[:, None, :])
+    return xr.Dataset(data, coords={"delta": [1.1, 1.5], "delta_o": [0.2]}, attrs={"model_order": order})
+
+
+def test_what_the_branch_does_beyond_its_first_turn():
+    """Three turns along the followed branch (up to 0.30, down to 0.25, up to 0.28, down), the
+    range after the first; nothing for a branch that does not turn or a result without one."""
+    nan = np.nan
+    branch = [[0.1, 0.2, 0.3, 0.25, 0.28, 0.26, nan, nan], [0.1, 0.2, 0.3, 0.4, nan, nan, nan, nan]]
+    ds = _backbone_result([0.3, nan], branch=branch)
+    text = validation._beyond_turn(validation._point(ds, delta=1.1, delta_o=0.2))
+    assert "(6 points) has 3 turns in amplitude in all, between 0.2500 and 0.3000 m" in text
+    assert validation._beyond_turn(validation._point(ds, delta=1.5, delta_o=0.2)) == ""
+    assert validation._beyond_turn(validation._point(_backbone_result([0.3, nan]), delta=1.1)) == ""
+
+
+def test_a_turn_that_moves_with_the_targets_is_reported(tmp_path):
+    """fig08-inplane turning elsewhere than the full backbone at the same resolution is said,
+    with both amplitudes; the same turn, or another resolution, says nothing."""
+    full = _backbone_result([0.126, np.nan])
+    _backbone_result([0.136, np.nan]).to_netcdf(tmp_path / "fig08-inplane.nc")
+    lines = validation._turn_against_fig08(tmp_path, full)
+    assert len(lines) == 2 and "turns back at 0.1360 m instead of 0.1260 m" in lines[0]
+    _backbone_result([0.126, np.nan]).to_netcdf(tmp_path / "fig08-inplane.nc")
+    assert validation._turn_against_fig08(tmp_path, full) == []
+    _backbone_result([0.136, np.nan], order=12).to_netcdf(tmp_path / "fig08-inplane.nc")
+    assert validation._turn_against_fig08(tmp_path, full) == []
