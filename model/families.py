@@ -400,6 +400,18 @@ def family_linear_system(fam: Family, membrane) -> tuple[np.ndarray, np.ndarray]
     return np.diag(membrane.Gamma * membrane.h * mass), membrane.C1 * membrane.h * jac
 
 
+def embedded(state, dof: int) -> np.ndarray:
+    """A state ``(q, q')`` of a ROM whose modes are the first ones of a ROM of ``dof`` modes, as
+    a state of the larger one: the other coordinates zero."""
+    state = np.asarray(state, dtype=float)
+    K0 = state.size // 2
+    if state.shape != (2 * K0,) or K0 > dof:
+        raise ValueError(f"state shape {state.shape} is invalid: expected (2 K0,) with K0 <= {dof}")
+    y = np.zeros(2 * dof)
+    y[:K0], y[dof:dof + K0] = state[:K0], state[K0:]
+    return y
+
+
 def perturbation_growth(fmap, state, asymmetric, periods: int = 100, settle: int = 20,
                         size: float = 1e-9, limit: float = 1e-5,
                         saturate: int = 0) -> tuple[float, tuple[float, float]]:
@@ -429,8 +441,7 @@ def perturbation_growth(fmap, state, asymmetric, periods: int = 100, settle: int
     """
     K = fmap.dof
     Ka = state.size // 2
-    z = np.zeros(2 * K)
-    z[:Ka], z[K:K + Ka] = state[:Ka], state[Ka:]
+    z = embedded(state, K)
     z[list(asymmetric)] = size
     idx = list(asymmetric) + [K + i for i in asymmetric]
     z = fmap.advance(z, settle)

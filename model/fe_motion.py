@@ -82,14 +82,10 @@ class FeMotion:
         """The operators of the motion about ``state``."""
         m = state.mesh.membrane
         omega0_2 = m.C1 / (m.Gamma * m.Re**2)
-        largest = 0.0  # the largest eigenvalue of the transverse and the in-plane problem
-        for fields in ("UV", "W"):
-            basis, K, mass = linear_operators(state, fields)
-            free = np.setdiff1d(np.arange(basis.N), basis.get_dofs().all())
-            mass_free = mass[free][:, free].tocsc()
-            largest = max(largest, spla.eigsh(K[free][:, free].tocsc(), k=1, M=mass_free, which="LA",
-                                              return_eigenvectors=False, tol=1e-6)[0])
+        *_, largest_inplane = _highest_eigenvalue(state, "UV")
         # the transverse basis, mass and free dofs serve every component
+        basis, free, mass_free, largest_transverse = _highest_eigenvalue(state, "W")
+        largest = max(largest_inplane, largest_transverse)
         nodes = basis.N
         points = basis.X.shape[1]
         elements = basis.nelems
@@ -153,8 +149,9 @@ class FeMotion:
         D[2] += w(rho)
         return D
 
-    def probe(self, rho: float) -> sp.csr_matrix:
-        """The row that evaluates a scalar field at the undeformed point ``(rho, 0)`` (scaled).
+    def probe(self, rho) -> sp.csr_matrix:
+        """The rows that evaluate a scalar field at the undeformed points ``(rho, 0)`` (scaled;
+        one row per radius of ``rho``, a number or an array).
 
         The ray ``theta = 0`` is made of element edges whose midpoints lie at the mean radius
         of their ends (:meth:`model.fe_annulus.AnnulusMesh.build`), so that along it a P2 field
@@ -163,13 +160,17 @@ class FeMotion:
             raise ValueError(f"element = {self.state.mesh.element!r} is invalid: the probe needs P2")
         on_ray = ray_nodes(self.basis.doflocs)
         r = self.basis.doflocs[0, on_ray]  # vertex, midpoint, vertex, midpoint, ..., vertex
-        if not r[0] * (1.0 - 1e-12) <= rho <= r[-1] * (1.0 + 1e-12):
-            raise ValueError(f"rho = {float(rho)!r} is invalid: must lie in [{r[0]:g}, {r[-1]:g}]")
-        edge = min(int(np.searchsorted(r[::2], rho, side="right")) - 1, r.size // 2 - 1)
-        first = 2 * max(edge, 0)
-        nodes, x = on_ray[first:first + 3], r[first:first + 3]
-        weights = [np.prod([(rho - x[k]) / (x[i] - x[k]) for k in range(3) if k != i]) for i in range(3)]
-        return sp.csr_matrix((weights, (np.zeros(3, int), nodes)), shape=(1, self.basis.N))
+        radii = np.atleast_1d(np.asarray(rho, float))
+        outside = radii[(radii < r[0] * (1.0 - 1e-12)) | (radii > r[-1] * (1.0 + 1e-12))]
+        if outside.size:
+            raise ValueError(f"rho = {float(outside[0])!r} is invalid: must lie in [{r[0]:g}, {r[-1]:g}]")
+        edge = np.clip(np.searchsorted(r[::2], radii, side="right") - 1, 0, r.size // 2 - 1)
+        cols = on_ray[2 * edge[:, None] + np.arange(3)]  # (radii, 3): the edge's three nodes
+        x = r[2 * edge[:, None] + np.arange(3)]
+        weights = np.stack([np.prod([(radii - x[:, k]) / (x[:, i] - x[:, k]) for k in range(3) if k != i], axis=0)
+                            for i in range(3)], axis=1)
+        rows = np.repeat(np.arange(radii.size), 3)
+        return sp.csr_matrix((weights.ravel(), (rows, cols.ravel())), shape=(radii.size, self.basis.N))
 
     def motion(self, D0, dt: float, steps: int, record) -> None:
         """The free motion from rest at ``D0`` by ``steps`` RK4 steps of ``dt`` (s);
@@ -197,6 +198,16 @@ class FeMotion:
     def time_step(self) -> float:
         """:data:`STABILITY_FRACTION` of RK4's limit ``2.8 / omega_max`` (s)."""
         return STABILITY_FRACTION * 2.8 / self.omega_max
+
+
+def _highest_eigenvalue(state: FePrestretch, fields: str):
+    """The basis of ``fields``, its dofs off the edges, the mass there and the largest
+    eigenvalue of the stiffness over the mass about the pre-stretch (scaled)."""
+    basis, K, mass = linear_operators(state, fields)
+    free = np.setdiff1d(np.arange(basis.N), basis.get_dofs().all())
+    mass_free = mass[free][:, free].tocsc()
+    largest = spla.eigsh(K[free][:, free].tocsc(), k=1, M=mass_free, which="LA", return_eigenvectors=False, tol=1e-6)[0]
+    return basis, free, mass_free, float(largest)
 
 
 class FeOrbitCheck(NamedTuple):
@@ -257,7 +268,7 @@ def check_free_orbit(motion: FeMotion, free, q0, period: float, periods: int, rh
     basis, order = free.model.state.basis, free.model.order
     q0 = np.asarray(q0, float)
     D0 = motion.lift(lambda s: basis.evaluate(q0[:order], s)[0], lambda s: basis.evaluate(q0[order:], s)[0])
-    rows = sp.vstack([motion.probe(r / re) for r in rho]).tocsr()
+    rows = motion.probe(np.asarray(rho, float) / re)
     probe = motion.probe(free.probe_rho / re)
     every = int(np.ceil(period / samples / motion.time_step()))
     steps = periods * samples * every

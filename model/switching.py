@@ -21,7 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from .continuation import Branch, continue_orbits
-from .families import Family
+from .families import Family, embedded
 from .forced import ForcedMap
 from .rom import Rom, build_rom
 
@@ -82,8 +82,7 @@ def follow_bifurcated_branch(fmap: ForcedMap, family: Family, parameter: str,
     mixed = mixed_rom(fmap.rom, family)
     Ka, M = fmap.rom.dof, len(family.radial)
     K = Ka + M
-    y0 = np.zeros(2 * K)
-    y0[:Ka], y0[K:K + Ka] = state[:Ka], state[Ka:]
+    y0 = embedded(state, K)
     direction = np.zeros(2 * K)
     direction[Ka:K], direction[K + Ka:] = v[:M], v[M:]
     fmap_mixed = at.with_rom(mixed)

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .continuation import LENGTH, bordered_newton, step, unit_tangent
-from .families import Family
+from .families import Family, embedded
 from .forced import ForcedMap
 from .protocol import sorted_multipliers
 from .rom import Rom, build_rom
@@ -104,18 +104,6 @@ def deflated_multipliers(jac: np.ndarray, direction: np.ndarray) -> tuple[np.nda
     q, _ = np.linalg.qr(np.column_stack([t, np.eye(t.size)]))
     b = q.T @ jac @ q
     return sorted_multipliers(b[1:, 1:]), float(t @ jac @ t)
-
-
-def embedded(state, dof: int) -> np.ndarray:
-    """A state ``(q, q')`` of a ROM whose modes are the first ones of a ROM of ``dof`` modes, as
-    a state of the larger one: the other coordinates zero."""
-    state = np.asarray(state, dtype=float)
-    K0 = state.size // 2
-    if state.shape != (2 * K0,) or K0 > dof:
-        raise ValueError(f"state shape {state.shape} is invalid: expected (2 K0,) with K0 <= {dof}")
-    y = np.zeros(2 * dof)
-    y[:K0], y[dof:dof + K0] = state[:K0], state[K0:]
-    return y
 
 
 def embed_standing(state, axisymmetric: int, family_size: int) -> np.ndarray:

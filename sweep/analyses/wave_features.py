@@ -22,10 +22,11 @@ from __future__ import annotations
 import numpy as np
 
 from model.continuation import BRANCH_POINT, NEIMARK_SACKER
+from model.families import embedded
 from model.shooting import shoot
 from model.switching import follow_bifurcated_branch
-from model.waves import (continue_rotating_waves, embed_standing, embedded, o2_rom, rotation_generator,
-                         standing_wave_stability, wave_motion)
+from model.waves import (continue_rotating_waves, embed_standing, o2_rom, rotation_generator, standing_wave_stability,
+                         wave_motion)
 
 from . import options as opt
 from .base import GRID_KEYS, JobError, Variable, blank_outputs
