@@ -26,6 +26,11 @@ back without them:
     a map whose state is not made of them (the full model: the fit of ``w`` by the mode
     shapes); the results' ``modal_coordinate`` axes.  Without it the state is its own
     modal section (:func:`modal_section`).
+``modal_lift(coordinates)``
+    The inverse of ``modal_section``: the state ``(..., 2 dof)`` of modal coordinates and
+    velocities ``(..., 2K)`` (the full model: ``w`` the sum of the mode shapes, ``u`` at
+    rest); the basins' lattices of initial conditions.  Without it the modal coordinates are
+    the state (:func:`modal_lift`).
 ``lean(sample, rtol)`` with ``acceleration_mismatch(reference, states)``
     A cheaper map that is the same to ``rtol`` on the states ``sample()`` (the ROM's
     fewest radial quadrature points), and how far it is from the original on other
@@ -174,6 +179,13 @@ def modal_section(fmap, states) -> np.ndarray:
     or the states themselves for a map without the capability."""
     section = getattr(fmap, "modal_section", None)
     return np.asarray(states) if section is None else section(states)
+
+
+def modal_lift(fmap, coordinates) -> np.ndarray:
+    """The states ``(..., 2 dof)`` of the modal coordinates and velocities ``coordinates``:
+    ``fmap.modal_lift``, or the coordinates themselves for a map without the capability."""
+    lift = getattr(fmap, "modal_lift", None)
+    return np.asarray(coordinates) if lift is None else lift(coordinates)
 
 
 def state_scale(dof: int, omega: float) -> np.ndarray:

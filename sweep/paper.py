@@ -34,7 +34,7 @@ PAPER_JOBS = (
     "fig14a-full",
     "fig16-17-damping", "fig17-cusp", "fig18-damping-resonance",
     "fig14-families", "stability-map-fig14a", "fig14a-bifurcation-curves", "fig14a-bruteforce-diagram",
-    "fig19-basins", "fig19a-basins-modes", "erosion-profile",
+    "fig19-basins", "fig19a-basins-modes", "fig19a-full-basins", "erosion-profile",
 )
 #: Job files (``jobs/validation/<name>.toml``) of the checks in ``docs/validation.md`` beyond
 #: the paper: convergence in the basis, the modes and the RK4 steps, and brute-force checks.
@@ -52,7 +52,8 @@ VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
     "families-1pct-viscous-k8", "families-1pct-modal-k4", "families-1pct-modal-k8",
     "families-viscous-axi", "families-viscous-k8",
     "family-check", "fig14a-families-m2", "waves-fig14a",
-    "fig19a-basins-brute",
+    "fig19a-basins-brute", "fig19a-full-basins-order12", "fig19a-full-basins-brute",
+    "fig19a-full-basins-brute-same-steps", "fig19a-full-basins-brute-perturbed", "fig19a-basins-brute-perturbed",
 ))
 QUICK_NUM = 41
 

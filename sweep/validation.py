@@ -346,58 +346,169 @@ def section_basins_modes(results: Path) -> list[str]:
                    f"{float(p.unclassified_fraction):.3f} | {' | '.join(agree)} |")
         previous = lab
         first = lab if first is None else first
-    return out + [""] + _basins_brute_force(ds, results)
-
-
-def _basins_brute_force(ds, results: Path) -> list[str]:
-    """The largest mode set's labels against the brute-force spot check
-    (`validation/fig19a-basins-brute`: a random sample of the same lattice at twice the steps,
-    integrated until the capture disc of an attractor); attractors matched by their points."""
-    from model import attractors as ma
-    from model import lattice as ml
-    from model.basins import default_settings
-
-    out = ["### Brute force against the fast classification", ""]
-    brute = _open(results, "validation/fig19a-basins-brute")
-    if brute is None:
-        return out + _missing("validation/fig19a-basins-brute")
     label = str(ds.mode_set.values[-1])
-    fast = select(ds, label)
+    return out + [""] + _basins_brute_force(select(ds, label), results, "validation/fig19a-basins-brute",
+                                            f"{label} of `fig19a-basins-modes`", label)
+
+
+def _basins_brute_force(fast, results: Path, name: str, fast_name: str, label: str,
+                        title: str = "Brute force against the fast classification") -> list[str]:
+    """The labels of the basins result ``fast`` (one grid point; ``fast_name`` in the text, its
+    lattice called ``label``) against the brute-force spot check ``name`` (a random sample of
+    the same lattice, integrated until the capture disc of an attractor), under the heading
+    ``title``; attractors matched by their points (:func:`_same_labels`)."""
+    out = [f"### {title}", ""]
+    brute = _open(results, name)
+    if brute is None:
+        return out + _missing(name)
     brute = brute.isel({d: 0 for d in ("delta", "delta_o", "Omega", "P0", "c") if d in brute.dims})
     modes = [(int(m), int(n)) for m, n in zip(fast.m.values, fast.n.values)]
     if ([(int(m), int(n)) for m, n in zip(brute.m.values, brute.n.values)] != modes
             or not (np.array_equal(brute.ic_x.values, fast.ic_x.values)
                     and np.array_equal(brute.ic_y.values, fast.ic_y.values))):
-        return out + [f"*The brute-force run has another mode set or lattice than {label} of "
-                      "`fig19a-basins-modes`: run both job files as committed (or both with `--quick`).*", ""]
+        return out + [f"*The brute-force run has another mode set or lattice than {fast_name}: run both job "
+                      "files as committed (or both with `--quick`).*", ""]
+    agree, unmatched, computed, mine = _same_labels(fast, brute)
+    return out + [f"{int(computed.sum())} initial conditions of the {label} lattice drawn at random and integrated",
+                  f"at {int(brute.rk4_steps)} RK4 steps per period (the fast run: {int(fast.rk4_steps)}) until the "
+                  "capture disc of an attractor",
+                  f"(`method = \"brute\"`, `sample`): {agree:.1%} carry the fast run's label. The brute-force run "
+                  f"found {int(brute.n_attractors)} attractors,",
+                  f"{unmatched} of them not among the fast run's {int(fast.n_attractors)} (matched by their Poincare points "
+                  "within the capture radius);",
+                  f"{np.mean(mine == -1):.1%} of its initial conditions are unclassified.", ""]
+
+
+def _same_labels(reference, other):
+    """How ``other``'s labels (a basins result at one grid point) agree with ``reference``'s (one
+    of the same mode set and lattice) on the initial conditions ``other`` computed, its attractors
+    matched with ``reference``'s by their Poincare points within the capture radius:
+    ``(agreement, attractors of other not in reference, computed mask, other's labels there)``;
+    an initial condition unclassified (-1) in both agrees."""
+    from model import attractors as ma
+    from model import lattice as ml
+    from model.basins import default_settings
 
     def attractors(p):
         return [ma.Attractor(np.concatenate([p.attractor_coordinate.values[a, :k], p.attractor_velocity.values[a, :k]],
                                             axis=1), np.zeros(1))
                 for a, k in enumerate(int(v) for v in p.attractor_period.values[:int(p.n_attractors)])]
 
-    K = len(modes)
-    lattice = ml.Lattice(fast.ic_x.values, fast.ic_y.values, 0, K)
+    K = reference.sizes["mode"]
+    lattice = ml.Lattice(reference.ic_x.values, reference.ic_y.values, 0, K)
     scale, radius = ml.lattice_scale(lattice, 2 * K), default_settings(K).radius
-    known = attractors(fast)
-    # the fast run's index of each brute-force attractor (-3: none of the fast run's, so that
-    # it agrees with no fast label); an initial condition unclassified (-1) in both agrees
-    same = np.array([ma.match_attractor(b, known, scale, radius) for b in attractors(brute)], dtype=int)
+    known = attractors(reference)
+    # reference's index of each of other's attractors (-3: none of reference's, so that it
+    # agrees with no label)
+    same = np.array([ma.match_attractor(b, known, scale, radius) for b in attractors(other)], dtype=int)
     same = np.where(same < 0, -3, same)
-    computed = brute.label.values != -2
-    mine = brute.label.values[computed]
+    computed = other.label.values != -2
+    mine = other.label.values[computed]
     mapped = np.where(mine >= 0, same[np.clip(mine, 0, None)] if same.size else -3, mine)
-    agree = np.mean(mapped == fast.label.values[computed])
-    unmatched = int(np.sum(same == -3))
-    return out + [f"{int(computed.sum())} initial conditions of the {label} lattice drawn at random and integrated",
-                  f"at {int(brute.rk4_steps)} RK4 steps per period (the fast run: {int(fast.rk4_steps)}) until the "
-                  "capture disc of an attractor",
-                  f"(`method = \"brute\"`, `sample`): {agree:.1%} carry the fast run's label. The brute-force run "
-                  f"found {int(brute.n_attractors)} attractors,",
-                  f"{unmatched} of them not among the fast run's {len(known)} (matched by their Poincare points "
-                  "within the capture radius);",
-                  f"{np.mean(mine == -1):.1%} of its initial conditions are unclassified.", ""]
+    return float(np.mean(mapped == reference.label.values[computed])), int(np.sum(same == -3)), computed, mine
 
+
+def _label_sensitivity(results: Path) -> list[str]:
+    """The share of the brute-force samples of the full model and of the ROM whose attractor a
+    relative change of the initial states (the ``perturbation`` of the ``-perturbed`` jobs)
+    changes."""
+    pairs = (("full model", "validation/fig19a-full-basins-brute-same-steps", "validation/fig19a-full-basins-brute-perturbed"),
+             ("ROM (1,0)+(2,0)+(3,0)", "validation/fig19a-basins-brute", "validation/fig19a-basins-brute-perturbed"))
+    out = ["### Sensitivity of the labels", "",
+           "The brute-force samples again with every initial state scaled by 1 + eps (`perturbation`), the",
+           "same initial conditions and map: the share of them that ends on another attractor is the",
+           "uncertain fraction at eps (final-state sensitivity; Grebogi, McDonald, Ott and Yorke, Phys. Lett.",
+           "A 99, 1983).", "",
+           "| model | initial conditions | eps | attractor changed |", "|---|---|---|---|"]
+    grid = ("delta", "delta_o", "Omega", "P0", "c")
+    for label, name, perturbed_name in pairs:
+        base, perturbed = _open(results, name), _open(results, perturbed_name)
+        if base is None or perturbed is None:
+            return out[:2] + _missing(name, perturbed_name)
+        base, perturbed = (ds.isel({d: 0 for d in grid if d in ds.dims}) for ds in (base, perturbed))
+        eps = _job_table(results, perturbed_name, "basins").get("perturbation", 0.0)
+        if not np.array_equal(base.label.values == -2, perturbed.label.values == -2):
+            return out[:2] + [f"*`{perturbed_name}` has another sample than `{name}`: run both as committed.*", ""]
+        agree, _, computed, _ = _same_labels(base, perturbed)
+        out.append(f"| {label} | {int(computed.sum())} | {eps:g} | {1 - agree:.1%} |")
+    return out + [""]
+
+
+def _lattice_rows(ds, sub) -> tuple[np.ndarray, np.ndarray] | None:
+    """The indices of ``sub``'s lattice values in ``ds``'s (``ic_x``, ``ic_y``), or None when
+    ``sub``'s lattice is not part of ``ds``'s."""
+    found = []
+    for axis in ("ic_x", "ic_y"):
+        big, small = ds[axis].values, sub[axis].values
+        at = np.abs(big[None, :] - small[:, None]).argmin(axis=1)
+        if not np.allclose(big[at], small, rtol=0, atol=1e-12 * np.abs(big).max()):
+            return None
+        found.append(at)
+    return found[0], found[1]
+
+
+def section_full_basins(results: Path) -> list[str]:
+    """The Fig. 19a basins on the full model at two resolutions against the ROM's mode sets on
+    the same lattice points, the attractors against the full model's continuation, and the
+    brute-force spot check."""
+    names = ("fig19a-full-basins", "validation/fig19a-full-basins-order12", "fig19a-basins-modes", "fig15a-full")
+    out = ["## Basins on the full model (Fig. 19a)", "",
+           "The Fig. 19a window (delta = 1.1, delta_o = 0.2, Omega = 33.5 rad/s, P0 = 1 Pa, c = 0.05 N s/m^3)",
+           "on the full model (`fig19a-full-basins`: 16 radial functions per field;",
+           "`validation/fig19a-full-basins-order12`: 12) from the lattice's (A_10, dA_10/dt) lifted to",
+           "w = A_10 psi_10(rho) and its velocity, u at rest, against the ROM's mode sets",
+           "(`fig19a-basins-modes`, u = v = 0) at the same initial conditions (the full model's lattice",
+           "takes every few of the ROM's values per axis). Attractors by decreasing amplitude",
+           "max |w(0.5 Re)| (0: resonant); basin fractions over the full model's lattice; agreement: share",
+           "of the lattice points with the same label as the full model with 16 functions; by chance: the",
+           "agreement of labels drawn at random with the two fractions, sum_a f_a f_a(full).", ""]
+    full, coarse, rom, branch = (_open(results, n) for n in names)
+    if any(ds is None for ds in (full, coarse, rom, branch)) or "mode_set" not in rom.dims:
+        return out + _missing(*names)
+    grid = ("delta", "delta_o", "Omega", "P0", "c")
+    full, coarse, rom = (ds.isel({d: 0 for d in grid if d in ds.dims}) for ds in (full, coarse, rom))
+    at = _lattice_rows(rom, full)
+    if at is None or not (np.array_equal(coarse.ic_x, full.ic_x) and np.array_equal(coarse.ic_y, full.ic_y)):
+        return out + ["*The full model's lattices are not the same, or not part of the ROM's: run the job "
+                      "files as committed.*", ""]
+    out += [f"Lattice {full.sizes['ic_x']} x {full.sizes['ic_y']} (the ROM's: {rom.sizes['ic_x']} x "
+            f"{rom.sizes['ic_y']}).", "",
+            "| model | RK4 steps | attractors | amplitude 0 (m) | basin 0 | amplitude 1 (m) | basin 1 | unclassified "
+            "| agreement with the full model | by chance |", "|---|---|---|---|---|---|---|---|---|---|"]
+    reference = full.label.values
+    shares = np.array([np.mean(reference == a) for a in range(2)])
+    rows = [(f"ROM {label}", select(rom, str(label)).isel(ic_x=at[0], ic_y=at[1])) for label in rom.mode_set.values]
+    rows += [(f"full, order {int(ds.attrs['model_order'])}", ds) for ds in (coarse, full)]
+    for label, p in rows:
+        lab = p.label.values
+        counts = [np.mean(lab == a) if a < int(p.n_attractors) else None for a in range(2)]
+        cells = [(f"{float(p.attractor_amplitude[a]):.4f} | {counts[a]:.3f}" if counts[a] is not None else "- | -")
+                 for a in range(2)]
+        chance = sum(c * f for c, f in zip(counts, shares) if c is not None)
+        out.append(f"| {label} | {int(p.rk4_steps)} | {int(p.n_attractors)} | {' | '.join(cells)} | "
+                   f"{np.mean(lab == -1):.3f} | {np.mean(lab == reference):.1%} | {chance:.1%} |")
+    b = branch.isel({d: 0 for d in grid if d in branch.dims and d != "P0"})
+    x = float(full.P0)
+    stable = stable_amplitudes_at(b.P0.values, b.amplitude.values, b.stable.values, x)
+    found = np.sort(full.attractor_amplitude.values[:int(full.n_attractors)])[::-1]
+    p0 = b.P0.values[np.isfinite(b.P0.values)]
+    gap = max((abs(p0[i + 1] - p0[i]) for i in range(p0.size - 1) if (p0[i] - x) * (p0[i + 1] - x) <= 0), default=np.nan)
+    out += ["", f"The continuation of the full model in P0 at the same resolution (`fig15a-full`, order "
+                f"{int(branch.attrs['model_order'])}) crosses P0 = {float(full.P0):g} Pa on "
+                f"{stable.size} stable stretches, at amplitudes "
+                f"{', '.join(f'{a:.6f}' for a in np.sort(stable)[::-1])} m (linear interpolation between its points, "
+                f"up to {gap:.2f} Pa apart there); "
+                f"the basins found {found.size} attractors, {', '.join(f'{a:.6f}' for a in found)} m.",
+            "", "A brute-force check at twice the steps changes the map as well as the integration: the default",
+            "steps damp the fastest in-plane modes numerically (docs/performance.md, \"The full model's forced",
+            "monodromy\"), and in the thin, interleaved basins of the lightly damped membrane a trajectory",
+            "changed that little can end on the other attractor; the check at the fast run's own steps",
+            "compares the classification with plain integration of the same map.", ""]
+    return (out + _basins_brute_force(full, results, "validation/fig19a-full-basins-brute-same-steps",
+                                      "`fig19a-full-basins`", "full model's")
+            + _basins_brute_force(full, results, "validation/fig19a-full-basins-brute", "`fig19a-full-basins`",
+                                  "full model's", "Brute force at twice the steps")
+            + _label_sensitivity(results))
 
 #: A row's located point lies on a bifurcation curve when the curve passes within this
 #: (rad/s) of it at the row's P0.
@@ -577,12 +688,17 @@ def section_waves(results: Path) -> list[str]:
     return out
 
 
+def _job_table(results: Path, name: str, section: str) -> dict:
+    """The table ``[section]`` of the job text the result file ``name`` was run with."""
+    import tomllib
+
+    return tomllib.loads(run_attributes(results / f"{name}.nc")["job_file"])[section]
+
+
 def _job_option(results: Path, name: str, key: str, field: str, section: str = "continuation", default=None):
     """A field of an inline table of ``[section]`` in the job text the result file ``name``
     was run with (``default`` when the job leaves it out)."""
-    import tomllib
-
-    return tomllib.loads(run_attributes(results / f"{name}.nc")["job_file"])[section][key].get(field, default)
+    return _job_table(results, name, section)[key].get(field, default)
 
 
 def _rotating_waves(b, ds, results: Path) -> list[str]:
@@ -1894,7 +2010,7 @@ SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_mo
             section_cusp,
             section_families, section_waves, section_tongues, section_family_orbit, section_full_fig14a, section_full_fig14a_light,
             section_bruteforce_diagram, section_basins,
-            section_basins_modes)
+            section_basins_modes, section_full_basins)
 
 
 def build_report(results: Path) -> str:

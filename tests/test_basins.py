@@ -345,6 +345,28 @@ def test_a_brute_force_sample_labels_its_points_as_the_whole_lattice_does():
     np.testing.assert_array_equal(BASINS.assemble(_raw(one, [0]), one).squeeze().label.values != -2, chosen)
 
 
+def test_a_perturbation_scales_the_initial_states_the_classifier_gets(monkeypatch):
+    # the states handed to the classifier are the lattice's times 1 + perturbation, and
+    # nothing else changes
+    import sweep.analyses.basins as analysis
+
+    seen = []
+
+    def classify(states, *args, report, **kwargs):
+        seen.append(np.array(states))
+        report["state_cells"] = 0
+        return np.zeros(len(states), np.int32), [], np.zeros(len(states), np.int32)
+
+    monkeypatch.setattr(analysis.mb, "classify_lattice", classify)
+    table = {"ic_x": {"start": -0.2, "stop": 0.2, "num": 3}, "ic_y": {"start": -6.0, "stop": 6.0, "num": 3},
+             "tiles": 1}
+    for eps in (0.0, 1e-6):
+        BASINS.compute(POINT, BASINS.parse_options({**table, "perturbation": eps}, GRID, MEMBRANE), 0)
+    lattice = BASINS.parse_options(table, GRID, MEMBRANE).lattice()
+    np.testing.assert_array_equal(seen[0], ml.lattice_states(lattice, slice(None), 2))
+    np.testing.assert_array_equal(seen[1], seen[0] * (1.0 + 1e-6))
+
+
 @pytest.mark.parametrize("table, message", [
     ({"method": "slow"}, "basins.method = 'slow' is invalid: must be one of fast, brute"),
     ({"sample": 10}, 'basins.sample = 10 is invalid: needs method = "brute"'),
@@ -355,6 +377,8 @@ def test_a_brute_force_sample_labels_its_points_as_the_whole_lattice_does():
     ({"radius": 0.0}, "basins.radius = 0.0 is invalid: must be > 0.0"),
     ({"lattice_mode": 2}, "basins.lattice_mode = 2 is invalid: must be <= 1"),
     ({"colour": 1}, "basins.colour = 1 is invalid: unknown key"),
+    ({"perturbation": -1e-12}, "basins.perturbation = -1e-12 is invalid: must be >= 0.0"),
+    ({"perturbation": 0.1}, "basins.perturbation = 0.1 is invalid: must be <= 0.01"),
 ])
 def test_bad_options_are_rejected_with_a_message(table, message):
     with pytest.raises(JobError) as err:

@@ -135,6 +135,32 @@ def test_modal_section_recovers_the_rom_coordinates_of_a_combination_of_mode_sha
         modal_projection(model, [(1, 1)])
 
 
+def test_modal_lift_is_the_basis_fit_of_the_mode_shapes_and_the_section_inverts_it(model):
+    # w = sum q_k psi_k fitted on the basis (L2 in rho), u at rest; section(lift(q)) - q is then
+    # exactly -G^-1 R q with R_kl = (r_k, r_l) the Gram matrix of the fit residuals r_k of psi_k
+    fmap = _map(model)
+    m, b = model.membrane, model.state.basis
+    o, dof = model.order, fmap.dof
+    psi = mode_shape(m.Re * b.s, bessel_roots(0, m.delta_o, 2), 0, m.Re, m.delta_o)[0]
+    sw = b.s * b.weights
+    q = np.array([0.01, -0.003, 0.2, 0.05])
+    y = fmap.modal_lift(q)
+    assert y.shape == (2 * dof,) and not y[:o].any() and not y[dof:dof + o].any()
+    for part, coefficients in ((y[o:dof], q[:2]), (y[dof + o:], q[2:])):
+        residual = part @ b.phi - coefficients @ psi
+        np.testing.assert_allclose((b.phi * sw) @ residual, 0.0, atol=1e-13 * np.abs(coefficients).max())
+    r = fmap.lift @ b.phi - psi
+    gram = (psi * sw) @ psi.T
+    predicted = -np.linalg.solve(gram, (r * sw) @ r.T)
+    round_trip = fmap.modal_section(fmap.modal_lift(np.eye(4))).T  # column i: section(lift(e_i))
+    np.testing.assert_allclose(round_trip[:2, :2] - np.eye(2), predicted, atol=1e-14)
+    np.testing.assert_allclose(round_trip[2:, 2:] - np.eye(2), predicted, atol=1e-14)
+    assert not round_trip[:2, 2:].any() and not round_trip[2:, :2].any()
+    assert np.abs(predicted).max() > 1e-12  # order 8 does not hold the shapes exactly: a real check
+    with pytest.raises(ValueError, match="coordinates shape"):
+        fmap.modal_lift(np.zeros(3))
+
+
 JOB = """
 [job]
 name = "full-forced"
@@ -160,13 +186,19 @@ max_points = 200
 """
 
 
-def test_continuation_job_on_the_full_model_reports_rom_coordinates_and_folds(tmp_path):
+def _run_job(tmp_path, text):
+    """The result of the job ``text`` on the full model at its one grid point, which succeeded."""
     job = tmp_path / "full.toml"
-    job.write_text(JOB)
+    job.write_text(text)
     out = tmp_path / "full.nc"
     assert cli.main(["run", str(job), "-o", str(out)]) == 0
     ds = xr.load_dataset(out).squeeze()
     assert ds.attrs["model"] == "full" and int(ds.status) == 0
+    return ds
+
+
+def test_continuation_job_on_the_full_model_reports_rom_coordinates_and_folds(tmp_path):
+    ds = _run_job(tmp_path, JOB)
     n = int(ds.n_points)
     assert ds.multiplier_real.sizes["multiplier"] == 4 and ds.modal_coordinate.sizes["mode"] == 2
     # the branch's responses are the periodic orbits shooting finds at those loads from rest
@@ -206,10 +238,67 @@ c = 0.05
     ("continuation", 'parameter = "P0"\nstart = 0.0\nstop = 1.0\nmodes = [[1, 1]]', "continuation.modes"),
     ("response", 'parameter = "P0"\nvalues = {start = 0.1, stop = 1.0, num = 4}\npoincare_points = 64',
      "response.poincare_points"),
-    ("basins", "", "job.analysis"),
+    ("basins", "modes = [[1, 0], [1, 1]]", "basins.modes"),
 ])
 def test_full_model_refuses_what_its_axisymmetric_map_cannot_do(analysis, table, key):
     text = HEAD.format(analysis=analysis) + ("P0 = 1.0\n" if analysis == "basins" else "")
     text += f"\n[{analysis}]\n{table}\n"
     with pytest.raises(JobError, match=key.replace(".", r"\.")):
         parse_job(text)
+
+
+
+BASINS_JOB = """
+[job]
+name = "full-basins"
+analysis = "basins"
+
+[model]
+kind = "full"
+order = 8
+
+[grid]
+delta = 1.1
+delta_o = 0.2
+Omega = 33.5
+P0 = 1.0
+c = 0.05
+
+[basins]
+modes = [[1, 0], [2, 0]]
+ic_x = {start = -0.3, stop = 0.3, num = 2}
+ic_y = {start = -10.0, stop = 10.0, num = 2}
+tiles = 2
+"""
+
+
+def test_basins_job_on_the_full_model_labels_what_plain_integration_reaches(tmp_path):
+    # the four corners of the Fig. 19a window (order 8): each initial condition, lifted to the full
+    # state by hand, integrated period by period until its modal section is within the capture
+    # radius (0.01 of the window, scaled) of one of the job's attractors, which must be its label
+    # (period by period: the same arithmetic as the job's, since some initial conditions of this
+    # window change their attractor under a change of 1e-12, docs/validation.md)
+    ds = _run_job(tmp_path, BASINS_JOB)
+    assert int(ds.n_attractors) == 2 and set(np.unique(ds.label)) == {0, 1}  # both attractors at the corners
+    assert float(ds.attractor_amplitude[0]) > 3 * float(ds.attractor_amplitude[1])  # resonant, non-resonant
+    model = AxisymmetricFull(solve_full_prestretch(Membrane(delta=1.1, delta_o=0.2), 8))
+    fmap = ForcedFull.build(model, 1.0, 33.5, Viscous(0.05), int(ds.rk4_steps), modes=[(1, 0), (2, 0)])
+    scale = np.array([1 / 0.6, 1 / 0.6, 1 / 20.0, 1 / 20.0])
+    attractors = np.concatenate([ds.attractor_coordinate.isel(attractor=slice(0, 2), phase=0).values,
+                                 ds.attractor_velocity.isel(attractor=slice(0, 2), phase=0).values], axis=-1)
+    assert (ds.attractor_period[:2] == 1).all()
+    for i, x in enumerate(ds.ic_x.values):
+        for j, v in enumerate(ds.ic_y.values):
+            q = np.zeros(4)
+            q[0], q[2] = x, v
+            o, dof = model.order, fmap.dof
+            y = np.zeros(2 * dof)
+            y[o:dof] = x * fmap.lift[0]
+            y[dof + o:] = v * fmap.lift[0]
+            np.testing.assert_array_equal(y, fmap.modal_lift(q))
+            for _ in range(20_000):  # period by period, as the classifier advances its states
+                y = fmap.advance(y)
+                near = np.linalg.norm((fmap.modal_section(y) - attractors) * scale, axis=1) < 0.01
+                if near.any():
+                    break
+            assert near.tolist() == [ds.label[i, j] == 0, ds.label[i, j] == 1]

@@ -90,7 +90,6 @@ def test_full_model_options_are_checked(tmp_path, capsys, table, message):
 
 
 @pytest.mark.parametrize("job_name, message", [
-    ("fig19-basins", "an analysis that model 'full' can run (its lattices are of modal coordinates"),
     ("table1-app2", "linear.prestretch = 'analytic' is invalid: must be one of numeric"),
     ("fig10-11-backbone", "backbone.modes = [[1, 0], [2, 0], [3, 0]] is invalid: needs the ROM's mode families"),
     ("validation/families-viscous", "continuation.tongues = True is invalid: needs the ROM's mode families"),

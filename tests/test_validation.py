@@ -24,12 +24,13 @@ def test_missing_results_name_the_jobs(tmp_path):
              + validation.section_full_fig14a(tmp_path) + validation.section_full_fig14a_light(tmp_path)
              + validation.section_tongues(tmp_path) + validation.section_family_orbit(tmp_path)
              + validation.section_waves(tmp_path) + validation.section_fig08(tmp_path)
-             + validation.section_fe_motion(tmp_path))
+             + validation.section_fe_motion(tmp_path) + validation.section_full_basins(tmp_path))
     text = "\n".join(lines)
     for job in ("fig09-modes", "fig15-bifurcation-p0", "fig15-bruteforce", "fig19-basins",
                 "fig10-11-backbone", "fig12-inner-radius", "fig17-cusp", "fig16-17-damping",
-                "fig19a-basins-modes",  # (its brute-force check is read only when it is there)
-                *(name for name in paper.VALIDATION_JOBS if name != "validation/fig19a-basins-brute")):
+                "fig19a-basins-modes", "fig19a-full-basins",  # (their brute-force checks are read only when they are there)
+                *(name for name in paper.VALIDATION_JOBS if not name.startswith(("validation/fig19a-basins-brute",
+                                                                               "validation/fig19a-full-basins-brute")))):
         assert f"`jobs/{job}.toml`" in text
     assert validation.section_provenance(tmp_path)[-2] == "|---|---|---|---|"
 
@@ -118,3 +119,16 @@ def test_a_turn_that_moves_with_the_targets_is_reported(tmp_path):
     assert validation._turn_against_fig08(tmp_path, full) == []
     _backbone_result([0.136, np.nan], order=12).to_netcdf(tmp_path / "fig08-inplane.nc")
     assert validation._turn_against_fig08(tmp_path, full) == []
+
+
+def test_a_coarse_lattice_is_found_in_a_fine_one():
+    import xarray as xr
+
+    def lattice(nx, ny):
+        return xr.Dataset(coords={"ic_x": np.linspace(-0.3, 0.3, nx), "ic_y": np.linspace(-10.0, 10.0, ny)})
+
+    rows = validation._lattice_rows(lattice(100, 100), lattice(12, 34))
+    assert rows is not None
+    np.testing.assert_array_equal(rows[0], np.arange(0, 100, 9))
+    np.testing.assert_array_equal(rows[1], np.arange(0, 100, 3))
+    assert validation._lattice_rows(lattice(100, 100), lattice(20, 12)) is None  # 99 / 19 is no integer step

@@ -95,6 +95,9 @@ class ForcedFull:
     section : (K, order) ndarray
         The ROM coordinates of ``w`` (:func:`modal_projection`) that :meth:`modal_section`
         reports; ``(0, order)`` for none.
+    lift : (K, order) ndarray
+        The ``W`` coefficients of the same mode shapes (:func:`mode_coefficients`), which
+        :meth:`modal_lift` takes.
     """
 
     model: AxisymmetricFull
@@ -107,6 +110,7 @@ class ForcedFull:
     probe: np.ndarray
     omega_max: float
     section: np.ndarray
+    lift: np.ndarray
 
     @classmethod
     def build(cls, model: AxisymmetricFull, P0: float, Omega: float, damping: DampingLaw | None = None,
@@ -124,7 +128,7 @@ class ForcedFull:
         phi, _ = model.state.basis.evaluate(np.eye(model.order), np.array([rho / m.Re]))
         probe = np.concatenate([np.zeros(model.order), phi[:, 0]])
         return cls(model, float(P0), float(Omega), damping, int(steps), float(rate), matrix, probe,
-                   highest_frequency(model), modal_projection(model, modes))
+                   highest_frequency(model), modal_projection(model, modes), mode_coefficients(model, modes))
 
     @property
     def dof(self) -> int:
@@ -251,6 +255,21 @@ class ForcedFull:
         o, dof = self.model.order, self.dof
         return np.concatenate([states[..., o:dof] @ self.section.T, states[..., dof + o:] @ self.section.T], axis=-1)
 
+    def modal_lift(self, coordinates) -> np.ndarray:
+        """The states ``(..., 2 dof)`` of the ROM's modal coordinates and velocities
+        ``(..., 2K)`` (m, m s-1) of :attr:`lift`'s modes: ``w = sum_k q_k psi_k`` and
+        ``w_t = sum_k q_k' psi_k`` (each ``psi_k`` as its ``W`` coefficients), ``u = u_t = 0``
+        (the optional capability of :mod:`model.protocol`; :meth:`modal_section` inverts it to
+        the projection error of the mode shapes on the basis)."""
+        coordinates = np.asarray(coordinates, float)
+        K, o = self.lift.shape
+        if coordinates.shape[-1] != 2 * K:
+            raise ValueError(f"coordinates shape {coordinates.shape} is invalid: expected (..., {2 * K}) = (q, q')")
+        out = np.zeros(coordinates.shape[:-1] + (2 * self.dof,))
+        out[..., o:self.dof] = coordinates[..., :K] @ self.lift
+        out[..., self.dof + o:] = coordinates[..., K:] @ self.lift
+        return out
+
     def multipliers(self, y) -> np.ndarray:
         """Floquet multipliers at ``y`` (eigenvalues of :meth:`monodromy`), by decreasing modulus."""
         return sorted_multipliers(self.monodromy(y)[1])
@@ -267,19 +286,34 @@ class ForcedFull:
 
 
 
-def modal_projection(model: AxisymmetricFull, modes) -> np.ndarray:
-    """The matrix ``(K, order)`` from the ``W`` coefficients (m) of ``w`` to the coordinates
-    ``q_k`` (m) of the ROM's mode shapes ``psi_k`` of the axisymmetric ``modes`` ``(m, 0)``
-    (Eq. 26, :func:`model.modes.mode_shape`) that fit ``w`` best in ``int (w - sum q_k psi_k)^2
-    rho drho``: ``G^-1 B`` with ``G_kl = int psi_k psi_l s ds``, ``B_kj = int psi_k phi_j s ds``."""
+def _mode_shapes(model: AxisymmetricFull, modes) -> np.ndarray:
+    """The ROM's mode shapes ``psi_k`` (Eq. 26, :func:`model.modes.mode_shape`) of the
+    axisymmetric ``modes`` ``(m, 0)`` at the basis' quadrature radii, ``(K, points)``."""
     if any(n != 0 for _, n in modes):
         raise ValueError(f"modes = {[list(m) for m in modes]} is invalid for the axisymmetric full model: "
                          "axisymmetric modes [m, 0] only")
     b, m = model.state.basis, model.membrane
     if not modes:
-        return np.zeros((0, b.order))
-    counts = max(mm for mm, _ in modes)
-    alpha = bessel_roots(0, m.delta_o, counts)[[mm - 1 for mm, _ in modes]]
-    psi = mode_shape(m.Re * b.s, alpha, 0, m.Re, m.delta_o)[0]
+        return np.zeros((0, b.s.size))
+    alpha = bessel_roots(0, m.delta_o, max(mm for mm, _ in modes))[[mm - 1 for mm, _ in modes]]
+    return mode_shape(m.Re * b.s, alpha, 0, m.Re, m.delta_o)[0]
+
+
+def modal_projection(model: AxisymmetricFull, modes) -> np.ndarray:
+    """The matrix ``(K, order)`` from the ``W`` coefficients (m) of ``w`` to the coordinates
+    ``q_k`` (m) of the ROM's mode shapes ``psi_k`` of the axisymmetric ``modes`` ``(m, 0)``
+    (:func:`_mode_shapes`) that fit ``w`` best in ``int (w - sum q_k psi_k)^2 rho drho``:
+    ``G^-1 B`` with ``G_kl = int psi_k psi_l s ds``, ``B_kj = int psi_k phi_j s ds``."""
+    psi, b = _mode_shapes(model, modes), model.state.basis
     sw = b.s * b.weights
     return np.linalg.solve((psi * sw) @ psi.T, (psi * sw) @ b.phi.T)
+
+
+def mode_coefficients(model: AxisymmetricFull, modes) -> np.ndarray:
+    """The ``W`` coefficients ``(K, order)`` of the ROM's mode shapes ``psi_k`` of the
+    axisymmetric ``modes`` (:func:`_mode_shapes`): the basis' best fit of each in
+    ``int (psi_k - sum_j c_kj phi_j)^2 rho drho`` (each ``psi_k`` vanishes at both edges,
+    as the basis functions do, so the fit converges spectrally with the order)."""
+    psi, b = _mode_shapes(model, modes), model.state.basis
+    sw = b.s * b.weights
+    return np.linalg.solve((b.phi * sw) @ b.phi.T, (b.phi * sw) @ psi.T).T

@@ -1,7 +1,9 @@
 """Analysis ``basins``: basins of attraction and dynamic integrity (the paper's Fig. 19).
 
 A lattice of initial conditions ``(q_j, dq_j/dt)`` at ``t = 0`` (mode ``j`` of the ROM,
-the other state components zero) is classified by the attractor of the stroboscopic map
+the other state components zero; on a model whose state is not modal, the full model, the
+state the map lifts them to, :func:`model.protocol.modal_lift`, and its attractors are
+reported by their modal section) is classified by the attractor of the stroboscopic map
 each trajectory ends on (:mod:`model.basins`).  The lattice is cut into tiles of
 interleaved ``ic_x`` rows (tile ``t`` has rows ``t, t + tiles, ...``), one subtask each; the tile layout depends on the options only (``tiles``),
 never on the rank count.  Every tile finds its attractors itself (Newton on recurrences);
@@ -31,6 +33,11 @@ whatever the tiles and ranks), the others are not computed (label -2); the fract
 (``basin_fraction``, ``unclassified_fraction``) are then over the sample and the
 ``integrity_factor``, which needs the whole lattice, is NaN.
 
+The labels' sensitivity: ``perturbation = eps`` scales every initial state by ``1 + eps``
+before it is classified; a run with it against one without, on the same sample, measures the
+share of initial conditions whose fate a change of that size decides (docs/model.md,
+"Basins of attraction").
+
 Labels: ``0..n-1`` attractor index, ``-1`` unclassified (no periodic attractor of period
 ``<= max_period`` reached within ``max_periods``: a non-periodic attractor or a very long
 transient), ``-2`` not computed (outside ``cases``, or not in the ``sample``).
@@ -52,6 +59,7 @@ from model import lattice as ml
 from model.forced import ForcedMap
 from model.integrity import global_integrity_measure, integrity_factor
 from model.params import Loading, Membrane
+from model.protocol import modal_lift, modal_section
 
 from sweep.models.rom import rom_for
 
@@ -87,8 +95,13 @@ class BasinsOptions:
     max_attractors: int
     #: initial conditions classified, drawn at random from the lattice (None: all of them)
     sample: int | None = None
+    #: every initial state scaled by ``1 + perturbation`` (the labels' sensitivity)
+    perturbation: float = 0.0
     #: the job's material law (``[membrane] law``): the warmups compile its kernels
     material: str = "neo-hookean"
+    #: whether the job's model is the ROM, whose kernels the warmups compile (another
+    #: model's compile on their first call)
+    rom_kernels: bool = True
 
     @property
     def rows(self) -> int:
@@ -143,6 +156,9 @@ class Basins(Analysis):
         "sample": "N: with method = \"brute\", classify only N initial conditions drawn at random from the "
                   "lattice (label -2 elsewhere; fractions over the sample, integrity_factor NaN), a spot check "
                   "of a fast run on the same lattice (default: the whole lattice)",
+        "perturbation": "eps: every initial state scaled by 1 + eps before it is classified (default 0); the "
+                        "share of a run's labels that another run with eps changes is the uncertain fraction "
+                        "of the lattice at that eps (final-state sensitivity: fractal basin boundaries)",
         "tiles": "tiles of interleaved ic_x rows, one task each (default 8, at most ic_x.num, raised to "
                  "keep 65,536 initial conditions or fewer per tile)",
         "steps": opt.steps_help(mb.DEFAULT_STEPS),
@@ -162,9 +178,7 @@ class Basins(Analysis):
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT) -> BasinsOptions:
         check_keys(table, _SECTION, tuple(self.OPTIONS))
         modes = opt.modes(table, _SECTION)
-        if context.model.model().axisymmetric_states:
-            raise JobError("job.analysis", "basins", f"an analysis that model {context.model.kind!r} can run (its "
-                           "lattices are of modal coordinates, whose lift to the full model's states is not built)")
+        opt.model_modes(_SECTION, context.model, modes)
         opt.damping_modes(context.damping, _SECTION, modes, None)
         lm = opt.number(table, _SECTION, "lattice_mode", 1, low=1, high=len(modes),
                         integer=True)
@@ -202,7 +216,8 @@ class Basins(Analysis):
             settings=settings,
             max_attractors=opt.number(table, _SECTION, "max_attractors", 6, low=1, high=1000,
                                       integer=True),
-            sample=sample, material=membrane.law)
+            sample=sample, perturbation=opt.number(table, _SECTION, "perturbation", 0.0, low=0.0, high=1e-2),
+            material=membrane.law, rom_kernels=context.model.kind == "rom")
 
     def n_subtasks(self, options: BasinsOptions) -> int:
         return options.tiles
@@ -252,7 +267,7 @@ class Basins(Analysis):
         out["tile_radial_points"] = getattr(fmap, "radial_points", 0)
         rows = options.tile_rows(subtask)
         chosen = options.sampled(rows)
-        states = ml.lattice_states(lattice, rows, S)[chosen]
+        states = modal_lift(fmap, ml.lattice_states(lattice, rows, S)[chosen]) * (1.0 + options.perturbation)
         cell_report: dict = {}
         labels, atts, periods = mb.classify_lattice(states, lattice, fmap, options.settings,
                                                     use_cells=options.method == "fast", report=cell_report)
@@ -265,7 +280,7 @@ class Basins(Analysis):
         out["tile_label"][:n] = tile_label.reshape(n, ny)
         out["tile_periods"][:n] = tile_periods.reshape(n, ny)
         for a, att in enumerate(atts[:A]):
-            out["tile_attractor_point"][a, :att.period] = att.points
+            out["tile_attractor_point"][a, :att.period] = modal_section(fmap, att.points)
             out["tile_attractor_period"][a] = att.period
             out["tile_attractor_amplitude"][a] = fmap.amplitude(att.points[0], att.period)
             out["tile_attractor_multiplier"][a] = np.max(np.abs(att.multipliers))
@@ -287,6 +302,8 @@ class Basins(Analysis):
     def warmups(self, options: BasinsOptions) -> list[Callable[[], None]]:
         # the classifier's kernel, and the attractors' (Newton search, amplitude): about
         # 3 s and 2.5 s of compilation for one mode, in parallel on two ranks
+        if not options.rom_kernels:
+            return []
         return [partial(_compile_classifier, options), partial(_compile_attractor_tools, options)]
 
     def assemble(self, raw, options: BasinsOptions):

@@ -5,7 +5,8 @@ It keeps the in-plane displacements and their inertia that the ROM drops.  It ru
 (transverse and in-plane frequencies per wave number), ``backbone`` (the axisymmetric
 free vibration, :class:`model.full.free.FreeFull`) and the forced analyses on axisymmetric
 states (:class:`model.full.forced.ForcedFull`): their ``modes`` must be axisymmetric, and
-name the ROM coordinates the results report (the fit of ``w`` by those mode shapes); the
+name the ROM coordinates the results report (the fit of ``w`` by those mode shapes) and
+the basins' lattices start from (``w`` the sum of those shapes, ``u`` at rest); the
 ROM's mixed mode sets, branch switching and family check are refused at validation.  Its
 ``continuation.families`` are the perturbations of each harmonic ``n`` in ``(U, V, W)``
 (``inplane = false``: ``W`` alone) on the first ``radial`` functions of its basis
