@@ -217,7 +217,7 @@ _FAILED_FRACTION = 0.5
 
 
 def classify_lattice(states, lattice: Lattice, fmap: StroboscopicMap, settings: Settings, attractors=(), *,
-                     use_cells: bool = True, discover: bool = True, report: dict | None = None):
+                     use_cells: bool = True, discover: bool = True, report: dict | None = None, scale=None):
     """Label initial states by the attractor their trajectory ends on.
 
     Parameters
@@ -237,6 +237,9 @@ def classify_lattice(states, lattice: Lattice, fmap: StroboscopicMap, settings: 
     discover : bool
         Look for new attractors (Newton on recurrences).  Without it the method is the
         brute-force reference: integrate until the capture disc of a known attractor.
+    scale : (2K,) array, optional
+        Weights of the scaled norm of the states (default :func:`model.lattice.lattice_scale`;
+        states lifted from modal coordinates: :func:`model.lattice.state_norm_scale`).
     report : dict, optional
         Receives ``"state_cells"``, the cells in the state-space cell map (several modes
         with ``use_cells``; else 0).  At :func:`state_cell_limit` the map takes no new
@@ -255,7 +258,7 @@ def classify_lattice(states, lattice: Lattice, fmap: StroboscopicMap, settings: 
     states = np.ascontiguousarray(states, dtype=np.float64)
     N, n = states.shape
     s = settings
-    scale = lattice_scale(lattice, n)
+    scale = lattice_scale(lattice, n) if scale is None else np.asarray(scale, float)
     atts = list(attractors)
     cap = max(len(atts), 1) + 8
     known = _Known(np.zeros((cap, s.max_period, n)), np.zeros(cap, np.int64), np.zeros((64, n + 1)))

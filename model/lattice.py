@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .integrate import rk4_steps
-from .protocol import StroboscopicMap, kernel_arguments
+from .protocol import StroboscopicMap, kernel_arguments, modal_lift
 
 
 @dataclass(frozen=True)
@@ -92,3 +92,15 @@ def lattice_scale(lattice: Lattice, n_state: int) -> np.ndarray:
     lx, ly = lattice.extent()
     K = n_state // 2
     return np.concatenate([np.full(K, 1.0 / lx), np.full(K, 1.0 / ly)])
+
+
+def state_norm_scale(lattice: Lattice, fmap: StroboscopicMap, n_modal: int) -> np.ndarray:
+    """:func:`lattice_scale` for the states ``fmap`` lifts a lattice of ``n_modal`` modal
+    coordinates to (:func:`model.protocol.modal_lift`): its weights divided by the length of
+    the lifted unit displacement of the lattice's coordinate, so that a displacement along the
+    lattice's mode measures in the state what it measures in the modal coordinates (1 for a
+    map whose state is its modal coordinates: :func:`lattice_scale` itself)."""
+    unit = np.zeros(n_modal)
+    unit[lattice.ix] = 1.0
+    state = modal_lift(fmap, unit)
+    return lattice_scale(lattice, state.size) / np.linalg.norm(state)

@@ -27,9 +27,10 @@ back without them:
     shapes); the results' ``modal_coordinate`` axes.  Without it the state is its own
     modal section (:func:`modal_section`).
 ``modal_lift(coordinates)``
-    The inverse of ``modal_section``: the state ``(..., 2 dof)`` of modal coordinates and
-    velocities ``(..., 2K)`` (the full model: ``w`` the sum of the mode shapes, ``u`` at
-    rest); the basins' lattices of initial conditions.  Without it the modal coordinates are
+    The state ``(..., 2 dof)`` of modal coordinates and velocities ``(..., 2K)`` (the full
+    model: ``w`` the sum of the mode shapes fitted on its basis, ``u`` at rest), of which
+    ``modal_section`` gives the coordinates back to the fit error; the basins' lattices of
+    initial conditions.  Without it the modal coordinates are
     the state (:func:`modal_lift`).
 ``lean(sample, rtol)`` with ``acceleration_mismatch(reference, states)``
     A cheaper map that is the same to ``rtol`` on the states ``sample()`` (the ROM's

@@ -416,10 +416,10 @@ def _label_sensitivity(results: Path) -> list[str]:
              ("ROM (1,0)+(2,0)+(3,0)", "validation/fig19a-basins-brute", "validation/fig19a-basins-brute-perturbed"))
     out = ["### Sensitivity of the labels", "",
            "The brute-force samples again with every initial state scaled by 1 + eps (`perturbation`), the",
-           "same initial conditions and map: the share of them that ends on another attractor is the",
-           "uncertain fraction at eps (final-state sensitivity; Grebogi, McDonald, Ott and Yorke, Phys. Lett.",
-           "A 99, 1983).", "",
-           "| model | initial conditions | eps | attractor changed |", "|---|---|---|---|"]
+           "same initial conditions and map: the share of them whose label changes (another attractor, or",
+           "unclassified in one run only) is the uncertain fraction at eps (final-state sensitivity;",
+           "Grebogi, McDonald, Ott and Yorke, Phys. Lett. A 99, 1983).", "",
+           "| model | initial conditions | eps | label changed |", "|---|---|---|---|"]
     grid = ("delta", "delta_o", "Omega", "P0", "c")
     for label, name, perturbed_name in pairs:
         base, perturbed = _open(results, name), _open(results, perturbed_name)
@@ -463,21 +463,29 @@ def section_full_basins(results: Path) -> list[str]:
            "of the lattice points with the same label as the full model with 16 functions; by chance: the",
            "agreement of labels drawn at random with the two fractions, sum_a f_a f_a(full).", ""]
     full, coarse, rom, branch = (_open(results, n) for n in names)
-    if any(ds is None for ds in (full, coarse, rom, branch)) or "mode_set" not in rom.dims:
-        return out + _missing(*names)
+    if full is None or coarse is None or branch is None:
+        return out + _missing(*(n for n, ds in zip(names, (full, coarse, rom, branch)) if ds is None))
     grid = ("delta", "delta_o", "Omega", "P0", "c")
-    full, coarse, rom = (ds.isel({d: 0 for d in grid if d in ds.dims}) for ds in (full, coarse, rom))
-    at = _lattice_rows(rom, full)
-    if at is None or not (np.array_equal(coarse.ic_x, full.ic_x) and np.array_equal(coarse.ic_y, full.ic_y)):
-        return out + ["*The full model's lattices are not the same, or not part of the ROM's: run the job "
-                      "files as committed.*", ""]
-    out += [f"Lattice {full.sizes['ic_x']} x {full.sizes['ic_y']} (the ROM's: {rom.sizes['ic_x']} x "
-            f"{rom.sizes['ic_y']}).", "",
+    full, coarse = (ds.isel({d: 0 for d in grid if d in ds.dims}) for ds in (full, coarse))
+    if not (np.array_equal(coarse.ic_x, full.ic_x) and np.array_equal(coarse.ic_y, full.ic_y)):
+        return out + ["*The full model's two lattices are not the same: run the job files as committed.*", ""]
+    rows, notes = [], []
+    if rom is None or "mode_set" not in rom.dims:
+        notes += _missing(names[2])
+    else:
+        rom = rom.isel({d: 0 for d in grid if d in rom.dims})
+        at = _lattice_rows(rom, full)
+        if at is None:
+            notes += ["*The full model's lattice is not part of the ROM's (a `--quick` run?): the ROM's rows are "
+                      "left out.*", ""]
+        else:
+            rows = [(f"ROM {label}", select(rom, str(label)).isel(ic_x=at[0], ic_y=at[1]))
+                    for label in rom.mode_set.values]
+    out += [f"Lattice {full.sizes['ic_x']} x {full.sizes['ic_y']}.", "",
             "| model | RK4 steps | attractors | amplitude 0 (m) | basin 0 | amplitude 1 (m) | basin 1 | unclassified "
             "| agreement with the full model | by chance |", "|---|---|---|---|---|---|---|---|---|---|"]
     reference = full.label.values
     shares = np.array([np.mean(reference == a) for a in range(2)])
-    rows = [(f"ROM {label}", select(rom, str(label)).isel(ic_x=at[0], ic_y=at[1])) for label in rom.mode_set.values]
     rows += [(f"full, order {int(ds.attrs['model_order'])}", ds) for ds in (coarse, full)]
     for label, p in rows:
         lab = p.label.values
@@ -487,13 +495,16 @@ def section_full_basins(results: Path) -> list[str]:
         chance = sum(c * f for c, f in zip(counts, shares) if c is not None)
         out.append(f"| {label} | {int(p.rk4_steps)} | {int(p.n_attractors)} | {' | '.join(cells)} | "
                    f"{np.mean(lab == -1):.3f} | {np.mean(lab == reference):.1%} | {chance:.1%} |")
+    if any(int(p.n_attractors) > 2 for _, p in rows):
+        out += ["", "*A result has more than two attractors: the table shows the two largest.*"]
+    out += [""] + notes
     b = branch.isel({d: 0 for d in grid if d in branch.dims and d != "P0"})
     x = float(full.P0)
     stable = stable_amplitudes_at(b.P0.values, b.amplitude.values, b.stable.values, x)
     found = np.sort(full.attractor_amplitude.values[:int(full.n_attractors)])[::-1]
     p0 = b.P0.values[np.isfinite(b.P0.values)]
     gap = max((abs(p0[i + 1] - p0[i]) for i in range(p0.size - 1) if (p0[i] - x) * (p0[i + 1] - x) <= 0), default=np.nan)
-    out += ["", f"The continuation of the full model in P0 at the same resolution (`fig15a-full`, order "
+    out += [f"The continuation of the full model in P0 at the same resolution (`fig15a-full`, order "
                 f"{int(branch.attrs['model_order'])}) crosses P0 = {float(full.P0):g} Pa on "
                 f"{stable.size} stable stretches, at amplitudes "
                 f"{', '.join(f'{a:.6f}' for a in np.sort(stable)[::-1])} m (linear interpolation between its points, "

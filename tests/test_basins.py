@@ -346,8 +346,7 @@ def test_a_brute_force_sample_labels_its_points_as_the_whole_lattice_does():
 
 
 def test_a_perturbation_scales_the_initial_states_the_classifier_gets(monkeypatch):
-    # the states handed to the classifier are the lattice's times 1 + perturbation, and
-    # nothing else changes
+    # the states handed to the classifier are the lattice's times 1 + perturbation
     import sweep.analyses.basins as analysis
 
     seen = []

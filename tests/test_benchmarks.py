@@ -39,6 +39,13 @@ def test_every_benchmark_has_a_generated_block_in_the_performance_page():
     assert len(commands) == len(set(commands))
 
 
+def test_full_continuation():
+    """The Fig. 14a branch on the full model with and without a family: the family's stability
+    leaves the branch's points unchanged (it is computed along them, not with them)."""
+    out = smoke("bench_full_continuation")
+    assert re.search(r"the same branch with the family: True \(\d+ points; amplitudes differ by 0\.0e\+00 m\)", out), out
+
+
 def test_full_axisymmetric():
     """The full model's axisymmetric force, Hessian and RK4 motion: numpy and (with a compiler)
     the C program of the same algorithms agree with the numba kernels to rounding (1e-12 relative is

@@ -159,6 +159,16 @@ def test_modal_lift_is_the_basis_fit_of_the_mode_shapes_and_the_section_inverts_
     assert np.abs(predicted).max() > 1e-12  # order 8 does not hold the shapes exactly: a real check
     with pytest.raises(ValueError, match="coordinates shape"):
         fmap.modal_lift(np.zeros(3))
+    # the basins' norm of lifted states: the lattice mode's unit displacement measures 1 / Lx
+    # as in the modal coordinates (the ROM's map lifts nothing: its weights are lattice_scale's)
+    from model import lattice as ml
+
+    lattice = ml.Lattice(np.linspace(-0.3, 0.3, 5), np.linspace(-10.0, 10.0, 5), 1, 3)
+    weights = ml.state_norm_scale(lattice, fmap, 4)
+    assert weights.shape == (2 * dof,)
+    unit = fmap.modal_lift(np.eye(4)[1])
+    assert np.linalg.norm(weights * unit) == pytest.approx(1 / 0.6, rel=1e-14)
+    np.testing.assert_array_equal(ml.state_norm_scale(lattice, object(), 4), ml.lattice_scale(lattice, 4))
 
 
 JOB = """
@@ -274,10 +284,11 @@ tiles = 2
 
 def test_basins_job_on_the_full_model_labels_what_plain_integration_reaches(tmp_path):
     # the four corners of the Fig. 19a window (order 8): each initial condition, lifted to the full
-    # state by hand, integrated period by period until its modal section is within the capture
-    # radius (0.01 of the window, scaled) of one of the job's attractors, which must be its label
-    # (period by period: the same arithmetic as the job's, since some initial conditions of this
-    # window change their attractor under a change of 1e-12, docs/validation.md)
+    # state by hand, integrated period by period until its modal section is within 0.01 of the
+    # window (scaled) of one of the job's attractors' modal sections, which must be its label
+    # (the job: the fast method, cells and Newton, capturing in the full state; period by period
+    # as its trajectories advance, since some initial conditions of this window change their
+    # attractor under a change of 1e-12, docs/validation.md)
     ds = _run_job(tmp_path, BASINS_JOB)
     assert int(ds.n_attractors) == 2 and set(np.unique(ds.label)) == {0, 1}  # both attractors at the corners
     assert float(ds.attractor_amplitude[0]) > 3 * float(ds.attractor_amplitude[1])  # resonant, non-resonant
@@ -302,3 +313,32 @@ def test_basins_job_on_the_full_model_labels_what_plain_integration_reaches(tmp_
                 if near.any():
                     break
             assert near.tolist() == [ds.label[i, j] == 0, ds.label[i, j] == 1]
+
+
+def test_fold_curves_in_delta_on_the_full_model_meet_the_branches_at_other_deltas():
+    # the two saddle-nodes of the Fig. 14a branch at a 1 % modal ratio (jobs/fig14a-full.toml, order
+    # 8) followed in delta: the model rebuilds pre-stretch and map at each delta; at a curve's
+    # point the one-parameter branch of a map built there by hand has its saddle-node
+    from model.continuation import FOLD, continue_orbits
+    from model.damping import Modal
+    from sweep.analyses.continuation import CONTINUATION
+    from sweep.jobspec import grid_point
+
+    job = parse_job((Path(__file__).resolve().parents[1] / "jobs" / "fig14a-full.toml").read_text()
+                    .replace("order = 16", "order = 8").replace("start = 25.0", "start = 33.0")
+                    .replace("stop = 55.0", "stop = 38.0")
+                    .replace("families = {n = [1, 2, 3, 4, 5, 6], radial = 16, inplane = true}",
+                             'bifurcation_curves = {parameter = "delta", start = 1.1, stop = 1.12}'))
+    point = grid_point(job.membrane, {"delta": 1.1, "delta_o": 0.2, "P0": 10.0}, job.damping.law, job.model)
+    out = CONTINUATION.compute(point, job.options, 0)
+    assert out["status"] == 0, out.get("message")
+    folds = np.flatnonzero(out["curve_kind"] == FOLD)
+    assert folds.size == 2
+    for j in folds:
+        q, p = out["curve_delta"][j], out["curve_Omega"][j]
+        i = int(np.nanargmax(q))  # the curve's far end (its last step may pass delta = 1.12)
+        assert q[i] >= 1.12 and np.nanmin(q) == pytest.approx(1.1, abs=1e-9)
+        model = AxisymmetricFull(solve_full_prestretch(Membrane(delta=q[i], delta_o=0.2), 8))
+        fmap = ForcedFull.build(model, 10.0, 33.0, Modal(0.01), int(out["rk4_steps"]), modes=[(1, 0)])
+        one = continue_orbits(fmap, "Omega", 33.0, 38.0, ds_max=0.3, max_points=1000)
+        assert np.min(np.abs(one.value[one.special(FOLD)] / p[i] - 1)) <= 1e-6

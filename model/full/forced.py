@@ -98,6 +98,10 @@ class ForcedFull:
     lift : (K, order) ndarray
         The ``W`` coefficients of the same mode shapes (:func:`mode_coefficients`), which
         :meth:`modal_lift` takes.
+    probe_rho : float
+        The radius (m) of :attr:`probe`.
+    modes : tuple of (m, 0)
+        The modes of :attr:`section` and :attr:`lift`.
     """
 
     model: AxisymmetricFull
@@ -111,6 +115,8 @@ class ForcedFull:
     omega_max: float
     section: np.ndarray
     lift: np.ndarray
+    probe_rho: float
+    modes: tuple
 
     @classmethod
     def build(cls, model: AxisymmetricFull, P0: float, Omega: float, damping: DampingLaw | None = None,
@@ -127,8 +133,14 @@ class ForcedFull:
         rho = 0.5 * m.Re if probe_rho is None else float(probe_rho)
         phi, _ = model.state.basis.evaluate(np.eye(model.order), np.array([rho / m.Re]))
         probe = np.concatenate([np.zeros(model.order), phi[:, 0]])
+        modes = tuple((int(mm), int(n)) for mm, n in modes)
         return cls(model, float(P0), float(Omega), damping, int(steps), float(rate), matrix, probe,
-                   highest_frequency(model), modal_projection(model, modes), mode_coefficients(model, modes))
+                   highest_frequency(model), modal_projection(model, modes), mode_coefficients(model, modes), rho, modes)
+
+    def on_model(self, model: AxisymmetricFull) -> ForcedFull:
+        """The same forcing, damping law, steps, probe radius and modes on ``model`` (another
+        membrane's: curves in a membrane parameter rebuild the map)."""
+        return ForcedFull.build(model, self.P0, self.Omega, self.damping, self.steps, self.probe_rho, self.modes)
 
     @property
     def dof(self) -> int:
@@ -315,5 +327,4 @@ def mode_coefficients(model: AxisymmetricFull, modes) -> np.ndarray:
     ``int (psi_k - sum_j c_kj phi_j)^2 rho drho`` (each ``psi_k`` vanishes at both edges,
     as the basis functions do, so the fit converges spectrally with the order)."""
     psi, b = _mode_shapes(model, modes), model.state.basis
-    sw = b.s * b.weights
-    return np.linalg.solve((b.phi * sw) @ b.phi.T, (b.phi * sw) @ psi.T).T
+    return (model.inverse_mass @ ((b.phi * (b.s * b.weights)) @ psi.T)).T

@@ -144,6 +144,11 @@ class ModelSpec:
         (:meth:`sweep.models.base.Model.families`)."""
         return self.model().families(point, self.options, options, modes, blocks)
 
+    def rebuilt(self, point: Point, options: Any, fmap, family):
+        """``delta -> (map, family)`` of this model for curves in ``delta``
+        (:meth:`sweep.models.base.Model.rebuilt`)."""
+        return self.model().rebuilt(point, self.options, options, fmap, family)
+
     def inplane_frequencies(self, point: Point, options: Any, basis: int | None = None):
         """The in-plane natural frequencies of ``options.modes`` at ``point``
         (:meth:`sweep.models.base.Model.inplane_frequencies`)."""

@@ -165,7 +165,7 @@ class Basins(Analysis):
         "max_periods": "periods before a trajectory is unclassified, label -1 (default 20000)",
         "radius": "capture radius around attractor points, fraction of the lattice window (default 0.01)",
         "consecutive": "consecutive clean-cell hits to adopt a cell's label (default 8 for one mode, 16 for "
-                       "more)",
+                       "more and on the full model)",
         "guard": "one mode: half-width of the block of equal labels around a clean cell (default 2)",
         "cell_resolution": "about this many cells per lattice axis in the cell map (one mode: of the lattice "
                            "plane, default 200; more modes: in every state coordinate, default 100; at most "
@@ -197,7 +197,9 @@ class Basins(Analysis):
             if method != "brute":
                 raise JobError(f"{_SECTION}.sample", sample, 'needs method = "brute" (the fast method '
                                "classifies whole lattice rows)")
-        d = mb.default_settings(len(modes))
+        # a model whose state is not its modal coordinates has more than two state
+        # coordinates even for one mode: the settings of the state-space cell map
+        d = mb.default_settings(max(len(modes), 2) if context.model.model().axisymmetric_states else len(modes))
         settings = mb.Settings(
             max_periods=opt.number(table, _SECTION, "max_periods", d.max_periods, low=1, integer=True),
             radius=opt.number(table, _SECTION, "radius", d.radius, low=0.0, low_open=True, high=0.5),
@@ -270,7 +272,8 @@ class Basins(Analysis):
         states = modal_lift(fmap, ml.lattice_states(lattice, rows, S)[chosen]) * (1.0 + options.perturbation)
         cell_report: dict = {}
         labels, atts, periods = mb.classify_lattice(states, lattice, fmap, options.settings,
-                                                    use_cells=options.method == "fast", report=cell_report)
+                                                    use_cells=options.method == "fast", report=cell_report,
+                                                    scale=ml.state_norm_scale(lattice, fmap, S))
         out["tile_state_cells"] = cell_report["state_cells"]
         n = rows.size
         tile_label = np.full(n * ny, NOT_COMPUTED, np.int32)

@@ -26,16 +26,14 @@ The outputs are described in the docstring of :mod:`sweep.analyses.continuation`
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from model.codim2 import continue_curve, continue_folds
 from model.continuation import KIND_NAMES, resonant_end
-from model.families import build_family, perturbation_growth, symmetry_blocks
-from model.prestretch import solve_prestretch
-from model.rom import build_rom
+from model.families import perturbation_growth, symmetry_blocks
 from model.switching import mixed_rom
 from model.tongues import family_tongue
 
@@ -288,8 +286,8 @@ class BifurcationCurves(BranchFeature):
 
     def compute(self, ctx):
         """The curves start at the task's value of the second parameter.  In ``delta`` the
-        pre-stretch, the ROM and the family are rebuilt at every value met, without the
-        one-mode tables (quadrature kernels: a rebuild costs milliseconds)."""
+        model rebuilds its pre-stretch, map and family at every value met
+        (:meth:`sweep.models.base.Model.rebuilt`)."""
         options, br, fmap = ctx.options, ctx.branch, ctx.fmap
         out = blank_outputs(self.variables(options))
         p, (q, q_start, q_stop), n = options.parameter, options.bifurcation_curves, options.max_points
@@ -309,8 +307,8 @@ class BifurcationCurves(BranchFeature):
                 try:
                     halves.append(continue_curve(fmap, p, q, q_here, end, br.state[i], br.value[i], span, kind=kind,
                                                  family=family, ds_max=CURVE_DS_MAX, max_points=n // 2,
-                                                 rebuild=_rebuild(ctx.point, options, fmap, family) if q == "delta"
-                                                 else None))
+                                                 rebuild=ctx.point.model.rebuilt(ctx.point, options, fmap, family)
+                                                 if q == "delta" else None))
                 except (RuntimeError, ArithmeticError, np.linalg.LinAlgError) as exc:
                     problems.append(f"curve {j} ({KIND_NAMES[kind]}) towards {q} = {end}: {type(exc).__name__}: {exc}")
             if not halves:
@@ -324,17 +322,6 @@ class BifurcationCurves(BranchFeature):
             out[f"curve_{q}"][j, :m], out[f"curve_{p}"][j, :m], out["curve_amplitude"][j, :m] = qs, ps, amp
             problems += [f"curve {j} ({KIND_NAMES[kind]}): {h.message}" for h in halves if not h.complete]
         return out, "; ".join(problems)
-
-
-def _rebuild(point, options, fmap, family):
-    """``delta -> (map, family)`` for curves in ``delta``: the task's membrane with that delta,
-    the same modes (the ROM's), forcing and steps; quadrature kernels (no tables)."""
-    def at(delta):
-        ps = solve_prestretch(replace(point.membrane, delta=delta), options.prestretch)
-        rom = build_rom(ps, fmap.rom.modes, force_table=False)
-        fam = None if family is None else build_family(ps, rom, family.n, family.radial, jacobian_table=False)
-        return fmap.with_rom(rom), fam
-    return at
 
 
 def family_check_option(table, section):

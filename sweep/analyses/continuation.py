@@ -94,7 +94,8 @@ Curves of bifurcation points (``bifurcation_curves = {parameter = "P0", start = 
 :data:`sweep.analyses.branch_features.MAX_CURVES`) is followed in the
 second parameter (``c``, ``delta`` or the forcing parameter not continued) from the task's
 value towards ``start`` and towards ``stop`` (:func:`model.codim2.continue_curve`; in
-``delta`` the pre-stretch, ROM and family are rebuilt at every value met); outputs ``curve_<second>``, ``curve_<parameter>``,
+``delta`` the model rebuilds its pre-stretch, map and family at every value met, the ROM's or
+the full model's); outputs ``curve_<second>``, ``curve_<parameter>``,
 ``curve_amplitude`` (``curve``, ``curve_point``, NaN padded), ``curve_kind`` and
 ``curve_family`` (``curve``).  A curve that does not reach both ends makes the task
 ``not_converged`` with the reason.
@@ -261,9 +262,10 @@ class ContinuationAnalysis(Analysis):
                                    "(radial = M), not a list")
         opt.damping_modes(context.damping, s, modes, families or any(n for _, n in modes))
         curves = curves_option(table, s, parameter, grid, context.damping)
-        if curves is not None and curves[0] == "delta" and not context.model.model().rom_features:
+        if curves is not None and curves[0] == "delta" and not context.model.model().provides("rebuilt"):
             raise JobError(f"{s}.bifurcation_curves", table["bifurcation_curves"],
-                           f"curves in delta rebuild the ROM; this job's model is {context.model.kind!r} ([model] kind)")
+                           f"curves in delta rebuild the model at each delta, which model {context.model.kind!r} "
+                           "([model] kind) cannot")
         ds_max = opt.number(table, s, "ds_max", 0.1, low=0.0, low_open=True, high=1.0)
         return ContinuationOptions(
             parameter, start, stop, modes, opt.prestretch(table, s, context),

@@ -44,7 +44,7 @@ class Model:
     #: The grid keys of the membrane the model needs (the analyses add their forcing keys).
     required_grid: ClassVar[tuple[str, ...]] = ()
     #: Whether the analyses' ROM-only options (branch switching, the family check, mixed
-    #: mode sets, curves in delta) apply to this model's maps.
+    #: mode sets) apply to this model's maps.
     rom_features: ClassVar[bool] = False
     #: Whether the model's forced maps hold axisymmetric states only (the forced analyses'
     #: ``modes`` must then be axisymmetric, ``(m, 0)``).
@@ -104,6 +104,12 @@ class Model:
         (``family_monodromy``) at ``point`` for a continuation with ``options``, on the
         axisymmetric ``modes``: one per ``(n, radial indices)`` of ``blocks``."""
         raise NotImplementedError(f"model {self.name!r} has no asymmetric families")
+
+    def rebuilt(self, point, model_options: Any, options: Any, fmap, family):
+        """``delta -> (map, family)`` for a curve in ``delta`` (``continuation.bifurcation_curves``):
+        ``fmap`` and the family block ``family`` (None for none) of ``point`` rebuilt on its
+        membrane with that ``delta``, with the same modes, forcing, damping law and steps."""
+        raise NotImplementedError(f"model {self.name!r} cannot be rebuilt at another delta")
 
     def inplane_frequencies(self, point, model_options: Any, options: Any, basis: int | None):
         """In-plane natural frequencies (rad s-1) at ``point`` for the ``linear`` analysis: for

@@ -6,7 +6,8 @@ It keeps the in-plane displacements and their inertia that the ROM drops.  It ru
 free vibration, :class:`model.full.free.FreeFull`) and the forced analyses on axisymmetric
 states (:class:`model.full.forced.ForcedFull`): their ``modes`` must be axisymmetric, and
 name the ROM coordinates the results report (the fit of ``w`` by those mode shapes) and
-the basins' lattices start from (``w`` the sum of those shapes, ``u`` at rest); the
+the basins' lattices start from (``w`` the sum of those shapes, ``u`` at rest); curves of
+bifurcation points in ``delta`` rebuild the model at each ``delta`` (:meth:`FullModel.rebuilt`); the
 ROM's mixed mode sets, branch switching and family check are refused at validation.  Its
 ``continuation.families`` are the perturbations of each harmonic ``n`` in ``(U, V, W)``
 (``inplane = false``: ``W`` alone) on the first ``radial`` functions of its basis
@@ -18,7 +19,7 @@ task (a list of orders is a convergence study).
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from model.full.static import DEFAULT_ORDER
 from sweep.analyses import options as opt
@@ -98,6 +99,17 @@ class FullModel(Model):
         fields = "UVW" if options.families.inplane else "W"
         return full_families_for(axisymmetric_for(point.membrane, model_options.order),
                                  tuple((n, len(radial)) for n, radial in blocks), fields)
+
+    def rebuilt(self, point, model_options, options, fmap, family):
+        from model.full.axisymmetric import AxisymmetricFull
+        from model.full.families import FullFamily
+        from model.full.static import solve_full_prestretch
+
+        def at(delta):
+            model = AxisymmetricFull(solve_full_prestretch(replace(point.membrane, delta=delta), model_options.order))
+            fam = None if family is None else FullFamily.build(model, family.n, family.radial, family.fields)
+            return fmap.on_model(model), fam
+        return at
 
     def free_vibration(self, point, model_options, options):
         from model.full.free import FreeFull

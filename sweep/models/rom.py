@@ -11,6 +11,7 @@ Its options are today's analysis options: ``modes``, ``prestretch``, ``steps`` a
 from __future__ import annotations
 
 import functools
+from dataclasses import replace
 
 from sweep.models.base import Model, per_wave_number
 
@@ -69,6 +70,19 @@ class RomModel(Model):
         steps = steps_for(point.membrane, options.prestretch, options.modes, options.steps,
                           default_steps or DEFAULT_STEPS)
         return ForcedMap.from_loading(rom, point.loading, steps, point.damping)
+
+    def rebuilt(self, point, model_options, options, fmap, family):
+        # quadrature kernels, no tables: a rebuild costs milliseconds
+        from model.families import build_family
+        from model.prestretch import solve_prestretch
+        from model.rom import build_rom
+
+        def at(delta):
+            ps = solve_prestretch(replace(point.membrane, delta=delta), options.prestretch)
+            rom = build_rom(ps, fmap.rom.modes, force_table=False)
+            fam = None if family is None else build_family(ps, rom, family.n, family.radial, jacobian_table=False)
+            return fmap.with_rom(rom), fam
+        return at
 
     def families(self, point, model_options, options, modes, blocks):
         return families_for(point.membrane, options.prestretch, tuple(modes), tuple(blocks))
