@@ -241,8 +241,8 @@ def classify_lattice(states, lattice: Lattice, fmap: StroboscopicMap, settings: 
         Weights of the scaled norm of the states (default :func:`model.lattice.lattice_scale`;
         states lifted from modal coordinates: :func:`model.lattice.state_norm_scale`).
     report : dict, optional
-        Receives ``"state_cells"``, the cells in the state-space cell map (several modes
-        with ``use_cells``; else 0).  At :func:`state_cell_limit` the map takes no new
+        Receives ``"state_cells"``, the cells in the state-space cell map (states of more
+        than two coordinates with ``use_cells``; else 0).  At :func:`state_cell_limit` the map takes no new
         cells: trajectories are then classified by the cells already labelled, capture and
         Newton, which costs periods, not correctness.
 

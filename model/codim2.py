@@ -298,7 +298,10 @@ def continue_curve(fmap: StroboscopicMap, parameter: str, second: str, start: fl
                                 complete, message)
 
     while len(pts) < max_points:
-        res, t_new, ds = step(sys_.correct, sys_.tangent, x, t, ds, ds_min, tol)
+        try:
+            res, t_new, ds = step(sys_.correct, sys_.tangent, x, t, ds, ds_min, tol)
+        except ArithmeticError as exc:  # a rebuild the model refuses there (e.g. its RK4 step)
+            return finish(False, str(exc))
         if res is None:
             return finish(False, f"step size fell below ds_min = {ds_min}")
         x_new, jac = res

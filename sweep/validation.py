@@ -409,7 +409,7 @@ def _same_labels(reference, other):
 
 
 def _label_sensitivity(results: Path) -> list[str]:
-    """The share of the brute-force samples of the full model and of the ROM whose attractor a
+    """The share of the brute-force samples of the full model and of the ROM whose label a
     relative change of the initial states (the ``perturbation`` of the ``-perturbed`` jobs)
     changes."""
     pairs = (("full model", "validation/fig19a-full-basins-brute-same-steps", "validation/fig19a-full-basins-brute-perturbed"),

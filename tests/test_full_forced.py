@@ -166,8 +166,9 @@ def test_modal_lift_is_the_basis_fit_of_the_mode_shapes_and_the_section_inverts_
     lattice = ml.Lattice(np.linspace(-0.3, 0.3, 5), np.linspace(-10.0, 10.0, 5), 1, 3)
     weights = ml.state_norm_scale(lattice, fmap, 4)
     assert weights.shape == (2 * dof,)
-    unit = fmap.modal_lift(np.eye(4)[1])
-    assert np.linalg.norm(weights * unit) == pytest.approx(1 / 0.6, rel=1e-14)
+    plane = ml.lattice_states(lattice, slice(None), 4)  # displacements and velocities of mode 2
+    np.testing.assert_allclose(np.linalg.norm(fmap.modal_lift(plane) * weights, axis=1),
+                               np.linalg.norm(plane * ml.lattice_scale(lattice, 4), axis=1), rtol=1e-14)
     np.testing.assert_array_equal(ml.state_norm_scale(lattice, object(), 4), ml.lattice_scale(lattice, 4))
 
 
@@ -342,3 +343,29 @@ def test_fold_curves_in_delta_on_the_full_model_meet_the_branches_at_other_delta
         fmap = ForcedFull.build(model, 10.0, 33.0, Modal(0.01), int(out["rk4_steps"]), modes=[(1, 0)])
         one = continue_orbits(fmap, "Omega", 33.0, 38.0, ds_max=0.3, max_points=1000)
         assert np.min(np.abs(one.value[one.special(FOLD)] / p[i] - 1)) <= 1e-6
+
+
+def test_the_full_model_rebuilt_at_another_delta_keeps_the_map_and_family_but_not_a_step_beyond_rk4s_bound(model):
+    # sweep.models.full.FullModel.rebuilt: the forcing, law, steps, probe and modes of the map and
+    # the family's wave number, functions and fields, on the membrane's pre-stretch at that delta;
+    # at a delta whose fastest modes the task's steps no longer integrate, an ArithmeticError
+    from model.full.families import FullFamily
+    from sweep.jobspec import grid_point
+    from sweep.models.full import FULL, FullOptions
+
+    # steps that put omega_max dt at 1.9 here: above the bound 2 at delta 1.05 (omega_max 10 % higher
+    # at order 8), below it at 1.12
+    steps = int(np.ceil(2 * np.pi / 35.0 * ForcedFull.build(model, 10.0, 35.0).omega_max / 1.9))
+    fmap = ForcedFull.build(model, 10.0, 35.0, Rayleigh(0.0, 1e-5), steps, probe_rho=0.4, modes=[(1, 0), (2, 0)])
+    family = FullFamily.build(model, 2, 5, "W")
+    point = grid_point(Membrane(), {"delta": 1.1, "delta_o": 0.2, "P0": 10.0, "Omega": 35.0})
+    at = FULL.rebuilt(point, FullOptions(ORDER), None, fmap, family)
+    other, fam = at(1.12)
+    assert other.model.membrane.delta == 1.12 and fam.model is other.model
+    assert (fam.n, fam.radial, fam.fields) == (2, 5, "W")
+    assert (other.P0, other.Omega, other.steps, other.probe_rho, other.modes, other.damping) == \
+        (10.0, 35.0, fmap.steps, 0.4, ((1, 0), (2, 0)), fmap.damping)
+    assert other.omega_max < fmap.omega_max and other.rate == fmap.rate  # stiffer pre-stretch: slower in-plane
+    assert not np.allclose(other.matrix, fmap.matrix)  # the law's stiffness part rebuilt
+    with pytest.raises(ArithmeticError, match="continuation.steps >= "):
+        at(1.05)

@@ -167,9 +167,9 @@ class Basins(Analysis):
         "consecutive": "consecutive clean-cell hits to adopt a cell's label (default 8 for one mode, 16 for "
                        "more and on the full model)",
         "guard": "one mode: half-width of the block of equal labels around a clean cell (default 2)",
-        "cell_resolution": "about this many cells per lattice axis in the cell map (one mode: of the lattice "
-                           "plane, default 200; more modes: in every state coordinate, default 100; at most "
-                           "4096; 0: the lattice's)",
+        "cell_resolution": "about this many cells per lattice axis in the cell map (one mode of the ROM: of the "
+                           "lattice plane, default 200; more modes, and the full model: in every state "
+                           "coordinate, default 100; at most 4096; 0: the lattice's)",
         "max_period": "largest period of the attractors searched, in forcing periods (default 4)",
         "max_attractors": "attractors stored per grid point (default 6)",
     }
@@ -243,7 +243,8 @@ class Basins(Analysis):
             Variable("tile_rk4_steps", (), (), "i4", "1", "RK4 steps per forcing period", 0),
             Variable("tile_radial_points", (), (), "i4", "1", "radial quadrature points of the ROM", 0),
             Variable("tile_state_cells", (), (), "i4", "1",
-                     "cells in the tile's state-space cell map (several modes, fast method; else 0)", 0),
+                     "cells in the tile's state-space cell map (a state of more than two coordinates, fast "
+                     "method; else 0)", 0),
         ]
 
     def coords(self, options: BasinsOptions):
@@ -400,7 +401,8 @@ class Basins(Analysis):
             "radial_points": (G, raw["tile_radial_points"].transpose(*order).values.max(axis=-1).astype(np.int32), {
                 "units": "1", "long_name": "radial Gauss-Legendre points of the ROM (model.rom.lean_radial_points)"}),
             "state_cells": (G, raw["tile_state_cells"].transpose(*order).values.max(axis=-1).astype(np.int32), {
-                "units": "1", "long_name": "most cells in a tile's state-space cell map (several modes)",
+                "units": "1", "long_name": "most cells in a tile's state-space cell map (states of more than "
+                "two coordinates)",
                 "state_cell_limit": np.int32(mc.state_cell_limit()),
                 "comment": "at state_cell_limit a map takes no new cells: its tile's last trajectories ran longer "
                            "(labels still from labelled cells, capture and Newton); a coarser cell_resolution "

@@ -108,7 +108,8 @@ class Model:
     def rebuilt(self, point, model_options: Any, options: Any, fmap, family):
         """``delta -> (map, family)`` for a curve in ``delta`` (``continuation.bifurcation_curves``):
         ``fmap`` and the family block ``family`` (None for none) of ``point`` rebuilt on its
-        membrane with that ``delta``, with the same modes, forcing, damping law and steps."""
+        membrane with that ``delta``, with the same modes, forcing, damping law and steps; an
+        ArithmeticError where the model cannot be rebuilt ends the curve there with its message."""
         raise NotImplementedError(f"model {self.name!r} cannot be rebuilt at another delta")
 
     def inplane_frequencies(self, point, model_options: Any, options: Any, basis: int | None):

@@ -19,6 +19,7 @@ task (a list of orders is a convergence study).
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass, replace
 
 from model.full.static import DEFAULT_ORDER
@@ -101,14 +102,25 @@ class FullModel(Model):
                                  tuple((n, len(radial)) for n, radial in blocks), fields)
 
     def rebuilt(self, point, model_options, options, fmap, family):
+        # the map keeps the task's steps; a delta where they exceed RK4's bound (a lower delta
+        # has faster in-plane modes) raises ArithmeticError, which ends the curve there
         from model.full.axisymmetric import AxisymmetricFull
         from model.full.families import FullFamily
+        from model.full.forced import STABLE_STEP
         from model.full.static import solve_full_prestretch
 
         def at(delta):
             model = AxisymmetricFull(solve_full_prestretch(replace(point.membrane, delta=delta), model_options.order))
             fam = None if family is None else FullFamily.build(model, family.n, family.radial, family.fields)
-            return fmap.on_model(model), fam
+            rebuilt = fmap.on_model(model)
+            # the task's steps keep omega_max dt <= STABLE_STEP at its delta; a lower delta raises
+            # omega_max (and lowers the transverse frequencies): refuse a step beyond the bound
+            fastest = max(rebuilt.omega_max, 0.0 if fam is None else fam.omega_max)
+            if rebuilt.period / rebuilt.steps * fastest > STABLE_STEP:
+                raise ArithmeticError(f"at delta = {delta:.6g} the RK4 step exceeds omega_max dt = {STABLE_STEP:g} "
+                                      f"(omega_max = {fastest:.4g} rad/s): continuation.steps >= "
+                                      f"{math.ceil(rebuilt.period * fastest / STABLE_STEP)} reach it")
+            return rebuilt, fam
         return at
 
     def free_vibration(self, point, model_options, options):
