@@ -5,9 +5,10 @@ The continuation analysis of ``jobs/fig14a-full.toml`` (delta = 1.1, delta_o = 0
 a 1 % modal damping ratio, Omega from 25 to 55 rad/s, 16 radial functions per field) as a task
 of the job computes it: the branch with its Floquet stability, then the same with the stability
 of one asymmetric family (n = 1, (U, V, W) on all 16 functions), against the issue's targets
-(the branch <= 60 s, one family <= 60 s more), and that the family leaves the branch as it was.  The kernels these steps spend their time in
-have their own benchmarks against C programs of the same algorithm (``bench_full_forced``,
-``bench_full_families``); this one times the analysis around them.
+(the branch <= 60 s, one family <= 60 s more), and that the family leaves the branch as it
+was.  The kernels these steps spend their time in have their own benchmarks against C programs
+of the same algorithm (``bench_full_forced``, ``bench_full_families``); this one times the
+analysis around them.
 
 Run: ``python benchmarks/bench_full_continuation.py [--repeats 1] [--smoke]``; ``--smoke`` (the
 test suite): order 8, Omega from 25 to 27 rad/s.

@@ -158,7 +158,7 @@ class Basins(Analysis):
                   "of a fast run on the same lattice (default: the whole lattice)",
         "perturbation": "eps: every initial state scaled by 1 + eps before it is classified (default 0); the "
                         "share of a run's labels that another run with eps changes is the uncertain fraction "
-                        "of the lattice at that eps (final-state sensitivity: fractal basin boundaries)",
+                        "of the lattice at that eps (final-state sensitivity, Grebogi et al. 1983)",
         "tiles": "tiles of interleaved ic_x rows, one task each (default 8, at most ic_x.num, raised to "
                  "keep 65,536 initial conditions or fewer per tile)",
         "steps": opt.steps_help(mb.DEFAULT_STEPS),

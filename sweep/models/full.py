@@ -104,14 +104,12 @@ class FullModel(Model):
     def rebuilt(self, point, model_options, options, fmap, family):
         # the map keeps the task's steps; a delta where they exceed RK4's bound (a lower delta
         # has faster in-plane modes) raises ArithmeticError, which ends the curve there
-        from model.full.axisymmetric import AxisymmetricFull
-        from model.full.families import FullFamily
         from model.full.forced import STABLE_STEP
-        from model.full.static import solve_full_prestretch
 
         def at(delta):
-            model = AxisymmetricFull(solve_full_prestretch(replace(point.membrane, delta=delta), model_options.order))
-            fam = None if family is None else FullFamily.build(model, family.n, family.radial, family.fields)
+            model = axisymmetric_for(replace(point.membrane, delta=delta), model_options.order)
+            fam = (None if family is None
+                   else full_families_for(model, ((family.n, family.radial),), family.fields)[0])
             rebuilt = fmap.on_model(model)
             # the task's steps keep omega_max dt <= STABLE_STEP at its delta; a lower delta raises
             # omega_max (and lowers the transverse frequencies): refuse a step beyond the bound
