@@ -88,7 +88,7 @@ def main(argv=None) -> None:
     model.free_motion(y0, dt, 1)
     work = Path(tempfile.mkdtemp())
     exe = compile_reference("full_axisymmetric", work, ("-ffast-math",))
-    np.concatenate([phi.ravel(), dphi.ravel(), s, sw, w, r0, dr0, model.inverse_mass.ravel(),
+    np.concatenate([phi.ravel(), dphi.ravel(), s, sw, w, r0, dr0, model.inverse_masses.ravel(),
                     [model.omega0_2, 0.0]]).tofile(work / "tables.bin")
     Q.tofile(work / "q.bin")
     names = ["numba force", "numpy force", "C force", "numba Hessian", "numpy Hessian", "C Hessian", "numba RK4",

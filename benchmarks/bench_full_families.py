@@ -89,7 +89,7 @@ def main(argv=None) -> None:
     stages = np.empty((steps, 4, dof))
 
     def record():
-        rk4_motion(*model.kernel_tables, model.inverse_mass, model.omega0_2, model.bias, fmap.rate, None, model.load,
+        rk4_motion(*model.kernel_tables, model.inverse_masses, model.omega0_2, model.bias, fmap.rate, None, model.load,
                    P0, Omega, y0, dt, steps, steps, np.empty((2, 2 * dof)), stages)
 
     def numba_block():

@@ -332,10 +332,10 @@ def _model(table: Mapping) -> ModelSpec:
 def _model_provides(model: ModelSpec, analysis: Analysis, analysis_name: str) -> None:
     """Refuse an analysis that asks the job's model for what it does not provide
     (:attr:`sweep.analyses.base.Analysis.model_needs`, :meth:`sweep.models.base.Model.provides`)."""
-    missing = [m for m in analysis.model_needs if not model.model().provides(m)]
+    missing = [m for m in analysis.model_needs if not model.model().provides(m, model.options)]
     if missing:
-        raise JobError("job.analysis", analysis_name, f"an analysis that model {model.kind!r} can run (this one "
-                       f"needs its {', '.join(missing)}, which it does not provide)")
+        raise JobError("job.analysis", analysis_name, f"an analysis that model {model.kind!r} can run with its "
+                       f"[model] options (this one needs its {', '.join(missing)}, which it does not provide)")
 
 
 def _required_grid(analysis: Analysis, analysis_name: str, grid: Mapping[str, np.ndarray],

@@ -147,5 +147,5 @@ def test_rom_only_options_are_refused_for_another_model(monkeypatch):
         parse_job(CONTINUATION.replace('kind = "escape"', 'kind = "duffing"'))
     # an analysis the model does not run (it has no free vibration, no static state)
     with pytest.raises(JobError, match=r"job.analysis = 'backbone' is invalid: an analysis that model 'escape' can "
-                                       r"run \(this one needs its free_vibration, which it does not provide\)"):
+                                       r"run with its \[model\] options \(this one needs its free_vibration, which it does not provide\)"):
         parse_job(CONTINUATION.replace('analysis = "continuation"', 'analysis = "backbone"'))

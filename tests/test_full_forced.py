@@ -28,16 +28,23 @@ def model():
     return AxisymmetricFull(solve_full_prestretch(Membrane(delta=1.1, delta_o=0.2), ORDER))
 
 
+@pytest.fixture(scope="module", params=[True, False], ids=["inplane", "held"])
+def either(request, model):
+    """The model, and the same with u held at zero (``inplane=False``: the state is ``W`` alone)."""
+    return model if request.param else AxisymmetricFull(model.state, inplane=False)
+
+
 def _map(model, P0=0.5, Omega=33.5, damping=Viscous(0.05), factor=1):
     return ForcedFull.build(model, P0, Omega, damping, factor * steps_per_period(model, 128), modes=[(1, 0), (2, 0)])
 
 
 def _state(fmap, w=0.02):
-    # a deflection of about w at the probe with some radial displacement and velocities
+    # a deflection of about w at the probe with some radial displacement (when u moves) and
+    # velocities; W is the last `order` coordinates
     o, dof = fmap.model.order, fmap.dof
     y = np.zeros(2 * dof)
-    y[o:dof] = w * np.linspace(1.0, 0.2, o)
-    y[:o] = 0.1 * w * np.linspace(0.5, -0.5, o)
+    y[dof - o:dof] = w * np.linspace(1.0, 0.2, o)
+    y[:dof - o] = 0.1 * w * np.linspace(0.5, -0.5, dof - o)
     y[dof:] = 3.0 * y[:dof]
     return y
 
@@ -47,15 +54,16 @@ def test_the_map_satisfies_the_protocol(model):
 
 
 @pytest.mark.parametrize("parameter", ["state", "Omega", "P0"])
-def test_derivatives_are_those_of_the_discrete_map(model, parameter):
+def test_derivatives_are_those_of_the_discrete_map(either, parameter):
     # central differences at h and 2 h: their error is C h^2 and 4 C h^2, so the exact
     # derivative lies within |fd(h) - fd(2h)| / 3 of fd(h); asserted with a margin of 3
-    fmap = _map(model, damping=Rayleigh(alpha=0.1, beta=1e-4))
+    fmap = _map(either, damping=Rayleigh(alpha=0.1, beta=1e-4))
     y = _state(fmap)
     if parameter == "state":
-        exact = fmap.monodromy(y)[1][:, fmap.model.order + 1]
+        k = fmap.dof - fmap.model.order + 1  # the second W coefficient
+        exact = fmap.monodromy(y)[1][:, k]
         e = np.zeros_like(y)
-        e[fmap.model.order + 1] = 1.0
+        e[k] = 1.0
 
         def at(h):
             return fmap.advance(y + h * e)
@@ -72,7 +80,7 @@ def test_derivatives_are_those_of_the_discrete_map(model, parameter):
     assert np.abs(fd[0] - exact).max() <= np.abs(fd[0] - fd[1]).max() + 1e-9 * scale
 
 
-def test_small_response_is_the_frequency_domain_solution_of_the_linearisation(model):
+def test_small_response_is_the_frequency_domain_solution_of_the_linearisation(either):
     # P0 = 1e-2 Pa: w ~ 5e-5 m, the nonlinear terms ~ 1e-8 relative (the backbone bends by 5 %
     # at 0.1 m: (5e-5 / 0.1)^2 0.05).  The linearisation about the pre-stretch, q'' + D q' +
     # M^-1 K0 q = P0 cos(Omega t) b, solved in the frequency domain with the numpy Hessian (the
@@ -80,17 +88,22 @@ def test_small_response_is_the_frequency_domain_solution_of_the_linearisation(mo
     # 120 = 1e-9, amplified near the resonance by omega_1 / |omega_1 - Omega| ~ 10.  (Smaller
     # loads meet the map's rounding floor, ~3e-16 m per period: docs/model.md.)
     P0, W = 1e-2, 30.0
+    model = either
     fmap = _map(model, P0=P0, Omega=W)
     orbit = shoot(fmap, np.zeros(2 * fmap.dof))
     assert orbit.converged and orbit.stable
-    mass, stiffness = linear_system(model)
+    mass, stiffness = linear_system(model)  # of the moving coordinates: (U, W), or W
     A = np.linalg.solve(mass, stiffness)
-    o, dof = model.order, model.dof
-    b = np.concatenate([np.zeros(o), model.load]) * P0 * model.membrane.Re  # m s-2
+    o, dof = model.order, fmap.dof
+    b = np.zeros(dof)
+    b[-o:] = model.load * P0 * model.membrane.Re  # m s-2
     Q = np.linalg.solve(A - W**2 * np.eye(dof) + 1j * W * fmap.rate * np.eye(dof), b)
-    np.testing.assert_allclose(orbit.state[o:dof], Q[o:].real, rtol=0, atol=1e-6 * np.abs(Q).max())
-    np.testing.assert_allclose(orbit.state[dof + o:], (1j * W * Q[o:]).real, rtol=0, atol=1e-6 * W * np.abs(Q).max())
-    np.testing.assert_allclose(orbit.amplitude, abs(fmap.probe[o:] @ Q[o:]), rtol=1e-6)
+    np.testing.assert_allclose(orbit.state[dof - o:dof], Q[-o:].real, rtol=0, atol=1e-6 * np.abs(Q).max())
+    np.testing.assert_allclose(orbit.state[2 * dof - o:], (1j * W * Q[-o:]).real, rtol=0,
+                               atol=1e-6 * W * np.abs(Q).max())
+    np.testing.assert_allclose(orbit.amplitude, abs(fmap.probe[-o:] @ Q[-o:]), rtol=1e-6)
+    if not model.inplane:
+        return
     # the linearisation has no u (transverse and in-plane motion decouple about the flat
     # state); the orbit's u is of second order (the energy is even in w): four times as large
     # at twice the load, to the relative size of the next order, (w / 0.1 m)^2 ~ 1e-7
@@ -99,10 +112,10 @@ def test_small_response_is_the_frequency_domain_solution_of_the_linearisation(mo
     np.testing.assert_allclose(double.state[:o], 4 * orbit.state[:o], rtol=1e-4, atol=0)
 
 
-def test_shooting_finds_the_state_time_integration_settles_on(model):
+def test_shooting_finds_the_state_time_integration_settles_on(either):
     # heavy damping (every coordinate decays at rate / 2, mass-proportional): after N periods a
     # transient of the size of the orbit is down by exp(-rate N T / 2) < 1e-9
-    fmap = _map(model, P0=2.0, damping=Viscous(2.0))
+    fmap = _map(either, P0=2.0, damping=Viscous(2.0))
     orbit = shoot(fmap, np.zeros(2 * fmap.dof))
     assert orbit.converged and orbit.stable
     periods = int(np.ceil(2.0 * np.log(1e9) / (fmap.rate * fmap.period)))

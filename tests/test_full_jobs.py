@@ -81,6 +81,7 @@ def test_full_backbone_job_is_softer_than_the_rom_and_its_methods_agree(tmp_path
 @pytest.mark.parametrize("table, message", [
     ('[model]\nkind = "full"\norder = 2\n', "model.order = 2 is invalid: must be >= 4"),
     ('[model]\nkind = "full"\nmodes = 3\n', "model.modes"),
+    ('[model]\nkind = "full"\ninplane = 0\n', "model.inplane = 0 is invalid"),
 ])
 def test_full_model_options_are_checked(tmp_path, capsys, table, message):
     job = tmp_path / "bad.toml"
@@ -93,10 +94,20 @@ def test_full_model_options_are_checked(tmp_path, capsys, table, message):
     ("table1-app2", "linear.prestretch = 'analytic' is invalid: must be one of numeric"),
     ("fig10-11-backbone", "backbone.modes = [[1, 0], [2, 0], [3, 0]] is invalid: needs the ROM's mode families"),
     ("validation/families-viscous", "continuation.tongues = True is invalid: needs the ROM's mode families"),
+    ("fig10-full-backbone", "job.analysis = 'backbone' is invalid: an analysis that model 'full' can run with its "
+                            "[model] options (this one needs its free_vibration"),
+    ("fig14a-full", "continuation.families.inplane = True is invalid"),
 ])
 def test_what_the_full_model_does_not_do_is_refused(tmp_path, capsys, job_name, message):
+    """Including, with u = v = 0 held (``inplane = false``), the free vibration and in-plane
+    family perturbations."""
+    text = (JOBS / f"{job_name}.toml").read_text()
+    if "[model]" in text:
+        text = text.replace("[model]", "[model]\ninplane = false")
+    else:
+        text += '\n[model]\nkind = "full"\n'
     job = tmp_path / "bad.toml"
-    job.write_text((JOBS / f"{job_name}.toml").read_text() + '\n[model]\nkind = "full"\n')
+    job.write_text(text)
     assert cli.main(["run", str(job), "-o", str(tmp_path / "bad.nc")]) != 0
     assert message in capsys.readouterr().err
 

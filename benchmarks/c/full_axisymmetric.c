@@ -8,14 +8,14 @@
  *   a1r = dr0_p + du, a2t = (r0_p + u) / s_p, n1 = a1r^2 + dw^2, n2 = a2t^2, e = 1/(n1 n2),
  *   f1 = 2 (1 - e^2 n2) sw_p, f2 = 2 (1 - e^2 n1) a2t w_p,
  *   g_U,k += f1 a1r dphi_kp + f2 phi_kp,   g_W,k += f1 dw dphi_kp.
- * RK4: y = (q, v), q'' = -omega0^2 Minv g(q) - damping v (Minv the inverse mass block, N x N).
+ * RK4: y = (q, v), q'' = -omega0^2 Minv g(q) - damping v (Minv the inverse mass block per field, 2 x N x N).
  * Hessian (model/full/axisymmetric_kernels.py, axisymmetric_hessian): with x = (a1r, dw, a2t), the
  * moduli d = W_DD tD tD' + 2 W_T I + W_D d2Delta (neo-Hookean: W_TT = W_TD = 0, W_DD = 2/D^3),
  * tD = 2 (x0 n2, x1 n2, x2 n1); U_k moves x by (dphi_kp, 0, phi_kp / s_p), W_k by (0, dphi_kp, 0):
  *   H += sw_p (dx/dq_k)' d (dx/dq_m).
  * Usage: full_axisymmetric TABLES_FILE N P Q_FILE REPEATS STEPS DT OUT_FILE
  * TABLES_FILE: phi (P x N), dphi (P x N) (a point's values contiguous), s, sw, w, r0, dr0 (P each),
- * Minv (N x N), omega0^2, damping.
+ * Minv (2 x N x N: U then W), omega0^2, damping.
  * Q_FILE: (M, 2N) float64 states q.  OUT_FILE receives g (M, 2N), then the state (4N) after STEPS
  * RK4 steps of DT from (q_0, 0), then the Hessians (M, 2N, 2N).  Prints the time per call in ns of
  * the force, per RK4 step and per call of the Hessian.
@@ -109,7 +109,7 @@ static void rhs(const double *restrict y, int N, int P, const double *restrict p
     for (int f = 0; f < 2; f++)
         for (int i = 0; i < N; i++) {
             double acc = 0.0;
-            for (int j = 0; j < N; j++) acc += minv[(long)i * N + j] * g[f * N + j];
+            for (int j = 0; j < N; j++) acc += minv[((long)f * N + i) * N + j] * g[f * N + j];
             out[dof + f * N + i] = -omega0_2 * acc - damping * y[dof + f * N + i];
         }
 }
@@ -125,7 +125,7 @@ int main(int argc, char **argv) {
     double *t = read_doubles(argv[1], &nt), *Q = read_doubles(argv[4], &nq);
     const double *phi = t, *dphi = t + (long)P * N, *s = dphi + (long)N * P, *sw = s + P, *w = sw + P, *r0 = w + P,
                  *dr0 = r0 + P, *minv = dr0 + P;
-    double omega0_2 = minv[(long)N * N], damping = minv[(long)N * N + 1];
+    double omega0_2 = minv[2L * N * N], damping = minv[2L * N * N + 1];
     int dof = 2 * N;
     long M = nq / dof;
     double *G = aligned_doubles(M * dof), *g = aligned_doubles(dof);

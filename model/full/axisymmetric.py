@@ -13,6 +13,12 @@ coefficients of ``u / Re`` and ``w / Re`` on the basis; Lagrange's equations are
 with ``g`` the gradient of ``int W / C1 s ds`` (:meth:`AxisymmetricFull.gradient`), ``M`` the
 block-diagonal mass matrix ``int phi_k phi_l s ds`` and the viscous damping ``-c`` times the
 whole velocity per unit undeformed area (mass-proportional on both components).
+
+``AxisymmetricFull(state, inplane=False)`` holds ``u`` at zero: the ROM's hypothesis
+``u = v = 0`` on the full model's radial discretisation (the exact energy of ``w`` alone,
+its ``U`` equations dropped).  Its coordinates stay ``(U, W)`` for the compiled loops, whose
+``U`` rows then have no inverse mass and no bias; :attr:`AxisymmetricFull.moving` names the
+coordinates that move.
 """
 
 from __future__ import annotations
@@ -26,10 +32,13 @@ from .static import FullPrestretch
 
 
 class AxisymmetricFull:
-    """The axisymmetric full model about ``state`` (its basis and quadrature)."""
+    """The axisymmetric full model about ``state`` (its basis and quadrature); with
+    ``inplane=False`` the radial displacement held at zero."""
 
-    def __init__(self, state: FullPrestretch):
+    def __init__(self, state: FullPrestretch, inplane: bool = True):
         self.state = state
+        #: whether ``u`` moves (False: held at zero, the ROM's hypothesis)
+        self.inplane = bool(inplane)
         b = state.basis
         self.order = b.order
         self.dof = 2 * b.order
@@ -41,8 +50,13 @@ class AxisymmetricFull:
         m = state.membrane
         self.omega0_2 = m.C1 / (m.Gamma * m.Re**2)
         self.membrane = m
-        #: ``M^-1`` of one field (``(order, order)``), as the compiled motion takes it
+        #: ``M^-1`` of one field (``(order, order)``)
         self.inverse_mass = np.linalg.inv(mass)
+        #: the indices in ``q = (U, W)`` of the coordinates that move: all, or ``W`` alone
+        self.moving = np.arange(0 if self.inplane else self.order, self.dof)
+        #: ``M^-1`` per field, ``(2, order, order)`` (``U`` then ``W``), as the compiled motion
+        #: takes it: the ``U`` block zero when ``u`` is held
+        self.inverse_masses = np.stack([self.inverse_mass * self.inplane, self.inverse_mass])
         #: what the compiled loops take before the state: the law, the basis and its derivative
         #: at the quadrature points (``(points, order)``), ``s``, ``s`` times the weights, the
         #: weights and the pre-stretch ``r_o``, ``r_o'``
@@ -56,8 +70,8 @@ class AxisymmetricFull:
         #: the pre-stretch solves ``g(0) = 0`` to rounding (``|g(0)|`` about 1e-15), and this
         #: makes it an exact equilibrium of the discrete motion, so that a periodic response
         #: near rest converges to a relative tolerance (at ``P0 = 0`` the rest state itself)
-        self.bias = self.omega0_2 * np.concatenate([self.inverse_mass @ g0[:self.order],
-                                                    self.inverse_mass @ g0[self.order:]])
+        self.bias = self.omega0_2 * np.concatenate([self.inverse_masses[0] @ g0[:self.order],
+                                                    self.inverse_masses[1] @ g0[self.order:]])
 
     def compiled_gradient(self, q) -> np.ndarray:
         """:meth:`gradient` by the compiled loop (:func:`axisymmetric_gradient`)."""
@@ -77,7 +91,7 @@ class AxisymmetricFull:
         2 dof)``.  RK4 is stable for ``omega_max dt < 2.8`` with ``omega_max`` the highest
         frequency of the discretisation (:meth:`highest_frequency`)."""
         record = np.empty((steps // every + 1, 2 * self.dof))
-        rk4_motion(*self.kernel_tables, self.inverse_mass, self.omega0_2, self.bias, self.membrane.damping_rate(c), None,
+        rk4_motion(*self.kernel_tables, self.inverse_masses, self.omega0_2, self.bias, self.membrane.damping_rate(c), None,
                    self.load, 0.0, 0.0, np.asarray(y0, float), duration / steps, steps, every, record)
         return record
 
@@ -88,7 +102,7 @@ class AxisymmetricFull:
 
         o = self.order
         K = self.hessian(np.zeros(self.dof))
-        lam_u = eigh(K[:o, :o], self.mass_block, eigvals_only=True)[-1]
+        lam_u = eigh(K[:o, :o], self.mass_block, eigvals_only=True)[-1] if self.inplane else 0.0
         lam_w = eigh(K[o:, o:], self.mass_block, eigvals_only=True)[-1]
         return float(np.sqrt(self.omega0_2 * max(lam_u, lam_w)))
 
@@ -137,7 +151,7 @@ class AxisymmetricFull:
         """``q''`` (s-2) of the free motion under the viscous damping ``c`` (N s m-3)."""
         g = self.gradient(q)
         o = self.order
-        a = np.concatenate([cho_solve(self._mass_factor, g[:o]), cho_solve(self._mass_factor, g[o:])])
+        a = np.concatenate([cho_solve(self._mass_factor, g[:o]) * self.inplane, cho_solve(self._mass_factor, g[o:])])
         return self.bias - self.omega0_2 * a - (c / (self.membrane.Gamma * self.membrane.h)) * v
 
     def kinetic(self, v) -> float:

@@ -76,7 +76,7 @@ def _acceleration(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, d
         for i in range(order):
             acc = 0.0
             for j in range(order):
-                acc += inv_mass[i, j] * g[f * order + j]
+                acc += inv_mass[f, i, j] * g[f * order + j]
             out[dof + f * order + i] = bias[f * order + i] - omega0_2 * acc - damping * y[dof + f * order + i]
     for i in range(order):
         out[dof + order + i] += pressure * load[i]
@@ -88,7 +88,8 @@ def _acceleration(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, d
 def rk4_motion(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, damping, damping_matrix, load, P0,
                Omega, y0, dt, steps, every, record, stages=None):
     """``steps`` RK4 steps of ``dt`` (s) from ``y0`` at ``t = 0`` of ``q'' = bias - omega_0^2
-    M^-1 g(q) - D q' + P0 cos(Omega t) load`` (``bias``: constant accelerations, s-2; ``load``:
+    M^-1 g(q) - D q' + P0 cos(Omega t) load`` (``inv_mass``: ``M^-1`` per field, ``(2, order,
+    order)``, ``U`` then ``W``; ``bias``: constant accelerations, s-2; ``load``:
     the ``W`` accelerations per Pa; ``D`` the rate ``damping`` (s-1) plus ``damping_matrix``,
     None for none); the state every ``every`` steps into the rows of ``record``
     (``(steps // every + 1, 2 dof)``, the first row ``y0``).  ``P0 = 0``: the free motion.
@@ -257,8 +258,8 @@ def rk4_variational(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias,
             _acceleration(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, damping, damping_matrix,
                           load, P0 * cosine, stage, k[i], g)
             axisymmetric_hessian(law, phi, dphi, s, sw, w, r0, dr0, stage[:dof], hess)
-            stiff[:order, :] = -omega0_2 * (inv_mass @ hess_blocks[0])
-            stiff[order:, :] = -omega0_2 * (inv_mass @ hess_blocks[1])
+            stiff[:order, :] = -omega0_2 * (inv_mass[0] @ hess_blocks[0])
+            stiff[order:, :] = -omega0_2 * (inv_mass[1] @ hess_blocks[1])
             kp[i, :dof, :] = pstage_blocks[1]
             kp[i, dof:, :] = stiff @ pstage_blocks[0] - damping * pstage_blocks[1]
             if damping_matrix is not None:

@@ -7,7 +7,10 @@ pressure ``P0 cos(Omega t)`` on the projected area of the pre-stretched membrane
 ``z`` direction, and a damping law of :mod:`model.damping` (the viscous pressure acts on both
 velocity components: mass-proportional).  Its state is ``y = (Re q, Re q')``: the Legendre-
 Galerkin coefficients of ``u`` and ``w`` in metres (``U`` then ``W``), so that the algorithms'
-length scales (a continuation's 0.05 m) mean what they mean for the ROM.
+length scales (a continuation's 0.05 m) mean what they mean for the ROM.  On a model with ``u``
+held at zero (``AxisymmetricFull(..., inplane=False)``) the state is ``(W, W')`` alone: the
+compiled loops run on ``(U, W)`` with ``U`` at rest, and the map keeps the moving coordinates
+(a held coordinate would add a multiplier 1 to every orbit).
 
 The map is fixed-step RK4 (:func:`model.full.axisymmetric_kernels.rk4_motion`) with its exact
 variational equations (:func:`model.full.axisymmetric_kernels.rk4_variational`).  The
@@ -46,14 +49,11 @@ STABLE_STEP = 2.0
 
 def linear_system(model: AxisymmetricFull) -> tuple[np.ndarray, np.ndarray]:
     """``(M, K0)``: the mass matrix and the tangent stiffness about the pre-stretch of the
-    coordinates ``(U, W)`` in the scale of ``q'' = -M^-1 K0 q`` (s-2)."""
-    return np.kron(np.eye(2), model.mass_block), model.omega0_2 * model.hessian(np.zeros(model.dof))
-
-
-def highest_frequency(model: AxisymmetricFull) -> float:
-    """The highest frequency (rad s-1) of the discretisation about the pre-stretch."""
-    mass, stiffness = linear_system(model)
-    return float(np.sqrt(max(eigh(stiffness, mass, eigvals_only=True)[-1], 0.0)))
+    moving coordinates (``(U, W)``, or ``W`` with ``u`` held) in the scale of
+    ``q'' = -M^-1 K0 q`` (s-2)."""
+    keep = np.ix_(model.moving, model.moving)
+    return (np.kron(np.eye(2), model.mass_block)[keep],
+            model.omega0_2 * model.hessian(np.zeros(model.dof))[keep])
 
 
 def steps_per_period(model: AxisymmetricFull, base: int) -> int:
@@ -61,9 +61,9 @@ def steps_per_period(model: AxisymmetricFull, base: int) -> int:
     :data:`STABLE_STEP` down to ``Omega`` at half the lowest transverse frequency (a lower
     ``Omega`` needs more steps: the map returns NaN beyond RK4's stability limit)."""
     mass, stiffness = linear_system(model)
-    o = model.order
-    lowest = math.sqrt(eigh(stiffness[o:, o:], mass[o:, o:], eigvals_only=True)[0])
-    return max(int(base), math.ceil(2.0 * math.pi / (0.5 * lowest) * highest_frequency(model) / STABLE_STEP))
+    o = model.order  # the transverse block: the last o coordinates
+    lowest = math.sqrt(eigh(stiffness[-o:, -o:], mass[-o:, -o:], eigvals_only=True)[0])
+    return max(int(base), math.ceil(2.0 * math.pi / (0.5 * lowest) * model.highest_frequency() / STABLE_STEP))
 
 
 @dataclass(frozen=True)
@@ -85,10 +85,13 @@ class ForcedFull:
         RK4 steps per forcing period.
     rate : float
         The law's mass-proportional part (s-1).
-    matrix : (dof, dof) ndarray
-        The rest of the law (s-1), :data:`model.damping.NO_MATRIX` when none.
+    matrix : (2 order, 2 order) ndarray
+        The rest of the law (s-1) on the compiled loops' coordinates ``(U, W)`` (zero on a
+        held ``U``), :data:`model.damping.NO_MATRIX` when none.
     probe : (dof,) ndarray
         ``w(probe_rho) = probe @ y[:dof]`` (the ``W`` block of the basis at ``0.5 Re``).
+    moving : (2 dof,) ndarray of int
+        The indices of the state's components in the compiled loops' ``(q, q')``.
     omega_max : float
         The highest frequency of the discretisation (rad s-1): beyond ``omega_max dt = 2.8``
         RK4 is unstable, and the map returns NaN states.
@@ -117,6 +120,7 @@ class ForcedFull:
     lift: np.ndarray
     probe_rho: float
     modes: tuple
+    moving: np.ndarray
 
     @classmethod
     def build(cls, model: AxisymmetricFull, P0: float, Omega: float, damping: DampingLaw | None = None,
@@ -127,15 +131,17 @@ class ForcedFull:
         the axisymmetric ``modes`` ``(m, 0)`` on the section (:meth:`modal_section`)."""
         m = model.membrane
         damping = Viscous() if damping is None else damping
-        rate, matrix = damping.terms(*linear_system(model), m.Gamma * m.h)
+        rate, matrix = _law_terms(model, damping)
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise ValueError(f"steps = {steps!r} is invalid: must be an integer >= 1")
         rho = 0.5 * m.Re if probe_rho is None else float(probe_rho)
         phi, _ = model.state.basis.evaluate(np.eye(model.order), np.array([rho / m.Re]))
-        probe = np.concatenate([np.zeros(model.order), phi[:, 0]])
+        probe = np.concatenate([np.zeros(model.moving.size - model.order), phi[:, 0]])
         modes = tuple((int(mm), int(n)) for mm, n in modes)
-        return cls(model, float(P0), float(Omega), damping, int(steps), float(rate), matrix, probe,
-                   highest_frequency(model), modal_projection(model, modes), mode_coefficients(model, modes), rho, modes)
+        moving = np.concatenate([model.moving, model.dof + model.moving])
+        return cls(model, float(P0), float(Omega), damping, int(steps), rate, matrix, probe,
+                   model.highest_frequency(), modal_projection(model, modes), mode_coefficients(model, modes), rho,
+                   modes, moving)
 
     def on_model(self, model: AxisymmetricFull) -> ForcedFull:
         """The same forcing, damping law, steps, probe radius and modes on ``model`` (another
@@ -144,8 +150,9 @@ class ForcedFull:
 
     @property
     def dof(self) -> int:
-        """Coordinates ``2 order`` (``U`` then ``W``, m); states ``(q, q')``."""
-        return self.model.dof
+        """Coordinates ``2 order`` (``U`` then ``W``, m), or ``order`` (``W``) with ``u``
+        held; states ``(q, q')``."""
+        return self.moving.size // 2
 
     @property
     def period(self) -> float:
@@ -172,19 +179,21 @@ class ForcedFull:
         if parameter not in self.parameters:
             raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(self.parameters)}")
         law = self.damping.replaced(parameter, float(value))
-        m = self.model.membrane
-        rate, matrix = law.terms(*linear_system(self.model), m.Gamma * m.h)
-        return replace(self, damping=law, rate=float(rate), matrix=matrix)
+        rate, matrix = _law_terms(self.model, law)
+        return replace(self, damping=law, rate=rate, matrix=matrix)
 
     def state_scale(self, Omega: float | None = None) -> np.ndarray:
         """:func:`model.protocol.state_scale` at this map's ``Omega`` or at ``Omega``."""
         return state_scale(self.dof, self.Omega if Omega is None else Omega)
 
     def _state(self, y) -> np.ndarray:
-        y = np.array(y, dtype=float)
+        # the state y in the compiled loops' coordinates, over Re
+        y = np.asarray(y, dtype=float)
         if y.shape != (2 * self.dof,):
             raise ValueError(f"state shape {y.shape} is invalid: expected ({2 * self.dof},) = (q, q')")
-        return y
+        out = np.zeros(2 * self.model.dof)
+        out[self.moving] = y / self.model.membrane.Re
+        return out
 
     @property
     def stable_step(self) -> bool:
@@ -192,16 +201,14 @@ class ForcedFull:
         return self.period / self.steps * self.omega_max < 2.8
 
     def _motion(self, y, steps: int, every: int) -> np.ndarray:
-        # the states every `every` steps over `steps` steps from y (m), in metres
+        # the states (m) every `every` steps over `steps` steps from y (the compiled loops' state over Re)
         m = self.model
-        re = m.membrane.Re
-        record = np.empty((steps // every + 1, 2 * self.dof))
+        record = np.empty((steps // every + 1, 2 * m.dof))
         if not self.stable_step:
-            record[:] = np.nan
-            return record
-        rk4_motion(*m.kernel_tables, m.inverse_mass, m.omega0_2, m.bias, self.rate, matrix_or_none(self.matrix), m.load,
-                   self.P0, self.Omega, y / re, self.period / self.steps, steps, every, record)
-        return record * re
+            return np.full((record.shape[0], 2 * self.dof), np.nan)
+        rk4_motion(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, self.rate, matrix_or_none(self.matrix),
+                   m.load, self.P0, self.Omega, y, self.period / self.steps, steps, every, record)
+        return record[:, self.moving] * m.membrane.Re
 
     def advance(self, y, periods: int = 1) -> np.ndarray:
         """``P^periods(y)``: the state after ``periods`` forcing periods from ``t = 0``."""
@@ -220,10 +227,11 @@ class ForcedFull:
         if not self.stable_step:
             n = 2 * self.dof
             return np.full(n, np.nan), np.full((n, n), np.nan), np.full(n, np.nan)
-        yT, big = rk4_variational(*m.kernel_tables, m.inverse_mass, m.omega0_2, m.bias, self.rate, matrix_or_none(self.matrix),
-                                  m.load, self.P0, self.Omega, parameter, self._state(y) / re,
+        yT, big = rk4_variational(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, self.rate,
+                                  matrix_or_none(self.matrix), m.load, self.P0, self.Omega, parameter, self._state(y),
                                   self.period / self.steps, self.steps)
-        return yT * re, big[:, :-1], big[:, -1] * re
+        big = big[self.moving]
+        return yT[self.moving] * re, big[:, self.moving], big[:, -1] * re
 
     def monodromy(self, y) -> tuple[np.ndarray, np.ndarray]:
         """``P(y)`` and ``dP/dy`` (the RK4 variational equations: exact for the discrete map)."""
@@ -250,10 +258,10 @@ class ForcedFull:
         if not self.stable_step or self.period / self.steps * fam.omega_max >= 2.8:
             return np.full((fam.size, fam.size), np.nan)
         dt = self.period / self.steps
-        stages = np.empty((self.steps, 4, self.dof))
-        rk4_motion(*m.kernel_tables, m.inverse_mass, m.omega0_2, m.bias, self.rate, matrix_or_none(self.matrix), m.load,
-                   self.P0, self.Omega, self._state(y) / m.membrane.Re, dt, self.steps, self.steps,
-                   np.empty((2, 2 * self.dof)), stages)
+        stages = np.empty((self.steps, 4, m.dof))
+        rk4_motion(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, self.rate, matrix_or_none(self.matrix),
+                   m.load, self.P0, self.Omega, self._state(y), dt, self.steps, self.steps, np.empty((2, 2 * m.dof)),
+                   stages)
         rate, matrix = family_damping(fam, m.membrane, self.damping)
         law, phi, dphi, s, sw, _, r0, dr0 = m.kernel_tables
         return family_monodromy(law, phi, dphi, s, sw, r0, dr0, stages, fam.phi, fam.dphi, fam.variations,
@@ -264,8 +272,9 @@ class ForcedFull:
         ``(..., 2 dof)``: the least-squares fit of ``w`` and ``w_t`` by the mode shapes of
         :attr:`section` (the optional capability of :mod:`model.protocol`)."""
         states = np.asarray(states, float)
-        o, dof = self.model.order, self.dof
-        return np.concatenate([states[..., o:dof] @ self.section.T, states[..., dof + o:] @ self.section.T], axis=-1)
+        o, dof = self.model.order, self.dof  # W: the last o coordinates
+        return np.concatenate([states[..., dof - o:dof] @ self.section.T, states[..., 2 * dof - o:] @ self.section.T],
+                              axis=-1)
 
     def modal_lift(self, coordinates) -> np.ndarray:
         """The states ``(..., 2 dof)`` of the ROM's modal coordinates and velocities
@@ -277,9 +286,10 @@ class ForcedFull:
         K, o = self.lift.shape
         if coordinates.shape[-1] != 2 * K:
             raise ValueError(f"coordinates shape {coordinates.shape} is invalid: expected (..., {2 * K}) = (q, q')")
-        out = np.zeros(coordinates.shape[:-1] + (2 * self.dof,))
-        out[..., o:self.dof] = coordinates[..., :K] @ self.lift
-        out[..., self.dof + o:] = coordinates[..., K:] @ self.lift
+        dof = self.dof
+        out = np.zeros(coordinates.shape[:-1] + (2 * dof,))
+        out[..., dof - o:dof] = coordinates[..., :K] @ self.lift
+        out[..., 2 * dof - o:] = coordinates[..., K:] @ self.lift
         return out
 
     def multipliers(self, y) -> np.ndarray:
@@ -296,6 +306,19 @@ class ForcedFull:
         w = record[:, :self.dof] @ self.probe
         return periodic_peak(w, periods * self.steps) if np.all(np.isfinite(w)) else math.nan
 
+
+
+def _law_terms(model: AxisymmetricFull, law: DampingLaw) -> tuple[float, np.ndarray]:
+    """The damping law's mass-proportional rate (s-1) and the rest of it (s-1) on the
+    compiled loops' ``(U, W)`` (:data:`model.damping.NO_MATRIX` for none), from the linear
+    system of the moving coordinates: a held ``U`` has no damping."""
+    m = model.membrane
+    rate, matrix = law.terms(*linear_system(model), m.Gamma * m.h)
+    if matrix.shape[0] and model.moving.size < model.dof:
+        full = np.zeros((model.dof, model.dof))
+        full[np.ix_(model.moving, model.moving)] = matrix
+        matrix = full
+    return float(rate), matrix
 
 
 def _mode_shapes(model: AxisymmetricFull, modes) -> np.ndarray:

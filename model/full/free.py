@@ -73,6 +73,8 @@ class FreeFull:
     """
 
     def __init__(self, model: AxisymmetricFull, probe_rho: float | None = None):
+        if not model.inplane:
+            raise ValueError("model is invalid here: its u is held at zero (the free vibration needs inplane=True)")
         self.model = model
         m = model.membrane
         self.probe_rho = 0.5 * m.Re if probe_rho is None else float(probe_rho)
@@ -147,7 +149,7 @@ class FreeFull:
             # rejected as a failed solve: the continuation halves its step (model.backbone)
             raise np.linalg.LinAlgError(f"a state whose fastest mode asks for {steps} RK4 steps (more than "
                                         f"{MAX_FLOW_STEPS})")
-        y, big = rk4_variational(*m.kernel_tables, m.inverse_mass, m.omega0_2, m.bias, 0.0, None, m.load, 0.0, 0.0,
+        y, big = rk4_variational(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, 0.0, None, m.load, 0.0, 0.0,
                                  NO_PARAMETER, y, duration / steps, steps)
         return y, big[:, :-1]
 

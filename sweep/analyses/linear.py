@@ -70,7 +70,7 @@ class LinearAnalysis(Analysis):
         mmax = max(m for m, _ in modes)
         if basis is not None and mmax > min(basis):
             raise JobError("linear.basis", value, f"must be >= the largest m in linear.modes ({mmax})")
-        inplane = context.model.model().provides("inplane_frequencies")
+        inplane = context.model.model().provides("inplane_frequencies", context.model.options)
         return LinearOptions(modes, opt.prestretch(table, self.name, context), basis, study, inplane)
 
     def variables(self, options):

@@ -278,7 +278,7 @@ def families(table, section: str, mode_list, model=None) -> FamiliesOption | Non
         raise JobError(f"{key}.inplane", inplane, "must be true or false")
     if inplane and not inplane_allowed:
         raise JobError(f"{key}.inplane", inplane, "needs a model with in-plane displacements ([model] kind = "
-                                                  "\"full\"); this job's model has none")
+                                                  "\"full\", inplane = true); this job's model has none")
     if any(n for _, n in mode_list):
         raise JobError(f"{section}.modes", [list(p) for p in mode_list],
                        "must be axisymmetric (every n = 0) when families are given")

@@ -53,9 +53,10 @@ class Model:
     #: the model (a model that solves its own pre-stretch admits ``numeric`` only).
     prestretch_kinds: ClassVar[tuple[str, ...]] = ("analytic", "numeric", "fit")
 
-    def provides(self, method: str) -> bool:
+    def provides(self, method: str, model_options: Any = None) -> bool:
         """Whether the model implements ``method`` (one of the methods below, which raise
-        NotImplementedError unless a subclass overrides them)."""
+        NotImplementedError unless a subclass overrides them), with the job's
+        ``model_options`` when given (a model may provide less under some options)."""
         return getattr(type(self), method, None) is not getattr(Model, method, None)
 
     def parse_options(self, table: Mapping[str, Any]) -> Any:

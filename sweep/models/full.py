@@ -13,7 +13,10 @@ ROM's mixed mode sets, branch switching and family check are refused at validati
 (``inplane = false``: ``W`` alone) on the first ``radial`` functions of its basis
 (:class:`model.full.families.FullFamily`).  Its resolution is ``[model] order``, the
 number of radial Legendre-Galerkin functions per field; ``linear.basis`` overrides it per
-task (a list of orders is a convergence study).
+task (a list of orders is a convergence study).  ``[model] inplane = false`` holds ``u`` at
+zero: the ROM's hypothesis ``u = v = 0`` on the full model's radial discretisation, for the
+forced analyses (families then ``W`` alone) and ``static`` and ``linear`` (transverse
+frequencies); ``backbone`` is refused.
 """
 
 from __future__ import annotations
@@ -35,6 +38,8 @@ MAX_ORDER = 256
 class FullOptions:
     #: radial Legendre-Galerkin functions per field
     order: int
+    #: whether the in-plane displacements move (False: held at zero, the ROM's hypothesis)
+    inplane: bool = True
 
 
 @functools.lru_cache(maxsize=8)
@@ -47,12 +52,12 @@ def full_prestretch_for(membrane, order: int):
 
 
 @functools.lru_cache(maxsize=8)
-def axisymmetric_for(membrane, order: int):
+def axisymmetric_for(membrane, order: int, inplane: bool = True):
     """The axisymmetric full model (:class:`model.full.axisymmetric.AxisymmetricFull`) about
-    :func:`full_prestretch_for` (cached)."""
+    :func:`full_prestretch_for`, with ``u`` held at zero unless ``inplane`` (cached)."""
     from model.full.axisymmetric import AxisymmetricFull
 
-    return AxisymmetricFull(full_prestretch_for(membrane, order))
+    return AxisymmetricFull(full_prestretch_for(membrane, order), inplane)
 
 
 @functools.lru_cache(maxsize=8)
@@ -75,30 +80,42 @@ class FullModel(Model):
 
     OPTIONS = {"order": f"radial Legendre-Galerkin functions per displacement field (default {DEFAULT_ORDER}; "
                         f"4..{MAX_ORDER}); the pre-stretch and the frequencies converge spectrally with it "
-                        "(docs/model.md, \"The full model\")"}
+                        "(docs/model.md, \"The full model\")",
+               "inplane": "true (default): the in-plane displacements move with their inertia; false: u = v = 0 "
+                          "held, the ROM's hypothesis on this radial discretisation (the forced analyses, with "
+                          "families of W alone, static and linear; not backbone)"}
+
+    #: what a model with u held at zero does not provide
+    NEEDS_INPLANE = ("free_vibration", "inplane_frequencies")
 
     def parse_options(self, table):
         check_keys(table, "model", ("kind", *self.OPTIONS))
-        return FullOptions(opt.number(table, "model", "order", DEFAULT_ORDER, low=4, high=MAX_ORDER, integer=True))
+        return FullOptions(opt.number(table, "model", "order", DEFAULT_ORDER, low=4, high=MAX_ORDER, integer=True),
+                           opt.flag(table, "model", "inplane", True))
+
+    def provides(self, method, model_options=None):
+        if model_options is not None and not model_options.inplane and method in self.NEEDS_INPLANE:
+            return False
+        return super().provides(method, model_options)
 
     def forced_map(self, point, model_options, options, modes=None, default_steps=None):
         from model.damping import Viscous
         from model.forced import DEFAULT_STEPS
         from model.full.forced import ForcedFull, steps_per_period
 
-        model = axisymmetric_for(point.membrane, model_options.order)
+        model = axisymmetric_for(point.membrane, model_options.order, model_options.inplane)
         steps = options.steps or steps_per_period(model, default_steps or DEFAULT_STEPS)
         damping = point.damping or Viscous(point.loading.c)
         return ForcedFull.build(model, point.loading.P0, point.loading.Omega, damping, steps,
                                 modes=options.modes if modes is None else modes)
 
     def family_limits(self, model_options):
-        return model_options.order, True
+        return model_options.order, model_options.inplane
 
     def families(self, point, model_options, options, modes, blocks):
         # the blocks are (n, 1..M): the full model refuses the mixed mode sets that name others
         fields = "UVW" if options.families.inplane else "W"
-        return full_families_for(axisymmetric_for(point.membrane, model_options.order),
+        return full_families_for(axisymmetric_for(point.membrane, model_options.order, model_options.inplane),
                                  tuple((n, len(radial)) for n, radial in blocks), fields)
 
     def rebuilt(self, point, model_options, options, fmap, family):
@@ -107,7 +124,7 @@ class FullModel(Model):
         from model.full.forced import STABLE_STEP
 
         def at(delta):
-            model = axisymmetric_for(replace(point.membrane, delta=delta), model_options.order)
+            model = axisymmetric_for(replace(point.membrane, delta=delta), model_options.order, model_options.inplane)
             fam = (None if family is None
                    else full_families_for(model, ((family.n, family.radial),), family.fields)[0])
             rebuilt = fmap.on_model(model)

@@ -394,11 +394,13 @@ def _write_run_group(path: Path, attrs: dict) -> None:
 
 def model_attributes(model) -> dict:
     """``model_<key>`` for each option of the job's ``[model]`` table (the fields of the
-    model's parsed options, a dataclass; none for a model without options)."""
+    model's parsed options, a dataclass; none for a model without options); a true/false
+    option as 1/0 (netCDF attributes have no boolean type)."""
     options = model.options
     if options is None or not dataclasses.is_dataclass(options):
         return {}
-    return {f"model_{f.name}": getattr(options, f.name) for f in dataclasses.fields(options)}
+    values = {f"model_{f.name}": getattr(options, f.name) for f in dataclasses.fields(options)}
+    return {key: int(v) if isinstance(v, bool) else v for key, v in values.items()}
 
 
 def damping_attributes(damping) -> dict:
