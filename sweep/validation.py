@@ -967,27 +967,17 @@ def _family_convergence(results: Path) -> list[str]:
                               and isinstance(v, (int, float, np.number)))
         families = [int(n) for n in b.family.values]
         radial = [int(m) for m in b.family_radial.values]
-        n = int(b.n_points)
-        value = b.Omega.values.ravel()[:n]
-        end = resonant_end(b.point_type.values.ravel()[:n])
-        modulus = b.family_multiplier_modulus.transpose("point", "family_radial", "family").values[:end]
-        intervals = {(M, j): unstable_intervals(value[:end], modulus[:, r, j])
-                     for r, M in enumerate(radial) for j in range(len(families))}
+        _, modulus, intervals = _stretch_families(b)
         law = f"c = {float(b.c):g} N s/m^3" if "c" in b.coords else constants
         out += [f"**`{name}`**: {ds.attrs.get('damping_law', '?')} ({law}), P0 = {float(b.P0):g} Pa:", "",
                 "| M | " + " | ".join(f"n = {f}" for f in families) + " |", "|---|" + "---|" * len(families)]
         for r, M in enumerate(radial):
-            out.append(f"| {M} | " + " | ".join(f"{_fmt_intervals(intervals[M, j])} ({np.nanmax(modulus[:, r, j]):.3f})"
+            out.append(f"| {M} | " + " | ".join(f"{_fmt_intervals(intervals[r, j])} ({np.nanmax(modulus[:, r, j]):.3f})"
                                                 for j in range(len(families))) + " |")
         if len(radial) < 2:
             out += ["", "One radial count only: no convergence to judge.", ""]
             continue
-        verdicts = []
-        for j, f in enumerate(families):
-            moves = [_largest_move(intervals[a, j], intervals[c, j]) for a, c in zip(radial, radial[1:])]
-            last = "converged" if moves[-1] < SETTLED else "not converged"
-            verdicts.append(f"n = {f}: " + ", ".join("appears/vanishes" if not np.isfinite(m) else f"{m:.2f}"
-                                                     for m in moves) + f" ({last})")
+        verdicts = [f"n = {f}: {_moves(intervals, j, len(radial))}" for j, f in enumerate(families)]
         steps = ", ".join(f"{a} -> {c}" for a, c in zip(radial, radial[1:]))
         out += ["", f"Largest end move (rad/s) from each M to the next ({steps}): "
                 + "; ".join(verdicts) + ".", ""]
@@ -1134,25 +1124,129 @@ def section_family_orbit(results: Path) -> list[str]:
                     + " | largest end move from M to 2M |", "|---|---|" + "---|" * len(radial) + "---|"]
             onsets = []
             for k in range(ds.sizes.get("mode_set", 1)):
-                sets = {"mode_set": k} if "mode_set" in ds.dims else {}
-                b = ds.isel({**sets, **{d: 0 for d in ("delta", "delta_o", "Omega", "P0", "c") if d in ds.dims}})
-                n = int(b.n_points)
-                value = b.Omega.values.ravel()[:n]
-                end = resonant_end(b.point_type.values.ravel()[:n])
-                modulus = b.family_multiplier_modulus.transpose("point", "family_radial", "family").values[:end, :, j]
-                intervals = [unstable_intervals(value[:end], modulus[:, r]) for r in range(len(radial))]
-                moves = [_largest_move(a, c) for a, c in zip(intervals, intervals[1:])]
-                verdict = ", ".join("appears/vanishes" if not np.isfinite(m) else f"{m:.2f}" for m in moves)
-                verdict += " (converged)" if moves and moves[-1] < SETTLED else " (not converged)"
+                b = _grid_point(ds, k if "mode_set" in ds.dims else None)
+                value, modulus, intervals = _stretch_families(b)
                 K = int(b.n_modes) if "n_modes" in b.coords else b.sizes["mode"]
-                out.append(f"| {K} | {value[end - 1]:.3f} | " + " | ".join(
-                    f"{_fmt_intervals(iv)} ({np.nanmax(modulus[:, r]):.3f})" for r, iv in enumerate(intervals))
-                    + f" | {verdict} |")
-                onsets.append((K, intervals[-1][0][0] if intervals[-1] else np.nan, value[end - 1]))
+                out.append(f"| {K} | {value[-1]:.3f} | " + " | ".join(
+                    f"{_fmt_intervals(intervals[r, j])} ({np.nanmax(modulus[:, r, j]):.3f})" for r in range(len(radial)))
+                    + f" | {_moves(intervals, j, len(radial))} |")
+                last = intervals[len(radial) - 1, j]
+                onsets.append((K, last[0][0] if last else np.nan, value[-1]))
             out += ["", f"Onset at M = {radial[-1]} against K (rad/s): "
                     + ", ".join(f"K = {K}: " + ("stable" if not np.isfinite(o) else f"{o:.2f}") for K, o, _ in onsets)
                     + "; the stretch ends at " + ", ".join(f"{e:.2f}" for _, _, e in onsets) + ".", ""]
     return out
+
+
+#: The Fig. 14a case with u = v = 0 held on the full model's radial discretisation: per damping
+#: case, its runs at increasing order and the ROM's counterparts (the orbit in K Bessel modes).
+HELD_STUDIES = (
+    ("the paper's light viscous damping (P0 = 1 Pa, c = 0.05 N s/m^3)",
+     tuple(f"validation/fig14a-held-viscous-order{o}" for o in (12, 16, 24)),
+     ("validation/families-viscous-axi", "validation/families-viscous-k8")),
+    *((f"a first-mode ratio of 1 %, {law} law (P0 = 10 Pa)",
+       tuple(f"validation/fig14a-held-1pct-{law}-order{o}" for o in (16, 24)), rom)
+      for law, rom in (("viscous", ("validation/families-1pct-viscous-axi", "validation/families-1pct-viscous-k8")),
+                       ("modal", ("validation/families-1pct-modal-axi", "validation/families-1pct-modal-k4",
+                                  "validation/families-1pct-modal-k8")),
+                       ("rayleigh", ("validation/families-1pct-rayleigh",)))),
+)
+
+
+def _grid_point(ds, mode_set: int | None = None):
+    """One continuation branch of a single-point result (the ``mode_set``-th of a mode-set study)."""
+    sets = {} if mode_set is None else {"mode_set": mode_set}
+    return ds.isel({**sets, **{d: 0 for d in ("delta", "delta_o", "Omega", "P0", "c") if d in ds.dims}})
+
+
+def _first_folds(b, count: int = 4) -> str:
+    """The Omega (rad/s) of the first ``count`` saddle-nodes of a branch, in branch order."""
+    n = int(b.n_points)
+    folds = b.Omega.values.ravel()[:n][b.point_type.values.ravel()[:n] == FOLD]
+    return ", ".join(f"{v:.2f}" for v in folds[:count]) + (", ..." if folds.size > count else "")
+
+
+def section_held_families(results: Path) -> list[str]:
+    """The families along the Fig. 14a resonance with u = v = 0 held on the full model's radial
+    discretisation (the orbit and the family blocks on N Legendre functions), against N and the
+    families' radial functions, and against the ROM's orbit in K Bessel modes, per damping case
+    (:data:`HELD_STUDIES`)."""
+    out = ["## The families with u = v = 0 on a complete radial basis", "",
+           "The ROM's hypothesis u = v = 0 on the full model's radial discretisation ([model] inplane = false): the",
+           "exact energy of w alone, the orbit on N Legendre-Galerkin functions of w (the response converges",
+           "spectrally in N, where the ROM's Bessel modes converge algebraically: docs/model.md, \"The in-plane",
+           "displacements held at zero\") and the families n = 1..6 in W alone on the first M = 4, 8 and N of them.",
+           "The Fig. 14a case (delta = 1.1, delta_o = 0.2) continued in Omega from 25 to 55 rad/s",
+           "(`validation/fig14a-held-<case>-order<N>`). Intervals of Omega (rad/s) on the resonant branch up to",
+           "its largest amplitude (the upper saddle-node of the resonance, past the loops an internal resonance",
+           "adds: in branch order, so that an interval through a loop can end below where it starts) where the",
+           "family is unstable, in brackets its largest multiplier modulus there; convergence criterion as above",
+           f"(the same intervals, each end moving by less than {SETTLED:g} rad/s, at the last step).", ""]
+    for case, names, rom_names in HELD_STUDIES:
+        out += [f"### u = v = 0 held: {case}", ""]
+        runs = [_open(results, n) for n in names]
+        if any(ds is None for ds in runs):
+            out += _missing(*names)
+            continue
+        out += _held_tables(runs)
+        out += _held_against_rom(results, runs, rom_names)
+    return out
+
+
+def _held_tables(runs) -> list[str]:
+    """Per family, the intervals of held runs at increasing order against the radial count,
+    and their convergence in M and in N."""
+    branches = [_grid_point(ds) for ds in runs]
+    orders = [int(ds.attrs["model_order"]) for ds in runs]
+    stretches = [_stretch_families(b, to_peak=True) for b in branches]
+    out = ["Each branch: points, saddle-nodes (the first ones in Omega, rad/s), the upper saddle-node (rad/s): "
+           + "; ".join(f"N = {N}: {int(b.n_points)}, {int(b.n_folds)} ({_first_folds(b)}), {value[-1]:.3f}"
+                       for N, b, (value, _, _) in zip(orders, branches, stretches)) + ".", ""]
+    radial = [int(m) for m in branches[0].family_radial.values[:-1]]
+    for j, fam in enumerate(int(n) for n in branches[0].family.values):
+        out += [f"n = {fam}:", "", "| N | " + " | ".join(f"M = {M}" for M in radial)
+                + " | M = N | largest end move from M to the next |", "|---|" + "---|" * (len(radial) + 2)]
+        for N, (_, modulus, intervals) in zip(orders, stretches):
+            counts = modulus.shape[1]
+            out.append(f"| {N} | " + " | ".join(f"{_fmt_intervals(intervals[r, j])} ({np.nanmax(modulus[:, r, j]):.3f})"
+                                               for r in range(counts)) + f" | {_moves(intervals, j, counts)} |")
+        last = [intervals[modulus.shape[1] - 1, j] for _, modulus, intervals in stretches]
+        moves = [_largest_move(a, b) for a, b in zip(last, last[1:])]
+        out += ["", "At M = N, the largest end move from N = " + ", ".join(
+            f"{a} to {b}: " + ("appears/vanishes" if not np.isfinite(m) else f"{m:.2f} rad/s")
+            for a, b, m in zip(orders, orders[1:], moves))
+            + (" (converged)." if moves[-1] < SETTLED else " (not converged)."), ""]
+    return out
+
+
+def _held_against_rom(results: Path, runs, rom_names) -> list[str]:
+    """The onset of each family's first unstable interval and the upper saddle-node: the ROM's
+    runs ``rom_names`` (every mode set, the largest radial count) against the held ``runs``."""
+    rows = []
+    for name in rom_names:
+        ds = _open(results, name)
+        if ds is None:
+            return _missing(*rom_names)
+        for k in range(ds.sizes.get("mode_set", 1)):
+            b = _grid_point(ds, k if "mode_set" in ds.dims else None)
+            K = int(b.n_modes) if "n_modes" in b.coords else b.sizes["mode"]
+            rows.append((f"ROM, K = {K}, M = {int(b.family_radial.values[-1])}", b))
+    rows += [(f"u = v = 0, N = M = {int(ds.attrs['model_order'])}", _grid_point(ds)) for ds in runs]
+    families = [int(n) for n in runs[0].family.values]
+    out = ["Against the ROM with the orbit in K Bessel modes (" + ", ".join(f"`{n}`" for n in rom_names)
+           + "), each family at its largest radial count: its unstable intervals (rad/s), `stable` where it has",
+           "none, `-` where the run has no such family; and the upper saddle-node.", "",
+           "| model | upper saddle-node | " + " | ".join(f"n = {f}" for f in families) + " |",
+           "|---|---|" + "---|" * len(families)]
+    for label, b in rows:
+        value, modulus, intervals = _stretch_families(b, to_peak=True)
+        by_n = {int(n): j for j, n in enumerate(b.family.values)}
+        cells = []
+        for f in families:
+            iv = intervals[modulus.shape[1] - 1, by_n[f]] if f in by_n else None
+            cells.append("-" if iv is None else _fmt_intervals(iv) if iv else "stable")
+        out.append(f"| {label} | {value[-1]:.3f} | " + " | ".join(cells) + " |")
+    return out + [""]
 
 
 def _tongue_map(results: Path) -> list[str]:
@@ -1259,6 +1353,30 @@ def _largest_move(a, b) -> float:
     if len(a) != len(b):
         return np.inf
     return max((abs(x - y) for p, q in zip(a, b) for x, y in zip(p, q)), default=0.0)
+
+
+def _stretch_families(b, to_peak: bool = False):
+    """The families along the resonant stretch of a continuation in Omega at one grid point
+    ``b`` (from the start to the first saddle-node, or with ``to_peak`` to the branch's largest
+    amplitude, past the loops of internal resonances): the Omega values there, the family
+    multiplier moduli ``(point, family_radial, family)`` and the unstable intervals keyed by
+    ``(radial index, family index)``."""
+    n = int(b.n_points)
+    value = b.Omega.values.ravel()[:n]
+    end = (int(np.nanargmax(b.amplitude.values.ravel()[:n])) + 1 if to_peak
+           else resonant_end(b.point_type.values.ravel()[:n]))
+    modulus = b.family_multiplier_modulus.transpose("point", "family_radial", "family").values[:end]
+    intervals = {(r, j): unstable_intervals(value[:end], modulus[:, r, j])
+                 for r in range(modulus.shape[1]) for j in range(modulus.shape[2])}
+    return value[:end], modulus, intervals
+
+
+def _moves(intervals, j: int, counts: int) -> str:
+    """The largest end moves of family ``j``'s intervals from each count to the next, and the
+    verdict of the last (:data:`SETTLED`)."""
+    moves = [_largest_move(intervals[r, j], intervals[r + 1, j]) for r in range(counts - 1)]
+    return (", ".join("appears/vanishes" if not np.isfinite(m) else f"{m:.2f}" for m in moves)
+            + (" (converged)" if moves and moves[-1] < SETTLED else " (not converged)"))
 
 
 def _family_check(results: Path) -> list[str]:
@@ -2019,7 +2137,8 @@ SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_mo
             section_backbone_modes, section_backbone_limits, section_full_backbone, section_fig08,
             section_continuation_bruteforce, section_forced_modes, section_full_forced, section_full_families,
             section_cusp,
-            section_families, section_waves, section_tongues, section_family_orbit, section_full_fig14a, section_full_fig14a_light,
+            section_families, section_waves, section_tongues, section_family_orbit, section_held_families,
+            section_full_fig14a, section_full_fig14a_light,
             section_bruteforce_diagram, section_basins,
             section_basins_modes, section_full_basins)
 
