@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
+from scipy.linalg import block_diag
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
@@ -60,7 +61,7 @@ def main(argv=None) -> None:
     fine = ForcedFull.build(model, P0, Omega, Viscous(c), steps=4 * fmap.steps)
     re, n = model.membrane.Re, model.dof
     y0 = np.concatenate([first_mode_coordinates(model, 0.02), np.zeros(n)]) * re
-    inverse_mass = np.kron(np.eye(2), model.inverse_mass)
+    inverse_mass = block_diag(*model.inverse_masses)
     load = np.concatenate([np.zeros(order), P0 * model.load])  # on the W accelerations
 
     def rhs(t, z):

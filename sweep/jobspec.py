@@ -334,8 +334,9 @@ def _model_provides(model: ModelSpec, analysis: Analysis, analysis_name: str) ->
     (:attr:`sweep.analyses.base.Analysis.model_needs`, :meth:`sweep.models.base.Model.provides`)."""
     missing = [m for m in analysis.model_needs if not model.model().provides(m, model.options)]
     if missing:
-        raise JobError("job.analysis", analysis_name, f"an analysis that model {model.kind!r} can run with its "
-                       f"[model] options (this one needs its {', '.join(missing)}, which it does not provide)")
+        options = " with its [model] options" if model.options is not None else ""
+        raise JobError("job.analysis", analysis_name, f"an analysis that model {model.kind!r} can run{options} "
+                       f"(this one needs its {', '.join(missing)}, which it does not provide)")
 
 
 def _required_grid(analysis: Analysis, analysis_name: str, grid: Mapping[str, np.ndarray],

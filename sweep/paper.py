@@ -51,7 +51,8 @@ VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
     "tongues-1pct-modal", "stability-map-fig14a-radial", "families-1pct-viscous-axi", "families-1pct-modal-axi",
     "families-1pct-viscous-k8", "families-1pct-modal-k4", "families-1pct-modal-k8",
     "families-viscous-axi", "families-viscous-k8", "fig14a-held-viscous-order12", "fig14a-held-viscous-order16",
-    "fig14a-held-viscous-order24",
+    "fig14a-held-viscous-order24", *(f"fig14a-held-1pct-{law}-order{o}" for law in ("viscous", "modal", "rayleigh")
+                                     for o in (16, 24)),
     "family-check", "fig14a-families-m2", "waves-fig14a",
     "fig19a-basins-brute", "fig19a-full-basins-order12", "fig19a-full-basins-brute",
     "fig19a-full-basins-brute-same-steps", "fig19a-full-basins-brute-perturbed", "fig19a-basins-brute-perturbed",

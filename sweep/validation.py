@@ -1198,6 +1198,9 @@ def _held_tables(runs) -> list[str]:
     and their convergence in M and in N."""
     branches = [_grid_point(ds) for ds in runs]
     orders = [int(ds.attrs["model_order"]) for ds in runs]
+    if any(int(b.n_points) == 0 for b in branches):
+        return ["No branch at N = " + ", ".join(str(N) for N, b in zip(orders, branches) if int(b.n_points) == 0)
+                + " (the continuation failed: its status and message in the result file).", ""]
     stretches = [_stretch_families(b, to_peak=True) for b in branches]
     out = ["Each branch: points, saddle-nodes (the first ones in Omega, rad/s), the upper saddle-node (rad/s): "
            + "; ".join(f"N = {N}: {int(b.n_points)}, {int(b.n_folds)} ({_first_folds(b)}), {value[-1]:.3f}"
@@ -1212,6 +1215,9 @@ def _held_tables(runs) -> list[str]:
                                                for r in range(counts)) + f" | {_moves(intervals, j, counts)} |")
         last = [intervals[modulus.shape[1] - 1, j] for _, modulus, intervals in stretches]
         moves = [_largest_move(a, b) for a, b in zip(last, last[1:])]
+        if not moves:
+            out.append("")
+            continue
         out += ["", "At M = N, the largest end move from N = " + ", ".join(
             f"{a} to {b}: " + ("appears/vanishes" if not np.isfinite(m) else f"{m:.2f} rad/s")
             for a, b, m in zip(orders, orders[1:], moves))
@@ -1220,8 +1226,9 @@ def _held_tables(runs) -> list[str]:
 
 
 def _held_against_rom(results: Path, runs, rom_names) -> list[str]:
-    """The onset of each family's first unstable interval and the upper saddle-node: the ROM's
-    runs ``rom_names`` (every mode set, the largest radial count) against the held ``runs``."""
+    """Each family's unstable intervals, the upper saddle-node, and where the instability that
+    lasts to it begins: the ROM's runs ``rom_names`` (every mode set, the largest radial count)
+    against the held ``runs``."""
     rows = []
     for name in rom_names:
         ds = _open(results, name)
@@ -1238,15 +1245,23 @@ def _held_against_rom(results: Path, runs, rom_names) -> list[str]:
            "none, `-` where the run has no such family; and the upper saddle-node.", "",
            "| model | upper saddle-node | " + " | ".join(f"n = {f}" for f in families) + " |",
            "|---|---|" + "---|" * len(families)]
+    onsets = []
     for label, b in rows:
         value, modulus, intervals = _stretch_families(b, to_peak=True)
         by_n = {int(n): j for j, n in enumerate(b.family.values)}
-        cells = []
+        cells, lasting = [], []
         for f in families:
-            iv = intervals[modulus.shape[1] - 1, by_n[f]] if f in by_n else None
+            r = modulus.shape[1] - 1
+            iv = intervals[r, by_n[f]] if f in by_n else None
             cells.append("-" if iv is None else _fmt_intervals(iv) if iv else "stable")
+            # the last interval, if the family is still unstable at the upper saddle-node
+            lasting.append("-" if iv is None else f"{iv[-1][0]:.2f}" if unstable_points(modulus[-1, r, by_n[f]])
+                           else "none")
         out.append(f"| {label} | {value[-1]:.3f} | " + " | ".join(cells) + " |")
-    return out + [""]
+        onsets.append(f"| {label} | " + " | ".join(lasting) + " |")
+    return out + ["", "Where the instability that lasts up to the upper saddle-node begins (rad/s; `none`: no interval",
+                  "reaches it):", "", "| model | " + " | ".join(f"n = {f}" for f in families) + " |",
+                  "|---|" + "---|" * len(families), *onsets, ""]
 
 
 def _tongue_map(results: Path) -> list[str]:

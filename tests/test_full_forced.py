@@ -15,6 +15,7 @@ from model.full.static import solve_full_prestretch
 from model.modes import bessel_roots, mode_shape
 from model.params import Membrane
 from model.protocol import StroboscopicMap
+from model.rk4 import amplification
 from model.shooting import shoot
 from sweep import cli
 from sweep.analyses.base import JobError
@@ -49,8 +50,8 @@ def _state(fmap, w=0.02):
     return y
 
 
-def test_the_map_satisfies_the_protocol(model):
-    assert isinstance(_map(model), StroboscopicMap)
+def test_the_map_satisfies_the_protocol(either):
+    assert isinstance(_map(either), StroboscopicMap)
 
 
 @pytest.mark.parametrize("parameter", ["state", "Omega", "P0"])
@@ -132,6 +133,25 @@ def test_steps_keep_rk4_stable_and_a_lower_forcing_frequency_is_nan(model):
     assert np.isnan(slow.advance(_state(fmap))).all() and np.isnan(slow.amplitude(_state(fmap)))
 
 
+def test_an_overdamping_law_raises_the_steps_and_a_step_beyond_its_fastest_decay_is_nan(either):
+    # stiffness-proportional damping with beta omega_max = 6 overdamps the fastest mode: its
+    # eigenvalue ~ -beta omega_max^2, six times omega_max.  Steps bounded by omega_max alone
+    # leave it outside RK4's stability region (the map says so and returns NaN); steps from the
+    # law's eigenvalues keep it inside, and the rest multipliers are RK4's amplification of
+    # every eigenvalue, R(lambda dt)^N
+    law = Rayleigh(alpha=0.0, beta=6.0 / either.highest_frequency())
+    blind = ForcedFull.build(either, 0.0, 30.0, law, steps_per_period(either, 128))
+    assert blind.period / blind.steps * blind.omega_max <= 2.0 and blind.fastest > 5 * blind.omega_max
+    assert not blind.stable_step and np.isnan(blind.advance(_state(blind))).all()
+    aware = ForcedFull.build(either, 0.0, 30.0, law, steps_per_period(either, 128, law))
+    assert aware.stable_step and aware.period / aware.steps * aware.fastest <= 2.0
+    expected = amplification(aware.eigenvalues * aware.period / aware.steps) ** aware.steps
+    got = aware.multipliers(np.zeros(2 * aware.dof))
+    assert np.all(np.isfinite(got)) and got.size == expected.size
+    scale = np.abs(expected).max()
+    np.testing.assert_allclose(np.sort_complex(got), np.sort_complex(expected), rtol=0, atol=1e-9 * scale)
+
+
 def test_modal_section_recovers_the_rom_coordinates_of_a_combination_of_mode_shapes(model):
     # w = 0.01 psi_1 - 0.003 psi_2 (Eq. 26) interpolated on the basis: the fit returns the two
     # coefficients to the basis' interpolation error of the shapes (order 8: ~1e-5 relative)
@@ -148,18 +168,20 @@ def test_modal_section_recovers_the_rom_coordinates_of_a_combination_of_mode_sha
         modal_projection(model, [(1, 1)])
 
 
-def test_modal_lift_is_the_basis_fit_of_the_mode_shapes_and_the_section_inverts_it(model):
+def test_modal_lift_is_the_basis_fit_of_the_mode_shapes_and_the_section_inverts_it(either):
     # w = sum q_k psi_k fitted on the basis (L2 in rho), u at rest; section(lift(q)) - q is then
     # exactly -G^-1 R q with R_kl = (r_k, r_l) the Gram matrix of the fit residuals r_k of psi_k
+    model = either
     fmap = _map(model)
     m, b = model.membrane, model.state.basis
     o, dof = model.order, fmap.dof
+    u = dof - o  # the U coordinates before W: none when u is held
     psi = mode_shape(m.Re * b.s, bessel_roots(0, m.delta_o, 2), 0, m.Re, m.delta_o)[0]
     sw = b.s * b.weights
     q = np.array([0.01, -0.003, 0.2, 0.05])
     y = fmap.modal_lift(q)
-    assert y.shape == (2 * dof,) and not y[:o].any() and not y[dof:dof + o].any()
-    for part, coefficients in ((y[o:dof], q[:2]), (y[dof + o:], q[2:])):
+    assert y.shape == (2 * dof,) and not y[:u].any() and not y[dof:dof + u].any()
+    for part, coefficients in ((y[u:dof], q[:2]), (y[dof + u:], q[2:])):
         residual = part @ b.phi - coefficients @ psi
         np.testing.assert_allclose((b.phi * sw) @ residual, 0.0, atol=1e-13 * np.abs(coefficients).max())
     r = fmap.lift @ b.phi - psi

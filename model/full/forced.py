@@ -14,9 +14,12 @@ compiled loops run on ``(U, W)`` with ``U`` at rest, and the map keeps the movin
 
 The map is fixed-step RK4 (:func:`model.full.axisymmetric_kernels.rk4_motion`) with its exact
 variational equations (:func:`model.full.axisymmetric_kernels.rk4_variational`).  The
-in-plane waves of the discretisation bound the step: :func:`steps_per_period` keeps
-``omega_max dt <= 2`` (RK4 is stable below 2.8) with ``omega_max`` the highest frequency about
-the pre-stretch, for every ``Omega`` above half the lowest transverse frequency.  RK4 damps
+fastest modes of the discretisation bound the step (the in-plane waves; with ``u`` held, the
+highest transverse modes): :func:`steps_per_period` keeps ``|lambda|_max dt <= 2`` (RK4 is
+stable to 2.6 in every direction of the left half-plane) with ``lambda`` the eigenvalues of the
+damped linear motion about the pre-stretch, ``omega_max`` for a light damping and the fastest
+decay for an overdamped stiffness-proportional one, for every ``Omega`` above half the lowest
+transverse frequency.  RK4 damps
 the fastest discrete modes there (the spectral discretisation's highest in-plane modes, above
 100 times the lowest transverse frequency); the low in-plane modes an internal resonance can
 involve are integrated with ``omega dt`` below 0.2.
@@ -37,6 +40,7 @@ from model.damping_kernels import matrix_or_none
 from model.forced import family_damping, periodic_peak
 from model.modes import bessel_roots, mode_shape
 from model.protocol import PARAMETERS, sorted_multipliers, state_scale
+from model.rk4 import stable
 
 from .axisymmetric import AxisymmetricFull
 from .axisymmetric_kernels import NO_PARAMETER, OMEGA, PRESSURE, rk4_motion, rk4_variational
@@ -56,14 +60,30 @@ def linear_system(model: AxisymmetricFull) -> tuple[np.ndarray, np.ndarray]:
             model.omega0_2 * model.hessian(np.zeros(model.dof))[keep])
 
 
-def steps_per_period(model: AxisymmetricFull, base: int) -> int:
-    """RK4 steps per forcing period: ``base``, raised to keep ``omega_max dt <=``
-    :data:`STABLE_STEP` down to ``Omega`` at half the lowest transverse frequency (a lower
-    ``Omega`` needs more steps: the map returns NaN beyond RK4's stability limit)."""
+def damped_eigenvalues(mass, stiffness, rate: float, matrix) -> np.ndarray:
+    """The eigenvalues (s-1) of the linear motion ``q'' = -M^-1 K q - (rate I + matrix) q'``
+    (``mass``, ``stiffness`` in the scale of :func:`linear_system`; ``matrix`` (s-1) of the same
+    size or empty for none): ``-zeta omega +- i omega sqrt(1 - zeta^2)`` per mode of a modal law."""
+    n = mass.shape[0]
+    damping = rate * np.eye(n) + (matrix if matrix.shape[0] else 0.0)
+    return np.linalg.eigvals(np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(mass, stiffness), -damping]]))
+
+
+def steps_per_period(model: AxisymmetricFull, base: int, damping: DampingLaw | None = None) -> int:
+    """RK4 steps per forcing period: ``base``, raised to keep ``|lambda|_max dt <=``
+    :data:`STABLE_STEP` down to ``Omega`` at half the lowest transverse frequency, with
+    ``lambda`` the eigenvalues of the linear motion under the law ``damping``
+    (:func:`damped_eigenvalues`; None: ``omega_max``, which bounds them unless the law
+    overdamps the fastest modes).  A lower ``Omega`` needs more steps: the map returns NaN
+    beyond RK4's stability limit."""
     mass, stiffness = linear_system(model)
     o = model.order  # the transverse block: the last o coordinates
     lowest = math.sqrt(eigh(stiffness[-o:, -o:], mass[-o:, -o:], eigvals_only=True)[0])
-    return max(int(base), math.ceil(2.0 * math.pi / (0.5 * lowest) * model.highest_frequency() / STABLE_STEP))
+    fastest = model.highest_frequency()
+    if damping is not None:
+        rate, matrix = _law_terms(model, damping)
+        fastest = max(fastest, float(np.abs(_eigenvalues(model, rate, matrix)).max()))
+    return max(int(base), math.ceil(2.0 * math.pi / (0.5 * lowest) * fastest / STABLE_STEP))
 
 
 @dataclass(frozen=True)
@@ -90,11 +110,12 @@ class ForcedFull:
         held ``U``), :data:`model.damping.NO_MATRIX` when none.
     probe : (dof,) ndarray
         ``w(probe_rho) = probe @ y[:dof]`` (the ``W`` block of the basis at ``0.5 Re``).
-    moving : (2 dof,) ndarray of int
-        The indices of the state's components in the compiled loops' ``(q, q')``.
     omega_max : float
-        The highest frequency of the discretisation (rad s-1): beyond ``omega_max dt = 2.8``
-        RK4 is unstable, and the map returns NaN states.
+        The highest frequency of the discretisation (rad s-1).
+    eigenvalues : (2 dof,) complex ndarray
+        Of the damped linear motion about the pre-stretch (s-1, :func:`damped_eigenvalues`):
+        where RK4's step takes one outside its stability region (:attr:`stable_step`) the map
+        returns NaN states.
     section : (K, order) ndarray
         The ROM coordinates of ``w`` (:func:`modal_projection`) that :meth:`modal_section`
         reports; ``(0, order)`` for none.
@@ -116,11 +137,11 @@ class ForcedFull:
     matrix: np.ndarray
     probe: np.ndarray
     omega_max: float
+    eigenvalues: np.ndarray
     section: np.ndarray
     lift: np.ndarray
     probe_rho: float
     modes: tuple
-    moving: np.ndarray
 
     @classmethod
     def build(cls, model: AxisymmetricFull, P0: float, Omega: float, damping: DampingLaw | None = None,
@@ -138,10 +159,9 @@ class ForcedFull:
         phi, _ = model.state.basis.evaluate(np.eye(model.order), np.array([rho / m.Re]))
         probe = np.concatenate([np.zeros(model.moving.size - model.order), phi[:, 0]])
         modes = tuple((int(mm), int(n)) for mm, n in modes)
-        moving = np.concatenate([model.moving, model.dof + model.moving])
         return cls(model, float(P0), float(Omega), damping, int(steps), rate, matrix, probe,
-                   model.highest_frequency(), modal_projection(model, modes), mode_coefficients(model, modes), rho,
-                   modes, moving)
+                   model.highest_frequency(), _eigenvalues(model, rate, matrix), modal_projection(model, modes),
+                   mode_coefficients(model, modes), rho, modes)
 
     def on_model(self, model: AxisymmetricFull) -> ForcedFull:
         """The same forcing, damping law, steps, probe radius and modes on ``model`` (another
@@ -152,7 +172,13 @@ class ForcedFull:
     def dof(self) -> int:
         """Coordinates ``2 order`` (``U`` then ``W``, m), or ``order`` (``W``) with ``u``
         held; states ``(q, q')``."""
-        return self.moving.size // 2
+        return self.model.moving.size
+
+    @property
+    def state_indices(self) -> np.ndarray:
+        """The indices of the state's components in the compiled loops' ``(q, q')``."""
+        m = self.model
+        return np.concatenate([m.moving, m.dof + m.moving])
 
     @property
     def period(self) -> float:
@@ -180,7 +206,7 @@ class ForcedFull:
             raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(self.parameters)}")
         law = self.damping.replaced(parameter, float(value))
         rate, matrix = _law_terms(self.model, law)
-        return replace(self, damping=law, rate=rate, matrix=matrix)
+        return replace(self, damping=law, rate=rate, matrix=matrix, eigenvalues=_eigenvalues(self.model, rate, matrix))
 
     def state_scale(self, Omega: float | None = None) -> np.ndarray:
         """:func:`model.protocol.state_scale` at this map's ``Omega`` or at ``Omega``."""
@@ -192,13 +218,20 @@ class ForcedFull:
         if y.shape != (2 * self.dof,):
             raise ValueError(f"state shape {y.shape} is invalid: expected ({2 * self.dof},) = (q, q')")
         out = np.zeros(2 * self.model.dof)
-        out[self.moving] = y / self.model.membrane.Re
+        out[self.state_indices] = y / self.model.membrane.Re
         return out
 
     @property
+    def fastest(self) -> float:
+        """``|lambda|_max`` (s-1) of :attr:`eigenvalues`: ``omega_max``, or the fastest decay of
+        an overdamped mode."""
+        return float(np.abs(self.eigenvalues).max())
+
+    @property
     def stable_step(self) -> bool:
-        """Whether RK4's step is within its stability limit, ``omega_max dt < 2.8``."""
-        return self.period / self.steps * self.omega_max < 2.8
+        """Whether RK4's step keeps every mode of the damped linear motion about the
+        pre-stretch within its stability region (:func:`model.rk4.stable`)."""
+        return stable(self.eigenvalues, self.period / self.steps)
 
     def _motion(self, y, steps: int, every: int) -> np.ndarray:
         # the states (m) every `every` steps over `steps` steps from y (the compiled loops' state over Re)
@@ -208,7 +241,7 @@ class ForcedFull:
             return np.full((record.shape[0], 2 * self.dof), np.nan)
         rk4_motion(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, self.rate, matrix_or_none(self.matrix),
                    m.load, self.P0, self.Omega, y, self.period / self.steps, steps, every, record)
-        return record[:, self.moving] * m.membrane.Re
+        return record[:, self.state_indices] * m.membrane.Re
 
     def advance(self, y, periods: int = 1) -> np.ndarray:
         """``P^periods(y)``: the state after ``periods`` forcing periods from ``t = 0``."""
@@ -230,8 +263,9 @@ class ForcedFull:
         yT, big = rk4_variational(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, self.rate,
                                   matrix_or_none(self.matrix), m.load, self.P0, self.Omega, parameter, self._state(y),
                                   self.period / self.steps, self.steps)
-        big = big[self.moving]
-        return yT[self.moving] * re, big[:, self.moving], big[:, -1] * re
+        keep = self.state_indices
+        big = big[keep]
+        return yT[keep] * re, big[:, keep], big[:, -1] * re
 
     def monodromy(self, y) -> tuple[np.ndarray, np.ndarray]:
         """``P(y)`` and ``dP/dy`` (the RK4 variational equations: exact for the discrete map)."""
@@ -251,18 +285,23 @@ class ForcedFull:
         this map's RK4 steps (:func:`model.full.family_kernels.family_monodromy`), the
         perturbations damped by this map's law on the family's own linear problem (the viscous
         pressure: the map's rate).  NaN beyond RK4's stable step, for the orbit's or the
-        family's highest frequency (``fam.omega_max``, which grows with ``n``)."""
+        family's damped linear motion (its highest frequency ``fam.omega_max`` grows with ``n``;
+        a stiffness-proportional law can overdamp its fastest modes beyond it)."""
         if fam.model is not self.model:
             raise ValueError("fam is invalid here: a family of another model (build it on this map's model)")
         m = self.model
-        if not self.stable_step or self.period / self.steps * fam.omega_max >= 2.8:
-            return np.full((fam.size, fam.size), np.nan)
         dt = self.period / self.steps
+        rate, matrix = family_damping(fam, m.membrane, self.damping)
+        # a damping matrix can overdamp the family's fastest modes beyond omega_max (an
+        # eigenvalue problem of the block's size: a few per cent of the block's integration)
+        family_stable = (stable(damped_eigenvalues(*fam.linear_system(), rate, matrix), dt) if matrix.shape[0]
+                         else dt * fam.omega_max < 2.8)
+        if not (self.stable_step and family_stable):
+            return np.full((fam.size, fam.size), np.nan)
         stages = np.empty((self.steps, 4, m.dof))
         rk4_motion(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, self.rate, matrix_or_none(self.matrix),
                    m.load, self.P0, self.Omega, self._state(y), dt, self.steps, self.steps, np.empty((2, 2 * m.dof)),
                    stages)
-        rate, matrix = family_damping(fam, m.membrane, self.damping)
         law, phi, dphi, s, sw, _, r0, dr0 = m.kernel_tables
         return family_monodromy(law, phi, dphi, s, sw, r0, dr0, stages, fam.phi, fam.dphi, fam.variations,
                                 fam.inverse_mass, m.omega0_2, rate, matrix_or_none(matrix), dt)
@@ -306,6 +345,13 @@ class ForcedFull:
         w = record[:, :self.dof] @ self.probe
         return periodic_peak(w, periods * self.steps) if np.all(np.isfinite(w)) else math.nan
 
+
+
+def _eigenvalues(model: AxisymmetricFull, rate: float, matrix) -> np.ndarray:
+    """:func:`damped_eigenvalues` of the moving coordinates of ``model`` under ``rate`` and the
+    law's ``matrix`` on the compiled loops' coordinates (:func:`_law_terms`)."""
+    keep = np.ix_(model.moving, model.moving)
+    return damped_eigenvalues(*linear_system(model), rate, matrix[keep] if matrix.shape[0] else matrix)
 
 
 def _law_terms(model: AxisymmetricFull, law: DampingLaw) -> tuple[float, np.ndarray]:

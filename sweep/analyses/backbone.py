@@ -116,7 +116,7 @@ class BackboneAnalysis(Analysis):
         check_keys(table, self.name, tuple(self.OPTIONS))
         opt.rom_only(table, self.name, context.model, ("modes",))
         model = context.model.model()
-        inplane = model.provides("inplane_frequencies")
+        inplane = model.provides("inplane_frequencies", context.model.options)
         samples = opt.number(table, self.name, "orbit_samples", 0, integer=True, low=0, high=4096)
         if samples and not inplane:
             raise JobError(f"{self.name}.orbit_samples", samples, f"needs a model with in-plane motion ([model] kind "

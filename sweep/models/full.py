@@ -104,8 +104,8 @@ class FullModel(Model):
         from model.full.forced import ForcedFull, steps_per_period
 
         model = axisymmetric_for(point.membrane, model_options.order, model_options.inplane)
-        steps = options.steps or steps_per_period(model, default_steps or DEFAULT_STEPS)
         damping = point.damping or Viscous(point.loading.c)
+        steps = options.steps or steps_per_period(model, default_steps or DEFAULT_STEPS, damping)
         return ForcedFull.build(model, point.loading.P0, point.loading.Omega, damping, steps,
                                 modes=options.modes if modes is None else modes)
 
@@ -128,12 +128,13 @@ class FullModel(Model):
             fam = (None if family is None
                    else full_families_for(model, ((family.n, family.radial),), family.fields)[0])
             rebuilt = fmap.on_model(model)
-            # the task's steps keep omega_max dt <= STABLE_STEP at its delta; a lower delta raises
-            # omega_max (and lowers the transverse frequencies): refuse a step beyond the bound
-            fastest = max(rebuilt.omega_max, 0.0 if fam is None else fam.omega_max)
+            # the task's steps keep |lambda|_max dt <= STABLE_STEP at its delta; a lower delta
+            # raises the fastest rate (and lowers the transverse frequencies): refuse a step
+            # beyond the bound
+            fastest = max(rebuilt.fastest, 0.0 if fam is None else fam.omega_max)
             if rebuilt.period / rebuilt.steps * fastest > STABLE_STEP:
-                raise ArithmeticError(f"at delta = {delta:.6g} the RK4 step exceeds omega_max dt = {STABLE_STEP:g} "
-                                      f"(omega_max = {fastest:.4g} rad/s): continuation.steps >= "
+                raise ArithmeticError(f"at delta = {delta:.6g} the RK4 step exceeds |lambda|_max dt = {STABLE_STEP:g} "
+                                      f"(|lambda|_max = {fastest:.4g} s-1): continuation.steps >= "
                                       f"{math.ceil(rebuilt.period * fastest / STABLE_STEP)} reach it")
             return rebuilt, fam
         return at
