@@ -1146,9 +1146,10 @@ HELD_STUDIES = (
      ("validation/families-viscous-axi", "validation/families-viscous-k8")),
     *((f"a first-mode ratio of 1 %, {law} law (P0 = 10 Pa)",
        tuple(f"validation/fig14a-held-1pct-{law}-order{o}" for o in (16, 24)), rom)
-      for law, rom in (("viscous", ("validation/families-1pct-viscous-axi", "validation/families-1pct-viscous-k8")),
-                       ("modal", ("validation/families-1pct-modal-axi", "validation/families-1pct-modal-k4",
-                                  "validation/families-1pct-modal-k8")),
+      for law, rom in (("viscous", ("validation/families-1pct-viscous", "validation/families-1pct-viscous-axi",
+                                    "validation/families-1pct-viscous-k8")),
+                       ("modal", ("validation/families-1pct-modal", "validation/families-1pct-modal-axi",
+                                  "validation/families-1pct-modal-k4", "validation/families-1pct-modal-k8")),
                        ("rayleigh", ("validation/families-1pct-rayleigh",)))),
 )
 

@@ -218,12 +218,14 @@ NO_PARAMETER, OMEGA, PRESSURE = 0, 1, 2
 
 @nb.njit(cache=True, error_model="numpy")
 def rk4_variational(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias, damping, damping_matrix, load, P0,
-                    Omega, parameter, y0, dt, steps):
+                    Omega, parameter, y0, tangents, dt, steps):
     """``steps`` RK4 steps of ``dt`` (s) of the motion of :func:`rk4_motion` from ``y0`` at
     ``t = 0`` with its variational equations ``dq' = dv``, ``dv' = -omega_0^2 M^-1 H(q) dq - D
-    dv``: the final state and its derivative ``(2 dof, 2 dof + 1)`` in ``y0`` and, in the last
-    column, in ``parameter`` (:data:`OMEGA`, :data:`PRESSURE`; zero for :data:`NO_PARAMETER`),
-    exact for the discrete scheme.
+    dv``: the final state and ``(2 dof, c + 1)``: the flow's derivative along the ``c``
+    columns of ``tangents`` (``(2 dof, c)``: the identity for the whole derivative in ``y0``,
+    some of its columns for the derivative in those components) and, in the last column, in
+    ``parameter`` (:data:`OMEGA`, :data:`PRESSURE`; zero for :data:`NO_PARAMETER`), exact for
+    the discrete scheme.
 
     In ``Omega`` the step is ``dt = 2 pi / (Omega steps)``: in the phase ``tau = Omega t`` the
     slopes are ``k / Omega`` at stage phases that do not move, so the column gathers, besides
@@ -231,11 +233,11 @@ def rk4_variational(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias,
     n = y0.size
     dof = n // 2
     order = dof // 2
-    cols = n + 1
+    c = tangents.shape[1]
+    cols = c + 1
     y = y0.copy()
     big = np.zeros((n, cols))
-    for i in range(n):
-        big[i, i] = 1.0
+    big[:, :c] = tangents
     k = np.empty((4, n))
     kp = np.empty((4, n, cols))
     stage = np.empty(n)
@@ -266,10 +268,10 @@ def rk4_variational(law, phi, dphi, s, sw, w, r0, dr0, inv_mass, omega0_2, bias,
                 kp[i, dof:, :] -= damping_matrix @ pstage_blocks[1]
             if parameter == OMEGA:
                 for j in range(n):
-                    kp[i, j, n] -= k[i, j] / Omega
+                    kp[i, j, c] -= k[i, j] / Omega
             elif parameter == PRESSURE:
                 for j in range(order):
-                    kp[i, dof + order + j, n] += cosine * load[j]
+                    kp[i, dof + order + j, c] += cosine * load[j]
         for j in range(n):
             y[j] += step_factor(dt) * combine(k[0, j], k[1, j], k[2, j], k[3, j])
         big += step_factor(dt) * (kp[0] + 2.0 * kp[1] + 2.0 * kp[2] + kp[3])

@@ -260,12 +260,14 @@ class ForcedFull:
         if not self.stable_step:
             n = 2 * self.dof
             return np.full(n, np.nan), np.full((n, n), np.nan), np.full(n, np.nan)
+        keep = self.state_indices
+        # the flow's derivative along the moving components only (a held U is not a column)
+        tangents = np.ascontiguousarray(np.eye(2 * m.dof)[:, keep])
         yT, big = rk4_variational(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, self.rate,
                                   matrix_or_none(self.matrix), m.load, self.P0, self.Omega, parameter, self._state(y),
-                                  self.period / self.steps, self.steps)
-        keep = self.state_indices
+                                  tangents, self.period / self.steps, self.steps)
         big = big[keep]
-        return yT[keep] * re, big[:, keep], big[:, -1] * re
+        return yT[keep] * re, big[:, :-1], big[:, -1] * re
 
     def monodromy(self, y) -> tuple[np.ndarray, np.ndarray]:
         """``P(y)`` and ``dP/dy`` (the RK4 variational equations: exact for the discrete map)."""

@@ -150,7 +150,7 @@ class FreeFull:
             raise np.linalg.LinAlgError(f"a state whose fastest mode asks for {steps} RK4 steps (more than "
                                         f"{MAX_FLOW_STEPS})")
         y, big = rk4_variational(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, 0.0, None, m.load, 0.0, 0.0,
-                                 NO_PARAMETER, y, duration / steps, steps)
+                                 NO_PARAMETER, y, np.eye(y.size), duration / steps, steps)
         return y, big[:, :-1]
 
     def decay_rate(self, c: float) -> float:
