@@ -1203,8 +1203,10 @@ def _held_tables(runs) -> list[str]:
         return ["No branch at N = " + ", ".join(str(N) for N, b in zip(orders, branches) if int(b.n_points) == 0)
                 + " (the continuation failed: its status and message in the result file).", ""]
     stretches = [_stretch_families(b, to_peak=True) for b in branches]
-    out = ["Each branch: points, saddle-nodes (the first ones in Omega, rad/s), the upper saddle-node (rad/s): "
+    out = ["Each branch: points, saddle-nodes (the first ones in Omega, rad/s), the upper saddle-node (rad/s; the",
+           "largest amplitude where a branch stopped before it, with the reason): "
            + "; ".join(f"N = {N}: {int(b.n_points)}, {int(b.n_folds)} ({_first_folds(b)}), {value[-1]:.3f}"
+                       + ("" if int(b.status) == 0 else f" (stopped: {str(b.message.values)})")
                        for N, b, (value, _, _) in zip(orders, branches, stretches)) + ".", ""]
     radial = [int(m) for m in branches[0].family_radial.values[:-1]]
     for j, fam in enumerate(int(n) for n in branches[0].family.values):
@@ -1246,7 +1248,7 @@ def _held_against_rom(results: Path, runs, rom_names) -> list[str]:
            "none, `-` where the run has no such family; and the upper saddle-node.", "",
            "| model | upper saddle-node | " + " | ".join(f"n = {f}" for f in families) + " |",
            "|---|---|" + "---|" * len(families)]
-    onsets = []
+    onsets, held_onsets = [], []
     for label, b in rows:
         value, modulus, intervals = _stretch_families(b, to_peak=True)
         by_n = {int(n): j for j, n in enumerate(b.family.values)}
@@ -1260,9 +1262,19 @@ def _held_against_rom(results: Path, runs, rom_names) -> list[str]:
                            else "none")
         out.append(f"| {label} | {value[-1]:.3f} | " + " | ".join(cells) + " |")
         onsets.append(f"| {label} | " + " | ".join(lasting) + " |")
+        if label.startswith("u = v = 0"):
+            held_onsets.append(lasting)
+    moves = []
+    for j, f in enumerate(families):
+        steps = [abs(float(a[j]) - float(b[j])) for a, b in zip(held_onsets, held_onsets[1:])
+                 if a[j] not in ("none", "-") and b[j] not in ("none", "-")]
+        if len(steps) == len(held_onsets) - 1 and steps:
+            moves.append(f"n = {f}: " + ", ".join(f"{m:.2f}" for m in steps))
     return out + ["", "Where the instability that lasts up to the upper saddle-node begins (rad/s; `none`: no interval",
                   "reaches it):", "", "| model | " + " | ".join(f"n = {f}" for f in families) + " |",
-                  "|---|" + "---|" * len(families), *onsets, ""]
+                  "|---|" + "---|" * len(families), *onsets, "",
+                  "With u = v = 0 held, how far that onset moves from each N to the next (rad/s), for the families "
+                  "that have one at every N: " + ("; ".join(moves) if moves else "none") + ".", ""]
 
 
 def _tongue_map(results: Path) -> list[str]:
