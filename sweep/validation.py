@@ -1179,8 +1179,8 @@ def section_held_families(results: Path) -> list[str]:
            "displacements held at zero\") and the families n = 1..6 in W alone on the first M = 4, 8 and N of them.",
            "The Fig. 14a case (delta = 1.1, delta_o = 0.2) continued in Omega from 25 to 55 rad/s",
            "(`validation/fig14a-held-<case>-order<N>`). Intervals of Omega (rad/s) on the resonant branch up to",
-           "its largest amplitude (the upper saddle-node of the resonance, past the loops an internal resonance",
-           "adds: in branch order, so that an interval through a loop can end below where it starts) where the",
+           "its saddle-node of largest amplitude (the upper saddle-node of the resonance, past the loops an internal",
+           "resonance adds: in branch order, so that an interval through a loop can end below where it starts) where the",
            "family is unstable, in brackets its largest multiplier modulus there; convergence criterion as above",
            f"(the same intervals, each end moving by less than {SETTLED:g} rad/s, at the last step).", ""]
     for case, names, rom_names in HELD_STUDIES:
@@ -1203,8 +1203,8 @@ def _held_tables(runs) -> list[str]:
         return ["No branch at N = " + ", ".join(str(N) for N, b in zip(orders, branches) if int(b.n_points) == 0)
                 + " (the continuation failed: its status and message in the result file).", ""]
     stretches = [_stretch_families(b, to_peak=True) for b in branches]
-    out = ["Each branch: points, saddle-nodes (the first ones in Omega, rad/s), the upper saddle-node (rad/s; the",
-           "largest amplitude where a branch stopped before it, with the reason): "
+    out = ["Each branch: points, saddle-nodes (the first ones in Omega, rad/s), the upper saddle-node (rad/s: the",
+           "saddle-node of largest amplitude), and why a branch stopped before the end of its range: "
            + "; ".join(f"N = {N}: {int(b.n_points)}, {int(b.n_folds)} ({_first_folds(b)}), {value[-1]:.3f}"
                        + ("" if int(b.status) == 0 else f" (stopped: {str(b.message.values)})")
                        for N, b, (value, _, _) in zip(orders, branches, stretches)) + ".", ""]
@@ -1240,7 +1240,7 @@ def _held_against_rom(results: Path, runs, rom_names) -> list[str]:
         for k in range(ds.sizes.get("mode_set", 1)):
             b = _grid_point(ds, k if "mode_set" in ds.dims else None)
             K = int(b.n_modes) if "n_modes" in b.coords else b.sizes["mode"]
-            rows.append((f"ROM, K = {K}, M = {int(b.family_radial.values[-1])}", b))
+            rows.append((f"ROM, K = {K}, M = {int(b.family_radial.values[-1])} ({name.split('/')[-1]})", b))
     rows += [(f"u = v = 0, N = M = {int(ds.attrs['model_order'])}", _grid_point(ds)) for ds in runs]
     families = [int(n) for n in runs[0].family.values]
     out = ["Against the ROM with the orbit in K Bessel modes (" + ", ".join(f"`{n}`" for n in rom_names)
@@ -1385,14 +1385,18 @@ def _largest_move(a, b) -> float:
 
 def _stretch_families(b, to_peak: bool = False):
     """The families along the resonant stretch of a continuation in Omega at one grid point
-    ``b`` (from the start to the first saddle-node, or with ``to_peak`` to the branch's largest
-    amplitude, past the loops of internal resonances): the Omega values there, the family
-    multiplier moduli ``(point, family_radial, family)`` and the unstable intervals keyed by
-    ``(radial index, family index)``."""
+    ``b`` (from the start to the first saddle-node, or with ``to_peak`` to the saddle-node of
+    largest amplitude, past the loops of internal resonances; the whole branch when it has
+    none): the Omega values there, the family multiplier moduli ``(point, family_radial,
+    family)`` and the unstable intervals keyed by ``(radial index, family index)``."""
     n = int(b.n_points)
     value = b.Omega.values.ravel()[:n]
-    end = (int(np.nanargmax(b.amplitude.values.ravel()[:n])) + 1 if to_peak
-           else resonant_end(b.point_type.values.ravel()[:n]))
+    kind = b.point_type.values.ravel()[:n]
+    if to_peak:
+        folds = np.flatnonzero(kind == FOLD)
+        end = int(folds[np.argmax(b.amplitude.values.ravel()[folds])]) + 1 if folds.size else n
+    else:
+        end = resonant_end(kind)
     modulus = b.family_multiplier_modulus.transpose("point", "family_radial", "family").values[:end]
     intervals = {(r, j): unstable_intervals(value[:end], modulus[:, r, j])
                  for r in range(modulus.shape[1]) for j in range(modulus.shape[2])}
