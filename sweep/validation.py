@@ -1189,8 +1189,10 @@ def section_held_families(results: Path) -> list[str]:
         if any(ds is None for ds in runs):
             out += _missing(*names)
             continue
-        out += _held_tables(runs)
-        out += _held_against_rom(results, runs, rom_names)
+        tables = _held_tables(runs)
+        out += tables
+        if not tables[0].startswith("No branch"):
+            out += _held_against_rom(results, runs, rom_names)
     return out
 
 
@@ -1250,7 +1252,12 @@ def _held_against_rom(results: Path, runs, rom_names) -> list[str]:
            "|---|---|" + "---|" * len(families)]
     onsets, held_onsets = [], []
     for label, b in rows:
+        if int(b.n_points) == 0:
+            out.append(f"| {label} | no branch (the continuation failed) |" + " |" * len(families))
+            continue
         value, modulus, intervals = _stretch_families(b, to_peak=True)
+        # a branch that stopped (its status) right after the stretch's end: the end is where it stopped
+        stopped = " (stopped)" if int(b.status) != 0 and value.size >= int(b.n_points) - 2 else ""
         by_n = {int(n): j for j, n in enumerate(b.family.values)}
         cells, lasting = [], []
         for f in families:
@@ -1260,7 +1267,7 @@ def _held_against_rom(results: Path, runs, rom_names) -> list[str]:
             # the last interval, if the family is still unstable at the upper saddle-node
             lasting.append("-" if iv is None else f"{iv[-1][0]:.2f}" if unstable_points(modulus[-1, r, by_n[f]])
                            else "none")
-        out.append(f"| {label} | {value[-1]:.3f} | " + " | ".join(cells) + " |")
+        out.append(f"| {label} | {value[-1]:.3f}{stopped} | " + " | ".join(cells) + " |")
         onsets.append(f"| {label} | " + " | ".join(lasting) + " |")
         if label.startswith("u = v = 0"):
             held_onsets.append(lasting)
@@ -1394,7 +1401,8 @@ def _stretch_families(b, to_peak: bool = False):
     kind = b.point_type.values.ravel()[:n]
     if to_peak:
         folds = np.flatnonzero(kind == FOLD)
-        end = int(folds[np.argmax(b.amplitude.values.ravel()[folds])]) + 1 if folds.size else n
+        amplitude = b.amplitude.values.ravel()[folds]
+        end = int(folds[np.nanargmax(amplitude)]) + 1 if np.isfinite(amplitude).any() else n
     else:
         end = resonant_end(kind)
     modulus = b.family_multiplier_modulus.transpose("point", "family_radial", "family").values[:end]

@@ -19,12 +19,35 @@ from model.full.families import FullFamily
 from model.full.free import FreeFull
 from model.full.static import solve_full_prestretch
 from model.params import Loading, Membrane
+from model.rk4 import stable
 from model.rom import build_rom
 from model.prestretch import solve_prestretch
 from model.shooting import shoot
-from sweep import cli
+from sweep import cli, validation
 
 MEMBRANE = Membrane(delta=1.1, delta_o=0.2)
+#: A small held continuation with families (order 6, n = 1 on 2 and 6 functions).
+HELD_JOB = """[job]
+name = "held"
+analysis = "continuation"
+[model]
+kind = "full"
+order = 6
+inplane = false
+[grid]
+delta = 1.1
+delta_o = 0.2
+P0 = 1.0
+c = 0.05
+[continuation]
+parameter = "Omega"
+start = 30.0
+stop = 33.0
+modes = [[1, 0]]
+prestretch = "numeric"
+max_points = 40
+families = {n = [1], radial = [2, 6]}
+"""
 
 
 @pytest.fixture(scope="module")
@@ -95,27 +118,7 @@ def test_the_held_model_is_what_the_roms_bessel_modes_converge_to():
 
 def test_a_held_continuation_job_runs_with_families_of_w_alone(tmp_path):
     job = tmp_path / "held.toml"
-    job.write_text("""[job]
-name = "held"
-analysis = "continuation"
-[model]
-kind = "full"
-order = 6
-inplane = false
-[grid]
-delta = 1.1
-delta_o = 0.2
-P0 = 1.0
-c = 0.05
-[continuation]
-parameter = "Omega"
-start = 30.0
-stop = 33.0
-modes = [[1, 0]]
-prestretch = "numeric"
-max_points = 40
-families = {n = [1], radial = [2, 6]}
-""")
+    job.write_text(HELD_JOB)
     out = tmp_path / "held.nc"
     assert cli.main(["run", str(job), "-o", str(out)]) == 0
     with xr.open_dataset(out) as ds:
@@ -138,3 +141,55 @@ def test_the_harmonic_zero_block_of_w_alone_is_the_held_monodromy(held, law):
     phi = fmap.monodromy(y)[1]
     block = fmap.family_monodromy(y, FullFamily.build(held, 0, fields="W"))
     np.testing.assert_allclose(block, phi, rtol=0, atol=1e-12 * np.abs(phi).max())
+
+
+@pytest.mark.parametrize("direction, inside, outside", [
+    (1j, 2.82, 2.84),  # the imaginary axis: 2 sqrt(2)
+    (-1.0, 2.78, 2.79),  # the negative real axis: 2.785
+    (np.exp(1j * np.radians(123.0)), 2.60, 2.63),  # the closest point of the boundary, 2.6156
+])
+def test_rk4_stability_region_edges(direction, inside, outside):
+    # the boundary |R(z)| = 1 of RK4's region (values from the literature, and the 123-degree
+    # minimum from a scan of the boundary) lies between the two radii along each direction
+    assert stable([direction], inside) and not stable([direction], outside)
+    # and the amplification polynomial evaluated by numpy (not model.rk4's nested form) agrees
+    r = np.linspace(inside, outside, 201)
+    z = r * direction
+    R = np.abs(np.polyval([1 / 24, 1 / 6, 1 / 2, 1, 1], z))
+    assert R[0] <= 1.0 < R[-1]
+
+
+def test_a_family_block_overdamped_beyond_rk4s_region_is_nan(held):
+    # stiffness-proportional damping that overdamps the fastest modes (beta omega_max = 6): the
+    # map's steps keep its own eigenvalues inside RK4's region, but the n = 20 family is stiffer
+    # (its highest frequency about 1.2 times the map's), its overdamped decay beta omega^2 takes
+    # it outside, although its frequency alone would pass the undamped bound: its block is NaN (a
+    # failed point), not a growth
+    law = Rayleigh(alpha=0.0, beta=6.0 / held.highest_frequency())
+    fmap = ForcedFull.build(held, 0.0, 30.0, law, steps_per_period(held, 128, law))
+    fam = FullFamily.build(held, 20, held.order, "W")
+    dt = fmap.period / fmap.steps
+    assert fmap.stable_step and dt * fam.omega_max < 2.8  # the premises
+    assert np.isnan(fmap.family_monodromy(np.zeros(2 * fmap.dof), fam)).all()
+    # the n = 1 family is as fast as the map: inside, finite
+    assert np.isfinite(fmap.family_monodromy(np.zeros(2 * fmap.dof), FullFamily.build(held, 1, held.order, "W"))).all()
+
+
+def test_the_report_section_survives_a_failed_held_branch(tmp_path):
+    # the held runs of the paper-damping case, one with no branch: the section says so and
+    # does not read the ROM's runs for it
+    job = tmp_path / "held.toml"
+    job.write_text(HELD_JOB)
+    out = tmp_path / "held.nc"
+    assert cli.main(["run", str(job), "-o", str(out)]) == 0
+    names = validation.HELD_STUDIES[0][1]
+    (tmp_path / "validation").mkdir()
+    with xr.open_dataset(out) as ds:
+        ds = ds.load()
+    for k, name in enumerate(names):
+        copy = ds.copy()
+        if k == 1:
+            copy["n_points"] = copy.n_points * 0
+        copy.to_netcdf(tmp_path / f"{name}.nc")
+    text = "\n".join(validation.section_held_families(tmp_path))
+    assert "No branch at N = 6" in text and "| N | M = 2 |" not in text

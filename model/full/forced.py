@@ -23,8 +23,12 @@ transverse frequency.  RK4 damps
 the fastest discrete modes there (the spectral discretisation's highest in-plane modes, above
 100 times the lowest transverse frequency); the low in-plane modes an internal resonance can
 involve are integrated with ``omega dt`` below 0.2.
-A deflection lowers ``omega_max`` (at ``delta = 1.1``, order 12, by 21 % at 0.3 m and 36 % at
-0.7 m; at ``delta = 2.0`` by 1.5 % at 0.7 m), so the pre-stretch's bound holds along the orbits.
+With ``u`` free a deflection lowers ``omega_max`` (at ``delta = 1.1``, order 12, by 21 % at 0.3 m
+and 36 % at 0.7 m; at ``delta = 2.0`` by 1.5 % at 0.7 m), so the pre-stretch's bound holds along
+the orbits; with ``u`` held the fastest mode is transverse and stiffens (1.5 times at 0.3 m), so
+the bound at ``Omega`` half the lowest frequency leaves large responses near the resonance a
+margin of two and more, and a large response far below it needs ``steps`` given
+(docs/model.md, "Forced motion").
 """
 
 from __future__ import annotations
