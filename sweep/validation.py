@@ -1139,18 +1139,22 @@ def section_family_orbit(results: Path) -> list[str]:
 
 
 #: The Fig. 14a case with u = v = 0 held on the full model's radial discretisation: per damping
-#: case, its runs at increasing order and the ROM's counterparts (the orbit in K Bessel modes).
+#: case, its runs at increasing order, the ROM's counterparts (the orbit in K Bessel modes) and
+#: the full model's with the in-plane displacements free (where they have families).
 HELD_STUDIES = (
     ("the paper's light viscous damping (P0 = 1 Pa, c = 0.05 N s/m^3)",
      tuple(f"validation/fig14a-held-viscous-order{o}" for o in (12, 16, 24)),
-     ("validation/families-viscous-axi", "validation/families-viscous-k8")),
+     ("validation/families-viscous-axi", "validation/families-viscous-k8"), ()),
     *((f"a first-mode ratio of 1 %, {law} law (P0 = 10 Pa)",
-       tuple(f"validation/fig14a-held-1pct-{law}-order{o}" for o in (16, 24)), rom)
-      for law, rom in (("viscous", ("validation/families-1pct-viscous", "validation/families-1pct-viscous-axi",
-                                    "validation/families-1pct-viscous-k8")),
-                       ("modal", ("validation/families-1pct-modal", "validation/families-1pct-modal-axi",
-                                  "validation/families-1pct-modal-k4", "validation/families-1pct-modal-k8")),
-                       ("rayleigh", ("validation/families-1pct-rayleigh",)))),
+       tuple(f"validation/fig14a-held-1pct-{law}-order{o}" for o in (16, 24)), rom, free)
+      for law, rom, free in (
+          ("viscous", ("validation/families-1pct-viscous", "validation/families-1pct-viscous-axi",
+                       "validation/families-1pct-viscous-k8"), ()),
+          ("modal", ("validation/families-1pct-modal", "validation/families-1pct-modal-axi",
+                     "validation/families-1pct-modal-k4", "validation/families-1pct-modal-k8"),
+           ("validation/fig14a-full-order12", "fig14a-full")),
+          ("rayleigh", ("validation/families-1pct-rayleigh",),
+           tuple(f"validation/fig14a-full-1pct-rayleigh-order{o}" for o in (12, 16))))),
 )
 
 
@@ -1183,16 +1187,16 @@ def section_held_families(results: Path) -> list[str]:
            "resonance adds: in branch order, so that an interval through a loop can end below where it starts) where the",
            "family is unstable, in brackets its largest multiplier modulus there; convergence criterion as above",
            f"(the same intervals, each end moving by less than {SETTLED:g} rad/s, at the last step).", ""]
-    for case, names, rom_names in HELD_STUDIES:
+    for case, names, rom_names, free_names in HELD_STUDIES:
         out += [f"### u = v = 0 held: {case}", ""]
         runs = [_open(results, n) for n in names]
         if any(ds is None for ds in runs):
-            out += _missing(*names)
+            out += _missing(*names, *free_names)  # (the ROM's runs are named by their own sections)
             continue
         tables = _held_tables(runs)
         out += tables
         if not tables[0].startswith("No branch"):
-            out += _held_against_rom(results, runs, rom_names)
+            out += _held_against_rom(results, runs, rom_names, free_names)
     return out
 
 
@@ -1230,23 +1234,28 @@ def _held_tables(runs) -> list[str]:
     return out
 
 
-def _held_against_rom(results: Path, runs, rom_names) -> list[str]:
+def _held_against_rom(results: Path, runs, rom_names, free_names=()) -> list[str]:
     """Each family's unstable intervals, the upper saddle-node, and where the instability that
     lasts to it begins: the ROM's runs ``rom_names`` (every mode set, the largest radial count)
-    against the held ``runs``."""
+    against the held ``runs`` and the full model's runs with u free ``free_names``."""
     rows = []
+    absent = [name for name in (*rom_names, *free_names) if _open(results, name) is None]
+    if absent:
+        return _missing(*absent)
     for name in rom_names:
         ds = _open(results, name)
-        if ds is None:
-            return _missing(*rom_names)
         for k in range(ds.sizes.get("mode_set", 1)):
             b = _grid_point(ds, k if "mode_set" in ds.dims else None)
             K = int(b.n_modes) if "n_modes" in b.coords else b.sizes["mode"]
             rows.append((f"ROM, K = {K}, M = {int(b.family_radial.values[-1])} ({name.split('/')[-1]})", b))
     rows += [(f"u = v = 0, N = M = {int(ds.attrs['model_order'])}", _grid_point(ds)) for ds in runs]
+    rows += [(f"u free, N = M = {int(ds.attrs['model_order'])}, (U, V, W) ({name.split('/')[-1]})", _grid_point(ds))
+             for name, ds in ((n, _open(results, n)) for n in free_names)]
     families = [int(n) for n in runs[0].family.values]
-    out = ["Against the ROM with the orbit in K Bessel modes (" + ", ".join(f"`{n}`" for n in rom_names)
-           + "), each family at its largest radial count: its unstable intervals (rad/s), `stable` where it has",
+    out = ["Against the ROM with the orbit in K Bessel modes (" + ", ".join(f"`{n}`" for n in rom_names) + ")"
+           + ("" if not free_names else " and the full model with the in-plane displacements free ("
+              + ", ".join(f"`{n}`" for n in free_names) + ")")
+           + ", each family at its largest radial count: its unstable intervals (rad/s), `stable` where it has",
            "none, `-` where the run has no such family; and the upper saddle-node.", "",
            "| model | upper saddle-node | " + " | ".join(f"n = {f}" for f in families) + " |",
            "|---|---|" + "---|" * len(families)]
@@ -1405,7 +1414,10 @@ def _stretch_families(b, to_peak: bool = False):
         end = int(folds[np.nanargmax(amplitude)]) + 1 if np.isfinite(amplitude).any() else n
     else:
         end = resonant_end(kind)
-    modulus = b.family_multiplier_modulus.transpose("point", "family_radial", "family").values[:end]
+    moduli = b.family_multiplier_modulus
+    if "family_radial" not in moduli.dims:  # one radial count: no study dimension
+        moduli = moduli.expand_dims("family_radial")
+    modulus = moduli.transpose("point", "family_radial", "family").values[:end]
     intervals = {(r, j): unstable_intervals(value[:end], modulus[:, r, j])
                  for r in range(modulus.shape[1]) for j in range(modulus.shape[2])}
     return value[:end], modulus, intervals
