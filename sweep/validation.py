@@ -1256,7 +1256,8 @@ def _held_against_rom(results: Path, runs, rom_names, free_names=()) -> list[str
            + ("" if not free_names else " and the full model with the in-plane displacements free ("
               + ", ".join(f"`{n}`" for n in free_names) + ")")
            + ", each family at its largest radial count: its unstable intervals (rad/s), `stable` where it has",
-           "none, `-` where the run has no such family; and the upper saddle-node.", "",
+           "none, `-` where the run has no such family; and the upper saddle-node (rad/s) with its amplitude",
+           "max |w(0.5 Re)|.", "",
            "| model | upper saddle-node | " + " | ".join(f"n = {f}" for f in families) + " |",
            "|---|---|" + "---|" * len(families)]
     onsets, held_onsets = [], []
@@ -1276,7 +1277,8 @@ def _held_against_rom(results: Path, runs, rom_names, free_names=()) -> list[str
             # the last interval, if the family is still unstable at the upper saddle-node
             lasting.append("-" if iv is None else f"{iv[-1][0]:.2f}" if unstable_points(modulus[-1, r, by_n[f]])
                            else "none")
-        out.append(f"| {label} | {value[-1]:.3f}{stopped} | " + " | ".join(cells) + " |")
+        peak = float(b.amplitude.values.ravel()[value.size - 1])
+        out.append(f"| {label} | {value[-1]:.3f} ({peak:.3f} m){stopped} | " + " | ".join(cells) + " |")
         onsets.append(f"| {label} | " + " | ".join(lasting) + " |")
         if label.startswith("u = v = 0"):
             held_onsets.append(lasting)
