@@ -88,11 +88,12 @@ class AxisymmetricFull:
     def free_motion(self, y0, duration: float, steps: int, c: float = 0.0, every: int = 1):
         """The free motion from ``y0 = (q, q')`` over ``duration`` (s) by ``steps`` RK4 steps
         (compiled, :func:`rk4_motion`): the states every ``every`` steps, ``(steps // every + 1,
-        2 dof)``.  With ``u`` held, a ``U`` in ``y0`` keeps its value (give it zero).  RK4 is stable for ``omega_max dt < 2.8`` with ``omega_max`` the highest
-        frequency of the discretisation (:meth:`highest_frequency`)."""
+        2 dof)``.  With ``u`` held, a ``U`` in ``y0`` keeps its value (give it zero).  RK4 is
+        stable for ``omega_max dt < 2.8`` with ``omega_max`` the highest frequency of the
+        discretisation (:meth:`highest_frequency`)."""
         record = np.empty((steps // every + 1, 2 * self.dof))
-        rk4_motion(*self.kernel_tables, self.inverse_masses, self.omega0_2, self.bias, self.membrane.damping_rate(c), None,
-                   self.load, 0.0, 0.0, np.asarray(y0, float), duration / steps, steps, every, record)
+        rk4_motion(*self.kernel_tables, self.inverse_masses, self.omega0_2, self.bias, self.membrane.damping_rate(c),
+                   None, self.load, 0.0, 0.0, np.asarray(y0, float), duration / steps, steps, every, record)
         return record
 
     def highest_frequency(self) -> float:
