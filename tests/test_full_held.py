@@ -6,6 +6,8 @@ multipliers at rest are the discrete map's closed form under a damping matrix, a
 response is what the ROM's converges to as the ROM's Bessel modes are added (two independent
 radial bases of the same equations)."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -26,6 +28,7 @@ from model.shooting import shoot
 from sweep import cli, validation
 
 MEMBRANE = Membrane(delta=1.1, delta_o=0.2)
+JOBS = Path(__file__).resolve().parents[1] / "jobs"
 #: A small held continuation with families (order 6, n = 1 on 2 and 6 functions).
 HELD_JOB = """[job]
 name = "held"
@@ -67,8 +70,8 @@ def test_u_stays_exactly_at_rest_and_the_map_holds_w_alone(held):
     # the held model's fastest mode is transverse: far fewer steps than with u moving
     moving = AxisymmetricFull(held.state)
     assert held.highest_frequency() < moving.highest_frequency() / 2
-    with pytest.raises(ValueError, match="held at zero"):
-        FreeFull(held)
+    free = FreeFull(held)
+    assert free.dof == o and free.odd.all() and free.flow(np.zeros(2 * o), 0.01, 16)[1].shape == (2 * o, 2 * o)
 
 
 def test_rest_multipliers_under_a_modal_ratio_are_the_discrete_closed_form(held):
@@ -114,6 +117,28 @@ def test_the_held_model_is_what_the_roms_bessel_modes_converge_to():
     full = shoot(ForcedFull.build(moving, P0, Omega, Viscous(c), steps_per_period(moving, 128)),
                  np.zeros(4 * model.order))
     assert abs(full.amplitude - held.amplitude) > abs(rom[16] - rom[12])
+
+
+def test_the_held_backbone_is_what_the_roms_bessel_modes_converge_to():
+    # free orbits at 1 mm (linear: the first transverse frequency to (1e-3 / 0.1)^2 x the 5 %
+    # bend of the backbone at 0.1 m, 5e-6) and at 5 cm; at 5 cm the ROM with 16 Bessel modes
+    # lies within its own 12-to-16 change of the held model (two radial bases of the same
+    # equations, as for the forced response); with u free the frequency differs by more
+    from model.backbone import continue_free_orbits
+    from model.free import FreeRom
+
+    model = AxisymmetricFull(solve_full_prestretch(MEMBRANE, 16), inplane=False)
+    free = FreeFull(model)
+    held = continue_free_orbits(free, [1e-3, 0.05])[0]
+    assert held.converged.all()
+    omega_1 = free.linear_frequencies()[0][0]
+    assert held.omega[0] == pytest.approx(omega_1, rel=5e-5)
+    prestretch = solve_prestretch(MEMBRANE, "numeric")
+    rom = {K: continue_free_orbits(FreeRom(build_rom(prestretch, [(k, 0) for k in range(1, K + 1)])), [0.05])[0].omega[0]
+           for K in (12, 16)}
+    assert abs(rom[16] - held.omega[1]) < abs(rom[16] - rom[12])
+    full = continue_free_orbits(FreeFull(AxisymmetricFull(model.state)), [0.05])[0].omega[0]
+    assert abs(full - held.omega[1]) > abs(rom[16] - rom[12])
 
 
 def test_a_held_continuation_job_runs_with_families_of_w_alone(tmp_path):
@@ -193,3 +218,23 @@ def test_the_report_section_survives_a_failed_held_branch(tmp_path):
         copy.to_netcdf(tmp_path / f"{name}.nc")
     text = "\n".join(validation.section_held_families(tmp_path))
     assert "No branch at N = 6" in text and "| N | M = 2 |" not in text
+
+
+def test_a_held_backbone_job_runs_without_in_plane_variables(tmp_path):
+    # jobs/fig10-full-backbone.toml with u held, 8 functions, three amplitudes: the held
+    # backbone's frequencies, and none of the in-plane extents a model with u free reports
+    text = (JOBS / "fig10-full-backbone.toml").read_text().replace("order = 16", "order = 8\ninplane = false")
+    text = text.replace("{ start = 0.001, stop = 0.4, num = 40 }", "{ start = 0.01, stop = 0.05, num = 3 }")
+    text = text.replace("delta = [1.1, 1.5, 2.0]", "delta = [1.1]")
+    job = tmp_path / "held-backbone.toml"
+    job.write_text(text)
+    out = tmp_path / "held-backbone.nc"
+    assert cli.main(["run", str(job), "-o", str(out)]) == 0
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["model_inplane"] == 0 and (ds.status == 0).all()
+        assert "max_abs_u" not in ds and np.isfinite(ds.omega_nl).all()
+        model = AxisymmetricFull(solve_full_prestretch(MEMBRANE, 8), inplane=False)
+        from model.backbone import continue_free_orbits
+
+        expected = continue_free_orbits(FreeFull(model), [0.01, 0.03, 0.05])[0].omega
+        np.testing.assert_allclose(ds.omega_nl.values.ravel(), expected, rtol=1e-9)

@@ -94,13 +94,12 @@ def test_full_model_options_are_checked(tmp_path, capsys, table, message):
     ("table1-app2", "linear.prestretch = 'analytic' is invalid: must be one of numeric"),
     ("fig10-11-backbone", "backbone.modes = [[1, 0], [2, 0], [3, 0]] is invalid: needs the ROM's mode families"),
     ("validation/families-viscous", "continuation.tongues = True is invalid: needs the ROM's mode families"),
-    ("fig10-full-backbone", "job.analysis = 'backbone' is invalid: an analysis that model 'full' can run with its "
-                            "[model] options (this one needs its free_vibration"),
+    ("fig08-inplane", "backbone.orbit_samples = 64 is invalid: needs a model with in-plane motion"),
     ("fig14a-full", "continuation.families.inplane = True is invalid"),
 ])
 def test_what_the_full_model_does_not_do_is_refused(tmp_path, capsys, job_name, message):
-    """Including, with u = v = 0 held (``inplane = false``), the free vibration and in-plane
-    family perturbations."""
+    """Including, with u = v = 0 held (``inplane = false``), the in-plane orbit fields and
+    in-plane family perturbations."""
     text = (JOBS / f"{job_name}.toml").read_text()
     if "[model]" in text:
         text = text.replace("[model]", "[model]\ninplane = false")

@@ -21,6 +21,10 @@ axisymmetric full model (:class:`model.full.axisymmetric.AxisymmetricFull`): coo
 * Lightly damped free decays (peak-to-peak method): the compiled RK4 free motion
   (:func:`model.full.axisymmetric_kernels.rk4_motion`) with the extrema of ``w`` at the probe
   located between steps on the cubic Hermite interpolant of ``(q, q')``.
+
+On a model with ``u`` held at zero (``AxisymmetricFull(..., inplane=False)``) the coordinates
+are ``W`` alone (every one odd), as :class:`model.full.forced.ForcedFull` keeps them: the
+compiled loops run on ``(U, W)`` with ``U`` at rest.
 """
 
 from __future__ import annotations
@@ -73,49 +77,59 @@ class FreeFull:
     """
 
     def __init__(self, model: AxisymmetricFull, probe_rho: float | None = None):
-        if not model.inplane:
-            raise ValueError("model is invalid here: its u is held at zero (the free vibration needs inplane=True)")
         self.model = model
         m = model.membrane
         self.probe_rho = 0.5 * m.Re if probe_rho is None else float(probe_rho)
         o = model.order
+        u = model.moving.size - o  # the U coordinates: none when u is held
         phi, _ = model.state.basis.evaluate(np.eye(o), np.array([self.probe_rho / m.Re]))
         #: ``w(probe_rho) = probe @ q`` (m): only the ``W`` block
-        self.probe = np.concatenate([np.zeros(o), m.Re * phi[:, 0]])
+        self.probe = np.concatenate([np.zeros(u), m.Re * phi[:, 0]])
         #: the coordinates that change sign under ``w -> -w``: the ``W`` block
-        self.odd = np.concatenate([np.zeros(o, bool), np.ones(o, bool)])
+        self.odd = np.concatenate([np.zeros(u, bool), np.ones(o, bool)])
+        #: the indices of the state's components in the compiled loops' ``(q, q')``
+        self.state_indices = np.concatenate([model.moving, model.dof + model.moving])
 
     def __str__(self) -> str:
         return f"the axisymmetric full model of order {self.model.order} (probe at rho = {self.probe_rho:g} m)"
 
     @property
     def dof(self) -> int:
-        """Coordinates ``2 order`` (``U`` then ``W``); states ``(q, q')``."""
-        return self.model.dof
+        """Coordinates ``2 order`` (``U`` then ``W``), or ``order`` (``W``) with ``u`` held;
+        states ``(q, q')``."""
+        return self.model.moving.size
 
     @property
     def length(self) -> float:
         """The outer radius ``Re`` (m)."""
         return self.model.membrane.Re
 
-    def _mass_inverse(self, a):
-        # M^-1 a for the block-diagonal mass (rows of a: U then W)
-        o, inv = self.model.order, self.model.inverse_mass
-        return np.concatenate([inv @ a[:o], inv @ a[o:]])
+    def _compiled(self, y) -> np.ndarray:
+        # the state (or coordinates) y in the compiled loops' (q, q') (or q), a held U at zero
+        y = np.asarray(y, float)
+        n = self.model.dof * (1 if y.size == self.dof else 2)
+        out = np.zeros(n)
+        out[self.model.moving if y.size == self.dof else self.state_indices] = y
+        return out
+
+    def _moving(self, matrix) -> np.ndarray:
+        # the rows and columns of the moving coordinates of a (q, q) matrix
+        return matrix[np.ix_(self.model.moving, self.model.moving)]
 
     def linear_frequencies(self) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (rad s-1, ascending) and vectors (columns) of the motion about the
         pre-stretch: the radial in-plane (``U``) and transverse (``W``) families of n = 0,
-        uncoupled there."""
+        uncoupled there (the transverse ones alone with ``u`` held)."""
         m = self.model
-        mass = np.kron(np.eye(2), m.mass_block)
-        lam, vec = eigh(m.hessian(np.zeros(m.dof)), mass)
+        mass = self._moving(np.kron(np.eye(2), m.mass_block))
+        lam, vec = eigh(self._moving(m.hessian(np.zeros(m.dof))), mass)
         return np.sqrt(m.omega0_2 * lam), vec
 
     def highest_frequency(self, q) -> float:
         """The largest frequency (rad s-1) of the motion linearised about the state ``q``."""
         m = self.model
-        lam = eigh(m.compiled_hessian(np.asarray(q, float)), np.kron(np.eye(2), m.mass_block), eigvals_only=True)[-1]
+        lam = eigh(self._moving(m.compiled_hessian(self._compiled(q))), self._moving(np.kron(np.eye(2), m.mass_block)),
+                   eigvals_only=True)[-1]
         return float(np.sqrt(m.omega0_2 * max(lam, 0.0)))
 
     def steps_for(self, q0, duration: float, steps: int) -> int:
@@ -135,7 +149,8 @@ class FreeFull:
 
     def acceleration(self, q, v) -> np.ndarray:
         """``q''`` of the undamped motion."""
-        return self.model.acceleration(np.asarray(q, float), np.asarray(v, float))
+        moving = self.model.moving
+        return self.model.acceleration(self._compiled(q), self._compiled(v))[moving]
 
     def flow(self, y0, duration: float, steps: int) -> tuple[np.ndarray, np.ndarray]:
         """State after ``duration`` (s) of the undamped motion from ``y0`` by at least ``steps``
@@ -144,14 +159,16 @@ class FreeFull:
         more than :data:`MAX_FLOW_STEPS` steps."""
         m = self.model
         y = np.array(y0, dtype=float)
-        steps = self.steps_for(y[:m.dof], duration, steps)
+        steps = self.steps_for(y[:self.dof], duration, steps)
         if steps > MAX_FLOW_STEPS:
             # rejected as a failed solve: the continuation halves its step (model.backbone)
             raise np.linalg.LinAlgError(f"a state whose fastest mode asks for {steps} RK4 steps (more than "
                                         f"{MAX_FLOW_STEPS})")
+        keep = self.state_indices
         y, big = rk4_variational(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, 0.0, None, m.load, 0.0, 0.0,
-                                 NO_PARAMETER, y, np.eye(y.size), duration / steps, steps)
-        return y, big[:, :-1]
+                                 NO_PARAMETER, self._compiled(y), np.ascontiguousarray(np.eye(2 * m.dof)[:, keep]),
+                                 duration / steps, steps)
+        return y[keep], big[keep, :-1]
 
     def decay_rate(self, c: float) -> float:
         """``c / (Gamma h)`` (s-1), the damping coefficient of every coordinate (the viscous
@@ -175,7 +192,7 @@ class FreeFull:
         for j in range(N):
             dt = self._time_step(y0[j, :n])
             steps = int(np.ceil(t_end / dt))
-            record = self.model.free_motion(y0[j], steps * dt, steps, c=c)
+            record = self.model.free_motion(self._compiled(y0[j]), steps * dt, steps, c=c)[:, self.state_indices]
             t, s = hermite_extrema(record, dt, self.probe, max_count)
             count[j] = t.size
             times[j, :t.size], states[j, :t.size] = t, s
@@ -186,7 +203,8 @@ class FreeFull:
         :data:`STEPS_PER_PERIOD` RK4 steps, or the stability limit) and the time step (s)."""
         q0 = np.asarray(q0, float)
         steps = max(STEPS_PER_PERIOD, int(np.ceil(period / self._time_step(q0))))
-        return self.model.free_motion(np.concatenate([q0, np.zeros(self.dof)]), period, steps), period / steps
+        record = self.model.free_motion(self._compiled(np.concatenate([q0, np.zeros(self.dof)])), period, steps)
+        return record[:, self.state_indices], period / steps
 
     def snapshots(self, q0, period: float, samples: int, rho, periods: int = 1) -> tuple[np.ndarray, np.ndarray]:
         """``(u, w)`` (m), each ``(periods samples, len(rho))``: the displacements at the undeformed
@@ -197,8 +215,8 @@ class FreeFull:
         q0 = np.asarray(q0, float)
         steps = max(STEPS_PER_PERIOD, int(np.ceil(period / self._time_step(q0))))
         steps = samples * -(-steps // samples)
-        record = self.model.free_motion(np.concatenate([q0, np.zeros(self.dof)]), periods * period, periods * steps,
-                                        every=steps // samples)[:periods * samples]
+        record = self.model.free_motion(self._compiled(np.concatenate([q0, np.zeros(self.dof)])), periods * period,
+                                        periods * steps, every=steps // samples)[:periods * samples]
         b, o, re = self.model.state.basis, self.model.order, self.model.membrane.Re
         s = np.asarray(rho, float) / re  # the basis' scaled radius
         return re * b.evaluate(record[:, :o], s)[0], re * b.evaluate(record[:, o:2 * o], s)[0]
@@ -210,11 +228,10 @@ class FreeFull:
         record, _ = self.orbit(q0, period)
         b = self.model.state.basis
         s = np.linspace(b.s_in, b.s_out, radii)
-        o = self.model.order
+        o, u = self.model.order, self.dof - self.model.order  # W: the last o coordinates
         re = self.model.membrane.Re
-        u = re * b.evaluate(record[:, :o], s)[0]
-        w = re * b.evaluate(record[:, o:2 * o], s)[0]
-        return float(np.abs(u).max()), 0.0, float(np.abs(w).max())
+        w = re * b.evaluate(record[:, u:self.dof], s)[0]
+        return (float(np.abs(re * b.evaluate(record[:, :o], s)[0]).max()) if u else 0.0), 0.0, float(np.abs(w).max())
 
 
 def hermite_extrema(record, dt: float, probe, max_count: int):

@@ -119,8 +119,8 @@ class BackboneAnalysis(Analysis):
         inplane = model.provides("inplane_frequencies", context.model.options)
         samples = opt.number(table, self.name, "orbit_samples", 0, integer=True, low=0, high=4096)
         if samples and not inplane:
-            raise JobError(f"{self.name}.orbit_samples", samples, f"needs a model with in-plane motion ([model] kind "
-                           f"= \"full\"); this job's model is {context.model.kind!r}")
+            raise JobError(f"{self.name}.orbit_samples", samples, "needs a model with in-plane motion ([model] kind "
+                           "= \"full\", inplane = true); this job's model has none")
         fe_check = _fe_check_option(table.get("fe_check"), context) if "fe_check" in table else ((), 0, 0)
         return BackboneOptions(
             modes=opt.modes(table, self.name),
@@ -244,9 +244,10 @@ def _padded(values) -> np.ndarray:
 def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int]:
     """``fe_check = {radial = [...], around = A, periods = P}`` as ``(radial, A, P)``."""
     key = "backbone.fe_check"
-    if context.model.kind != "full":
-        raise JobError(key, value, f"a check of the full model's orbits ([model] kind = \"full\"); this job's "
-                       f"model is {context.model.kind!r}")
+    if context.model.kind != "full" or not context.model.options.inplane:
+        raise JobError(key, value, "a check of the full model's orbits with in-plane motion ([model] kind = "
+                       f"\"full\", inplane = true); this job's model is {context.model.kind!r}"
+                       + ("" if context.model.kind != "full" else " with u held"))
     if not isinstance(value, dict):
         raise JobError(key, value, "a table {radial = [4, 8, 16], around = 4, periods = 2}")
     check_keys(value, key, ("radial", "around", "periods"))

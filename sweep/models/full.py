@@ -14,9 +14,9 @@ ROM's mixed mode sets, branch switching and family check are refused at validati
 (:class:`model.full.families.FullFamily`).  Its resolution is ``[model] order``, the
 number of radial Legendre-Galerkin functions per field; ``linear.basis`` overrides it per
 task (a list of orders is a convergence study).  ``[model] inplane = false`` holds ``u`` at
-zero: the ROM's hypothesis ``u = v = 0`` on the full model's radial discretisation, for the
-forced analyses (families then ``W`` alone) and ``static`` and ``linear`` (transverse
-frequencies); ``backbone`` is refused.
+zero: the ROM's hypothesis ``u = v = 0`` on the full model's radial discretisation, for every
+analysis (families then ``W`` alone; ``linear`` gives the transverse frequencies, ``backbone``
+no in-plane extents, orbit fields or FE check).
 """
 
 from __future__ import annotations
@@ -52,7 +52,7 @@ def full_prestretch_for(membrane, order: int):
 
 
 @functools.lru_cache(maxsize=8)
-def axisymmetric_for(membrane, order: int, inplane: bool = True):
+def axisymmetric_for(membrane, order: int, inplane: bool):
     """The axisymmetric full model (:class:`model.full.axisymmetric.AxisymmetricFull`) about
     :func:`full_prestretch_for`, with ``u`` held at zero unless ``inplane`` (cached)."""
     from model.full.axisymmetric import AxisymmetricFull
@@ -82,11 +82,11 @@ class FullModel(Model):
                         f"4..{MAX_ORDER}); the pre-stretch and the frequencies converge spectrally with it "
                         "(docs/model.md, \"The full model\")",
                "inplane": "true (default): the in-plane displacements move with their inertia; false: u = v = 0 "
-                          "held, the ROM's hypothesis on this radial discretisation (the forced analyses, with "
-                          "families of W alone, static and linear; not backbone)"}
+                          "held, the ROM's hypothesis on this radial discretisation (every analysis; families of "
+                          "W alone; no in-plane frequencies, orbit fields or FE check)"}
 
     #: what a model with u held at zero does not provide
-    NEEDS_INPLANE = ("free_vibration", "inplane_frequencies")
+    NEEDS_INPLANE = ("inplane_frequencies",)
 
     def parse_options(self, table):
         check_keys(table, "model", ("kind", *self.OPTIONS))
@@ -142,7 +142,7 @@ class FullModel(Model):
     def free_vibration(self, point, model_options, options):
         from model.full.free import FreeFull
 
-        return FreeFull(axisymmetric_for(point.membrane, model_options.order))
+        return FreeFull(axisymmetric_for(point.membrane, model_options.order, model_options.inplane))
 
     def static_state(self, point, model_options, options):
         return full_prestretch_for(point.membrane, model_options.order)
