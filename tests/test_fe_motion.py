@@ -172,6 +172,8 @@ def test_the_backbone_fe_check_option_writes_the_mesh_study(tmp_path):
      "backbone.fe_check.radial = [8, 4] is invalid: a non-empty list of distinct increasing"),
     ("validation/fe-free-vibration.toml", ("around = 4", "around = 1"),
      "backbone.fe_check.around = 1 is invalid: at least 2"),
+    ("validation/fe-free-vibration.toml", ('kind = "full"', 'kind = "full"\ninplane = false'),
+     "a check of the full model's orbits with in-plane motion"),
 ])
 def test_bad_fe_checks_are_refused_in_one_line(tmp_path, capsys, job, change, message):
     path = tmp_path / "bad.toml"

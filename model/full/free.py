@@ -91,7 +91,8 @@ class FreeFull:
         self.state_indices = np.concatenate([model.moving, model.dof + model.moving])
 
     def __str__(self) -> str:
-        return f"the axisymmetric full model of order {self.model.order} (probe at rho = {self.probe_rho:g} m)"
+        held = "" if self.model.inplane else ", u held at zero"
+        return f"the axisymmetric full model of order {self.model.order}{held} (probe at rho = {self.probe_rho:g} m)"
 
     @property
     def dof(self) -> int:
@@ -104,12 +105,22 @@ class FreeFull:
         """The outer radius ``Re`` (m)."""
         return self.model.membrane.Re
 
-    def _compiled(self, y) -> np.ndarray:
-        # the state (or coordinates) y in the compiled loops' (q, q') (or q), a held U at zero
+    def _compiled_coordinates(self, q) -> np.ndarray:
+        # the coordinates q (dof) in the compiled loops' q = (U, W), a held U at zero
+        q = np.asarray(q, float)
+        if q.shape != (self.dof,):
+            raise ValueError(f"coordinates shape {q.shape} is invalid: expected ({self.dof},)")
+        out = np.zeros(self.model.dof)
+        out[self.model.moving] = q
+        return out
+
+    def _compiled_state(self, y) -> np.ndarray:
+        # the state y = (q, q') in the compiled loops' (q, q'), a held U at rest
         y = np.asarray(y, float)
-        n = self.model.dof * (1 if y.size == self.dof else 2)
-        out = np.zeros(n)
-        out[self.model.moving if y.size == self.dof else self.state_indices] = y
+        if y.shape != (2 * self.dof,):
+            raise ValueError(f"state shape {y.shape} is invalid: expected ({2 * self.dof},) = (q, q')")
+        out = np.zeros(2 * self.model.dof)
+        out[self.state_indices] = y
         return out
 
     def _moving(self, matrix) -> np.ndarray:
@@ -128,7 +139,8 @@ class FreeFull:
     def highest_frequency(self, q) -> float:
         """The largest frequency (rad s-1) of the motion linearised about the state ``q``."""
         m = self.model
-        lam = eigh(self._moving(m.compiled_hessian(self._compiled(q))), self._moving(np.kron(np.eye(2), m.mass_block)),
+        lam = eigh(self._moving(m.compiled_hessian(self._compiled_coordinates(q))),
+                   self._moving(np.kron(np.eye(2), m.mass_block)),
                    eigvals_only=True)[-1]
         return float(np.sqrt(m.omega0_2 * max(lam, 0.0)))
 
@@ -150,7 +162,7 @@ class FreeFull:
     def acceleration(self, q, v) -> np.ndarray:
         """``q''`` of the undamped motion."""
         moving = self.model.moving
-        return self.model.acceleration(self._compiled(q), self._compiled(v))[moving]
+        return self.model.acceleration(self._compiled_coordinates(q), self._compiled_coordinates(v))[moving]
 
     def flow(self, y0, duration: float, steps: int) -> tuple[np.ndarray, np.ndarray]:
         """State after ``duration`` (s) of the undamped motion from ``y0`` by at least ``steps``
@@ -166,8 +178,8 @@ class FreeFull:
                                         f"{MAX_FLOW_STEPS})")
         keep = self.state_indices
         y, big = rk4_variational(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, 0.0, None, m.load, 0.0, 0.0,
-                                 NO_PARAMETER, self._compiled(y), np.ascontiguousarray(np.eye(2 * m.dof)[:, keep]),
-                                 duration / steps, steps)
+                                 NO_PARAMETER, self._compiled_state(y),
+                                 np.ascontiguousarray(np.eye(2 * m.dof)[:, keep]), duration / steps, steps)
         return y[keep], big[keep, :-1]
 
     def decay_rate(self, c: float) -> float:
@@ -192,7 +204,7 @@ class FreeFull:
         for j in range(N):
             dt = self._time_step(y0[j, :n])
             steps = int(np.ceil(t_end / dt))
-            record = self.model.free_motion(self._compiled(y0[j]), steps * dt, steps, c=c)[:, self.state_indices]
+            record = self.model.free_motion(self._compiled_state(y0[j]), steps * dt, steps, c=c)[:, self.state_indices]
             t, s = hermite_extrema(record, dt, self.probe, max_count)
             count[j] = t.size
             times[j, :t.size], states[j, :t.size] = t, s
@@ -203,7 +215,7 @@ class FreeFull:
         :data:`STEPS_PER_PERIOD` RK4 steps, or the stability limit) and the time step (s)."""
         q0 = np.asarray(q0, float)
         steps = max(STEPS_PER_PERIOD, int(np.ceil(period / self._time_step(q0))))
-        record = self.model.free_motion(self._compiled(np.concatenate([q0, np.zeros(self.dof)])), period, steps)
+        record = self.model.free_motion(self._compiled_state(np.concatenate([q0, np.zeros(self.dof)])), period, steps)
         return record[:, self.state_indices], period / steps
 
     def snapshots(self, q0, period: float, samples: int, rho, periods: int = 1) -> tuple[np.ndarray, np.ndarray]:
@@ -215,8 +227,9 @@ class FreeFull:
         q0 = np.asarray(q0, float)
         steps = max(STEPS_PER_PERIOD, int(np.ceil(period / self._time_step(q0))))
         steps = samples * -(-steps // samples)
-        record = self.model.free_motion(self._compiled(np.concatenate([q0, np.zeros(self.dof)])), periods * period,
-                                        periods * steps, every=steps // samples)[:periods * samples]
+        start = self._compiled_state(np.concatenate([q0, np.zeros(self.dof)]))
+        record = self.model.free_motion(start, periods * period, periods * steps,
+                                        every=steps // samples)[:periods * samples]
         b, o, re = self.model.state.basis, self.model.order, self.model.membrane.Re
         s = np.asarray(rho, float) / re  # the basis' scaled radius
         return re * b.evaluate(record[:, :o], s)[0], re * b.evaluate(record[:, o:2 * o], s)[0]

@@ -12,7 +12,8 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   the paper's normalisation (Fig. 9), ``(q_k(trough of w) - q_k(peak of w)) / 2``, so that
   ``A_10 > 0`` (models with modes: the ROM);
 * ``max_abs_u``, ``max_abs_v``, ``max_abs_w`` (``point``) -- the largest ``|u|``, ``|v|``,
-  ``|w|`` (m) over the orbit and the membrane (models with in-plane motion: the full model);
+  ``|w|`` (m) over the orbit and the membrane (models with in-plane motion: the full model with
+  ``u`` free);
 * ``orbit_u``, ``orbit_w`` (``point``, ``orbit_phase``, ``orbit_radius``) -- with
   ``orbit_samples = N`` (models with in-plane motion): ``u`` and ``w`` (m) at ``N`` instants of
   one period of each orbit (``orbit_phase``: the fraction of the period, the first at rest at
@@ -21,7 +22,7 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   ``v`` vanishes on these axisymmetric orbits);
 * ``fe_omega``, ``fe_omega_spread``, ``fe_w_deviation``, ``fe_u_deviation`` (``point``,
   ``fe_radial``) -- with
-  ``fe_check = {radial = [...], around, periods}`` (the full model): the membrane on the
+  ``fe_check = {radial = [...], around, periods}`` (the full model with ``u`` free): the membrane on the
   two-dimensional finite-element meshes of ``radial`` P2 elements across and ``around``
   times as many around (:mod:`model.fe_motion`), integrated for ``periods`` periods from
   rest at each orbit's state; its frequency from the extrema of ``w`` at the probe and the
@@ -109,7 +110,8 @@ class BackboneAnalysis(Analysis):
         "fe_check": "{radial = [4, 8, 16], around = 4, periods = 2}: each free orbit's motion on two-dimensional "
                     "finite-element meshes of radial P2 elements across and around x radial around, integrated "
                     "for periods periods from rest at the orbit's state; fe_omega, fe_omega_spread, fe_w_deviation, "
-                    "fe_u_deviation (the full model; docs/validation.md, \"The finite-element free vibration\")",
+                    "fe_u_deviation (the full model with u free; docs/validation.md, \"The finite-element free "
+                    "vibration\")",
     }
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
