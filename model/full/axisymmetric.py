@@ -23,6 +23,8 @@ coordinates that move.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
@@ -54,6 +56,10 @@ class AxisymmetricFull:
         self.inverse_mass = np.linalg.inv(mass)
         #: the indices in ``q = (U, W)`` of the coordinates that move: all, or ``W`` alone
         self.moving = np.arange(0 if self.inplane else self.order, self.dof)
+        #: the indices in ``(q, q')`` of the moving coordinates and their velocities
+        self.state_indices = np.concatenate([self.moving, self.dof + self.moving])
+        #: the mass matrix of the moving coordinates (block diagonal, one ``mass`` per field)
+        self.moving_mass = self.restricted(np.kron(np.eye(2), mass))
         #: ``M^-1`` per field, ``(2, order, order)`` (``U`` then ``W``), as the compiled motion
         #: takes it: the ``U`` block zero when ``u`` is held
         self.inverse_masses = np.stack([self.inverse_mass * self.inplane, self.inverse_mass])
@@ -72,6 +78,17 @@ class AxisymmetricFull:
         #: near rest converges to a relative tolerance (at ``P0 = 0`` the rest state itself)
         self.bias = self.omega0_2 * np.concatenate([self.inverse_masses[0] @ g0[:self.order],
                                                     self.inverse_masses[1] @ g0[self.order:]])
+
+    @functools.cached_property
+    def state_tangents(self) -> np.ndarray:
+        """The unit vectors of the moving components of ``(q, q')`` (columns, ``(2 dof,
+        moving components)``): the tangents along which the compiled variational flow is
+        integrated."""
+        return np.ascontiguousarray(np.eye(2 * self.dof)[:, self.state_indices])
+
+    def restricted(self, matrix) -> np.ndarray:
+        """The rows and columns of the moving coordinates of a ``(dof, dof)`` matrix."""
+        return matrix[np.ix_(self.moving, self.moving)]
 
     def compiled_gradient(self, q) -> np.ndarray:
         """:meth:`gradient` by the compiled loop (:func:`axisymmetric_gradient`)."""

@@ -59,9 +59,7 @@ def linear_system(model: AxisymmetricFull) -> tuple[np.ndarray, np.ndarray]:
     """``(M, K0)``: the mass matrix and the tangent stiffness about the pre-stretch of the
     moving coordinates (``(U, W)``, or ``W`` with ``u`` held) in the scale of
     ``q'' = -M^-1 K0 q`` (s-2)."""
-    keep = np.ix_(model.moving, model.moving)
-    return (np.kron(np.eye(2), model.mass_block)[keep],
-            model.omega0_2 * model.hessian(np.zeros(model.dof))[keep])
+    return model.moving_mass, model.omega0_2 * model.restricted(model.hessian(np.zeros(model.dof)))
 
 
 def damped_eigenvalues(mass, stiffness, rate: float, matrix) -> np.ndarray:
@@ -80,13 +78,12 @@ def steps_per_period(model: AxisymmetricFull, base: int, damping: DampingLaw | N
     (:func:`damped_eigenvalues`; None: ``omega_max``, which bounds them unless the law
     overdamps the fastest modes).  A lower ``Omega`` needs more steps: the map returns NaN
     beyond RK4's stability limit."""
-    mass, stiffness = linear_system(model)
+    system = mass, stiffness = linear_system(model)
     o = model.order  # the transverse block: the last o coordinates
     lowest = math.sqrt(eigh(stiffness[-o:, -o:], mass[-o:, -o:], eigvals_only=True)[0])
     fastest = model.highest_frequency()
     if damping is not None:
-        rate, matrix = _law_terms(model, damping)
-        fastest = max(fastest, float(np.abs(_eigenvalues(model, rate, matrix)).max()))
+        fastest = max(fastest, float(np.abs(_law_terms(model, damping, system)[2]).max()))
     return max(int(base), math.ceil(2.0 * math.pi / (0.5 * lowest) * fastest / STABLE_STEP))
 
 
@@ -156,7 +153,7 @@ class ForcedFull:
         the axisymmetric ``modes`` ``(m, 0)`` on the section (:meth:`modal_section`)."""
         m = model.membrane
         damping = Viscous() if damping is None else damping
-        rate, matrix = _law_terms(model, damping)
+        rate, matrix, eigenvalues = _law_terms(model, damping)
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise ValueError(f"steps = {steps!r} is invalid: must be an integer >= 1")
         rho = 0.5 * m.Re if probe_rho is None else float(probe_rho)
@@ -164,7 +161,7 @@ class ForcedFull:
         probe = np.concatenate([np.zeros(model.moving.size - model.order), phi[:, 0]])
         modes = tuple((int(mm), int(n)) for mm, n in modes)
         return cls(model, float(P0), float(Omega), damping, int(steps), rate, matrix, probe,
-                   model.highest_frequency(), _eigenvalues(model, rate, matrix), modal_projection(model, modes),
+                   model.highest_frequency(), eigenvalues, modal_projection(model, modes),
                    mode_coefficients(model, modes), rho, modes)
 
     def on_model(self, model: AxisymmetricFull) -> ForcedFull:
@@ -177,12 +174,6 @@ class ForcedFull:
         """Coordinates ``2 order`` (``U`` then ``W``, m), or ``order`` (``W``) with ``u``
         held; states ``(q, q')``."""
         return self.model.moving.size
-
-    @property
-    def state_indices(self) -> np.ndarray:
-        """The indices of the state's components in the compiled loops' ``(q, q')``."""
-        m = self.model
-        return np.concatenate([m.moving, m.dof + m.moving])
 
     @property
     def period(self) -> float:
@@ -209,8 +200,8 @@ class ForcedFull:
         if parameter not in self.parameters:
             raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(self.parameters)}")
         law = self.damping.replaced(parameter, float(value))
-        rate, matrix = _law_terms(self.model, law)
-        return replace(self, damping=law, rate=rate, matrix=matrix, eigenvalues=_eigenvalues(self.model, rate, matrix))
+        rate, matrix, eigenvalues = _law_terms(self.model, law)
+        return replace(self, damping=law, rate=rate, matrix=matrix, eigenvalues=eigenvalues)
 
     def state_scale(self, Omega: float | None = None) -> np.ndarray:
         """:func:`model.protocol.state_scale` at this map's ``Omega`` or at ``Omega``."""
@@ -222,7 +213,7 @@ class ForcedFull:
         if y.shape != (2 * self.dof,):
             raise ValueError(f"state shape {y.shape} is invalid: expected ({2 * self.dof},) = (q, q')")
         out = np.zeros(2 * self.model.dof)
-        out[self.state_indices] = y / self.model.membrane.Re
+        out[self.model.state_indices] = y / self.model.membrane.Re
         return out
 
     @property
@@ -245,7 +236,7 @@ class ForcedFull:
             return np.full((record.shape[0], 2 * self.dof), np.nan)
         rk4_motion(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, self.rate, matrix_or_none(self.matrix),
                    m.load, self.P0, self.Omega, y, self.period / self.steps, steps, every, record)
-        return record[:, self.state_indices] * m.membrane.Re
+        return record[:, m.state_indices] * m.membrane.Re
 
     def advance(self, y, periods: int = 1) -> np.ndarray:
         """``P^periods(y)``: the state after ``periods`` forcing periods from ``t = 0``."""
@@ -264,12 +255,11 @@ class ForcedFull:
         if not self.stable_step:
             n = 2 * self.dof
             return np.full(n, np.nan), np.full((n, n), np.nan), np.full(n, np.nan)
-        keep = self.state_indices
+        keep = m.state_indices
         # the flow's derivative along the moving components only (a held U is not a column)
-        tangents = np.ascontiguousarray(np.eye(2 * m.dof)[:, keep])
         yT, big = rk4_variational(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, self.rate,
                                   matrix_or_none(self.matrix), m.load, self.P0, self.Omega, parameter, self._state(y),
-                                  tangents, self.period / self.steps, self.steps)
+                                  m.state_tangents, self.period / self.steps, self.steps)
         big = big[keep]
         return yT[keep] * re, big[:, :-1], big[:, -1] * re
 
@@ -353,24 +343,20 @@ class ForcedFull:
 
 
 
-def _eigenvalues(model: AxisymmetricFull, rate: float, matrix) -> np.ndarray:
-    """:func:`damped_eigenvalues` of the moving coordinates of ``model`` under ``rate`` and the
-    law's ``matrix`` on the compiled loops' coordinates (:func:`_law_terms`)."""
-    keep = np.ix_(model.moving, model.moving)
-    return damped_eigenvalues(*linear_system(model), rate, matrix[keep] if matrix.shape[0] else matrix)
-
-
-def _law_terms(model: AxisymmetricFull, law: DampingLaw) -> tuple[float, np.ndarray]:
-    """The damping law's mass-proportional rate (s-1) and the rest of it (s-1) on the
-    compiled loops' ``(U, W)`` (:data:`model.damping.NO_MATRIX` for none), from the linear
-    system of the moving coordinates: a held ``U`` has no damping."""
+def _law_terms(model: AxisymmetricFull, law: DampingLaw, system=None) -> tuple[float, np.ndarray, np.ndarray]:
+    """The damping law's mass-proportional rate (s-1), the rest of it (s-1) on the compiled
+    loops' ``(U, W)`` (:data:`model.damping.NO_MATRIX` for none; a held ``U`` has no damping)
+    and the eigenvalues of the damped linear motion (:func:`damped_eigenvalues`), from the
+    linear system of the moving coordinates (``system``: :func:`linear_system`, when known)."""
     m = model.membrane
-    rate, matrix = law.terms(*linear_system(model), m.Gamma * m.h)
+    system = linear_system(model) if system is None else system
+    rate, matrix = law.terms(*system, m.Gamma * m.h)
+    eigenvalues = damped_eigenvalues(*system, rate, matrix)
     if matrix.shape[0] and model.moving.size < model.dof:
         full = np.zeros((model.dof, model.dof))
         full[np.ix_(model.moving, model.moving)] = matrix
         matrix = full
-    return float(rate), matrix
+    return float(rate), matrix, eigenvalues
 
 
 def _mode_shapes(model: AxisymmetricFull, modes) -> np.ndarray:

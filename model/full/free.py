@@ -36,6 +36,7 @@ from scipy.linalg import eigh
 
 from .axisymmetric import AxisymmetricFull
 from .axisymmetric_kernels import NO_PARAMETER, rk4_variational
+from .forced import linear_system
 
 #: RK4 steps per linear period at least, in the decays and the extent of an orbit.
 STEPS_PER_PERIOD = 1024
@@ -87,8 +88,6 @@ class FreeFull:
         self.probe = np.concatenate([np.zeros(u), m.Re * phi[:, 0]])
         #: the coordinates that change sign under ``w -> -w``: the ``W`` block
         self.odd = np.concatenate([np.zeros(u, bool), np.ones(o, bool)])
-        #: the indices of the state's components in the compiled loops' ``(q, q')``
-        self.state_indices = np.concatenate([model.moving, model.dof + model.moving])
 
     def __str__(self) -> str:
         held = "" if self.model.inplane else ", u held at zero"
@@ -120,27 +119,21 @@ class FreeFull:
         if y.shape != (2 * self.dof,):
             raise ValueError(f"state shape {y.shape} is invalid: expected ({2 * self.dof},) = (q, q')")
         out = np.zeros(2 * self.model.dof)
-        out[self.state_indices] = y
+        out[self.model.state_indices] = y
         return out
-
-    def _moving(self, matrix) -> np.ndarray:
-        # the rows and columns of the moving coordinates of a (q, q) matrix
-        return matrix[np.ix_(self.model.moving, self.model.moving)]
 
     def linear_frequencies(self) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies (rad s-1, ascending) and vectors (columns) of the motion about the
         pre-stretch: the radial in-plane (``U``) and transverse (``W``) families of n = 0,
         uncoupled there (the transverse ones alone with ``u`` held)."""
-        m = self.model
-        mass = self._moving(np.kron(np.eye(2), m.mass_block))
-        lam, vec = eigh(self._moving(m.hessian(np.zeros(m.dof))), mass)
-        return np.sqrt(m.omega0_2 * lam), vec
+        mass, stiffness = linear_system(self.model)
+        lam, vec = eigh(stiffness, mass)
+        return np.sqrt(lam), vec
 
     def highest_frequency(self, q) -> float:
         """The largest frequency (rad s-1) of the motion linearised about the state ``q``."""
         m = self.model
-        lam = eigh(self._moving(m.compiled_hessian(self._compiled_coordinates(q))),
-                   self._moving(np.kron(np.eye(2), m.mass_block)),
+        lam = eigh(m.restricted(m.compiled_hessian(self._compiled_coordinates(q))), m.moving_mass,
                    eigvals_only=True)[-1]
         return float(np.sqrt(m.omega0_2 * max(lam, 0.0)))
 
@@ -176,10 +169,9 @@ class FreeFull:
             # rejected as a failed solve: the continuation halves its step (model.backbone)
             raise np.linalg.LinAlgError(f"a state whose fastest mode asks for {steps} RK4 steps (more than "
                                         f"{MAX_FLOW_STEPS})")
-        keep = self.state_indices
+        keep = m.state_indices
         y, big = rk4_variational(*m.kernel_tables, m.inverse_masses, m.omega0_2, m.bias, 0.0, None, m.load, 0.0, 0.0,
-                                 NO_PARAMETER, self._compiled_state(y),
-                                 np.ascontiguousarray(np.eye(2 * m.dof)[:, keep]), duration / steps, steps)
+                                 NO_PARAMETER, self._compiled_state(y), m.state_tangents, duration / steps, steps)
         return y[keep], big[keep, :-1]
 
     def decay_rate(self, c: float) -> float:
@@ -204,7 +196,8 @@ class FreeFull:
         for j in range(N):
             dt = self._time_step(y0[j, :n])
             steps = int(np.ceil(t_end / dt))
-            record = self.model.free_motion(self._compiled_state(y0[j]), steps * dt, steps, c=c)[:, self.state_indices]
+            record = self.model.free_motion(self._compiled_state(y0[j]), steps * dt, steps, c=c)
+            record = record[:, self.model.state_indices]
             t, s = hermite_extrema(record, dt, self.probe, max_count)
             count[j] = t.size
             times[j, :t.size], states[j, :t.size] = t, s
@@ -216,7 +209,7 @@ class FreeFull:
         q0 = np.asarray(q0, float)
         steps = max(STEPS_PER_PERIOD, int(np.ceil(period / self._time_step(q0))))
         record = self.model.free_motion(self._compiled_state(np.concatenate([q0, np.zeros(self.dof)])), period, steps)
-        return record[:, self.state_indices], period / steps
+        return record[:, self.model.state_indices], period / steps
 
     def snapshots(self, q0, period: float, samples: int, rho, periods: int = 1) -> tuple[np.ndarray, np.ndarray]:
         """``(u, w)`` (m), each ``(periods samples, len(rho))``: the displacements at the undeformed
