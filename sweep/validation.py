@@ -1940,7 +1940,7 @@ def section_full_backbone(results: Path) -> list[str]:
            "before the branch turns.", ""]
     full, coarse, rom = (_open(results, n) for n in names)
     if any(ds is None for ds in (full, coarse, rom)):
-        return out + _missing(*names)
+        return out + _missing(*names, *HELD_BACKBONES)
     sets = {int(k): label for label, k in zip(rom.mode_set.values, rom.n_modes.values)}
     top = max(sets)
     head = ["delta", "A (m)", "omega full (rad/s)", "peak-to-peak", "order 12", f"ROM M = {top}",
@@ -1979,7 +1979,61 @@ def section_full_backbone(results: Path) -> list[str]:
             "is a resonance with a mode that is not yet converged: beyond it the backbone of the full model is",
             "not established by these runs.", ""]
     out += _turn_against_fig08(results, full)
-    return out
+    return out + _held_backbone(results, full, rom)
+
+
+#: The backbone with u = v = 0 held on the full model's radial basis, 16 and 24 functions.
+HELD_BACKBONES = ("validation/held-backbone", "validation/held-backbone-order24")
+
+
+def _held_backbone(results: Path, full, rom) -> list[str]:
+    """The backbone with u = v = 0 held on the full model's radial basis (16 and 24
+    functions): the ROM's converged limit, against the ROM's mode sets and the full model."""
+    names = HELD_BACKBONES
+    out = ["### The converged u = v = 0 backbone", "",
+           "The same targets with u = v = 0 held on the full model's radial Legendre basis of w alone",
+           "(`validation/held-backbone`, 16 functions; `validation/held-backbone-order24`, 24): the",
+           "ROM's hypothesis without its modal truncation, the limit its Bessel-mode backbones tend to.",
+           "Relative frequency differences from the held 16-function orbit: its 24-function one, the ROM",
+           "with M axisymmetric modes (truncation), and the full model with u free (`fig10-full-backbone`:",
+           "the in-plane freedom). Targets as above, up to the last orbit the held model finds.", ""]
+    held, fine = (_open(results, n) for n in names)
+    if held is None or fine is None:
+        return out + _missing(*names)
+    sets = {int(k): label for label, k in zip(rom.mode_set.values, rom.n_modes.values)}
+    head = ["delta", "A (m)", "omega u = v = 0 (rad/s)", "order 24", *(f"ROM M = {k}" for k in sets),
+            "full, u free", "max abs w / A"]
+    out += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    notes = []
+    for d in held.delta.values:
+        h, g, f = (_point(x, delta=float(d), delta_o=0.2) for x in (held, fine, full))
+        r = {k: select(_point(rom, delta=float(d), delta_o=0.2), label) for k, label in sets.items()}
+        amp, omega = h.amplitude.values, h.omega_nl.values
+        ok = np.flatnonzero(np.isfinite(omega))
+        if ok.size == 0:
+            notes.append(f"* delta = {float(d):g}: no free orbit with u = v = 0 held.")
+            continue
+        shown = sorted({int(np.argmin(np.abs(amp - a))) for a in np.arange(0.01, amp[ok].max(), 0.05)} | {ok[-1]})
+
+        def rel(x, j):
+            return "-" if not np.isfinite(x[j]) else f"{x[j] / omega[j] - 1:+.1e}"
+
+        for j in (j for j in shown if np.isfinite(omega[j])):
+            cells = [f"{float(d):g}", f"{amp[j]:.4f}", f"{omega[j]:.5f}", rel(g.omega_nl.values, j),
+                     *(rel(b.omega_nl.values, j) for b in r.values()), rel(f.omega_nl.values, j),
+                     f"{h.max_abs_w.values[j] / amp[j]:.4f}"]
+            out.append("| " + " | ".join(cells) + " |")
+        shift = omega - float(h.omega_linear)
+        top = max(sets)
+        ratio = (r[top].omega_nl.values - float(r[top].omega_linear)) / shift
+        both = np.isfinite(f.omega_nl.values) & np.isfinite(omega)
+        free = (f.omega_nl.values - float(f.omega_linear)) / shift
+        notes.append(f"* delta = {float(d):g}: held orbits up to {amp[ok].max():.4f} m"
+                     + ("" if np.isnan(h.turn_amplitude) else f" (the branch turns back at {_turn(h)})")
+                     + f"; the frequency shift from the linear limit of the ROM with M = {top} over the held one "
+                     f"{np.nanmin(ratio):.3f}-{np.nanmax(ratio):.3f}, of the full model with u free "
+                     + (f"{np.nanmin(free[both]):.3f}-{np.nanmax(free[both]):.3f}." if both.any() else "none."))
+    return out + ["", *notes, ""]
 
 
 def _turn_against_fig08(results: Path, full) -> list[str]:

@@ -12,8 +12,8 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   the paper's normalisation (Fig. 9), ``(q_k(trough of w) - q_k(peak of w)) / 2``, so that
   ``A_10 > 0`` (models with modes: the ROM);
 * ``max_abs_u``, ``max_abs_v``, ``max_abs_w`` (``point``) -- the largest ``|u|``, ``|v|``,
-  ``|w|`` (m) over the orbit and the membrane (models with in-plane motion: the full model with
-  ``u`` free);
+  ``|w|`` (m) over the orbit and the membrane (the full model; ``max_abs_w`` alone with ``u``
+  held);
 * ``orbit_u``, ``orbit_w`` (``point``, ``orbit_phase``, ``orbit_radius``) -- with
   ``orbit_samples = N`` (models with in-plane motion): ``u`` and ``w`` (m) at ``N`` instants of
   one period of each orbit (``orbit_phase``: the fraction of the period, the first at rest at
@@ -79,8 +79,8 @@ class BackboneOptions:
     material: str = "neo-hookean"
     #: whether the model has modes (``modal_amplitude``; the ROM)
     modal: bool = True
-    #: whether the model has in-plane motion (``max_abs_u``, ``max_abs_v``, ``max_abs_w``)
-    inplane: bool = False
+    #: the fields of ``max_abs_<field>`` (:meth:`sweep.models.base.Model.orbit_extents`)
+    extents: str = ""
     #: instants per period of ``orbit_u``, ``orbit_w`` (0: none)
     orbit_samples: int = 0
     #: ``fe_check``: the meshes' radial elements, the elements around per radial one and the
@@ -132,7 +132,8 @@ class BackboneAnalysis(Analysis):
             peak_damping=opt.number(table, self.name, "peak_damping", 0.05, low=0.0, low_open=True),
             material=membrane.law,
             modal=model.rom_features,
-            inplane=inplane, orbit_samples=samples, fe_check=fe_check)
+            extents=model.orbit_extents(context.model.options), orbit_samples=samples,
+            fe_check=fe_check)
 
     def variables(self, options):
         P, K = options.amplitude[2], len(options.modes)
@@ -161,8 +162,7 @@ class BackboneAnalysis(Analysis):
                        "modal amplitude A_mn of the free periodic orbit (Eq. 31 normalisation)")]
              if options.modal else []) + (
             [Variable(f"max_abs_{f}", ("point",), (P,), "f8", "m",
-                      f"largest |{f}| over the free periodic orbit and the membrane") for f in "uvw"]
-            if options.inplane else []) + (
+                      f"largest |{f}| over the free periodic orbit and the membrane") for f in options.extents]) + (
             [Variable(f"orbit_{f}", ("point", "orbit_phase", "orbit_radius"), (P, options.orbit_samples, ORBIT_RADII),
                       "f8", "m", f"{name} over one period of the free periodic orbit")
              for f, name in (("u", "radial displacement u"), ("w", "transverse displacement w"))]
@@ -216,11 +216,11 @@ class BackboneAnalysis(Analysis):
                               f"{np.count_nonzero(~peaks.converged)} without a peak-to-peak sample{where}")
         if options.modal:
             out["modal_amplitude"] = orbits.modal
-        if options.inplane:
+        if options.extents:
             extent = np.full((targets.size, 3), np.nan)
             for j in np.flatnonzero(orbits.converged):
                 extent[j] = free.extent(orbits.modal[j], 2.0 * np.pi / orbits.omega[j])
-            out.update(max_abs_u=extent[:, 0], max_abs_v=extent[:, 1], max_abs_w=extent[:, 2])
+            out.update({f"max_abs_{f}": extent[:, "uvw".index(f)] for f in options.extents})
         if options.orbit_samples:
             shape = (targets.size, options.orbit_samples, ORBIT_RADII)
             out["orbit_u"], out["orbit_w"] = np.full(shape, np.nan), np.full(shape, np.nan)

@@ -59,6 +59,13 @@ class Model:
         ``model_options`` when given (a model may provide less under some options)."""
         return getattr(type(self), method, None) is not getattr(Model, method, None)
 
+    def orbit_extents(self, model_options: Any) -> str:
+        """The displacement fields (of ``"uvw"``) whose largest magnitude over a free orbit
+        and the membrane the model's free vibration measures
+        (:meth:`model.full.free.FreeFull.extent`; the backbone's ``max_abs_<field>``); none
+        by default."""
+        return ""
+
     def parse_options(self, table: Mapping[str, Any]) -> Any:
         """Validate the ``[model]`` table (without ``kind``); raise
         :class:`~sweep.analyses.base.JobError` on bad input.  Default: no keys."""

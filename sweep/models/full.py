@@ -98,6 +98,9 @@ class FullModel(Model):
             return False
         return super().provides(method, model_options)
 
+    def orbit_extents(self, model_options):
+        return "uvw" if model_options.inplane else "w"
+
     def forced_map(self, point, model_options, options, modes=None, default_steps=None):
         from model.damping import Viscous
         from model.forced import DEFAULT_STEPS
