@@ -1817,7 +1817,45 @@ def section_full_fig14a_light(results: Path) -> list[str]:
         last = int(np.flatnonzero(kind == FOLD)[-1])
         ends.append(f"{label}: {value[last]:.3f} rad/s ({amp[last]:.4f} m), {amp[n - 1]:.1e} m at {value[n - 1]:g} rad/s")
     return out + ["", "The last saddle-node of each branch, where it comes down to the small non-resonant responses, and",
-                  "the response at the end of the range: " + "; ".join(ends) + ".", ""]
+                  "the response at the end of the range: " + "; ".join(ends) + ".", ""] + _light_families(results)
+
+
+#: The full model at the paper's damping with its families, and u = v = 0 held at 12 functions.
+LIGHT_FAMILIES = ("validation/fig14a-full-light-families-order8", "validation/fig14a-held-viscous-order12")
+
+
+def _light_families(results: Path) -> list[str]:
+    """The families n = 1..6 in (U, V, W) along the full model's branch at the paper's damping,
+    against u = v = 0 held on a complete radial basis at the same load and damping."""
+    out = ["### The families on the full model at the paper's damping", "",
+           "The same branch with the families n = 1..6 in (U, V, W) on all 8 functions per field",
+           "(`validation/fig14a-full-light-families-order8`), against u = v = 0 held on 12 functions with its",
+           "families of W on all 12 (`validation/fig14a-held-viscous-order12`; docs/validation.md, \"The families",
+           "with u = v = 0 on a complete radial basis\"). Per family the Omega intervals (rad/s) where it is",
+           "unstable up to the saddle-node of largest amplitude (through the loops of internal resonances), in",
+           "brackets its largest multiplier modulus there, and the points of the rest of the branch where it",
+           "is unstable.", ""]
+    runs = [_open(results, n) for n in LIGHT_FAMILIES]
+    if any(ds is None for ds in runs):
+        return out + _missing(*LIGHT_FAMILIES)
+    families = [int(n) for n in runs[0].family.values]
+    out += ["| model | stretch ends at (rad/s) | amplitude there (m) | "
+            + " | ".join(f"n = {f}" for f in families) + " |", "|---|---|---|" + "---|" * len(families)]
+    for ds in runs:
+        b = _grid_point(ds)
+        value, modulus, intervals = _stretch_families(b, to_peak=True)
+        end, r = value.size, modulus.shape[1] - 1  # the largest radial count: all functions
+        n = int(b.n_points)
+        tail = (b.family_multiplier_modulus.expand_dims("family_radial")
+                if "family_radial" not in b.family_multiplier_modulus.dims else b.family_multiplier_modulus)
+        tail = tail.transpose("point", "family_radial", "family").values[end:n, r]
+        label = (f"full, order {int(ds.attrs['model_order'])}" if ds.attrs.get("model_inplane", 1)
+                 else f"u = v = 0, order {int(ds.attrs['model_order'])}")
+        cells = [f"{_fmt_intervals(intervals[r, j])} ({np.nanmax(modulus[:, r, j]):.3f}); "
+                 f"{int(np.count_nonzero(tail[:, j] > 1.0))} after" for j in range(len(families))]
+        out.append(f"| {label} | {value[-1]:.3f} | {float(b.amplitude.values.ravel()[end - 1]):.4f} | "
+                   + " | ".join(cells) + " |")
+    return out + [""]
 
 
 def section_full_model(results: Path) -> list[str]:
