@@ -58,6 +58,9 @@ from .shooting import shoot
 LENGTH = 0.05
 #: Largest angle (rad) between consecutive tangents before a step is rejected.
 MAX_TURN = 0.3
+#: Newton iterations of a corrector retried while a bifurcation point is located (near a
+#: singular point of the continued problem Newton converges linearly).
+SINGULAR_MAX_ITER = 40
 #: Labels of the points of a branch.
 REGULAR, FOLD, PERIOD_DOUBLING, NEIMARK_SACKER, BRANCH_POINT = 0, 1, 2, 3, 4
 KIND_NAMES = ("regular", "fold", "period_doubling", "neimark_sacker", "branch_point")
@@ -375,7 +378,7 @@ def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: f
                 continue
             if a * b < 0 and len(pts) + len(found) < max_points - 1 and not (kind == BRANCH_POINT and n == 0
                                                                              and fold_here):
-                loc = _locate(prob, kind, block, x, t, ds, a, b, tol)
+                loc = _locate(prob, kind, block, x, t, ds, a, b, tol, x_new)
                 if loc is not None:
                     found.append(loc + (n,))
         for sigma, xs, phis, kind, n in sorted(found, key=lambda f: f[0]):
@@ -509,45 +512,58 @@ def step(correct, tangent, x, t, ds, ds_min, tol):
     return None, None, ds
 
 
-def locate(correct, test, x, t, ds, fa, fb, tol):
+def locate(correct, test, x, t, ds, fa, fb, tol, x_end=None):
     """Zero of a test function between ``x`` (arclength 0) and the next point (``ds``).
 
     Illinois (modified regula falsi) on the arclength ``sigma`` along the hyperplanes
-    ``t . (x' - x) = sigma`` (``correct`` as for :func:`step`), until ``sigma`` changes
-    by less than 1e-10 ``ds``; ``test(result)`` is the test function at a corrected point.
+    ``t . (x' - x) = sigma`` (``correct`` as for :func:`step`, its result's first item the
+    corrected point), until ``sigma`` changes by less than 1e-10 ``ds``; ``test(result)`` is
+    the test function at a corrected point.  Each corrector starts on the chord between the
+    corrected points that bracket the zero (``x`` and ``x_end``, the next point, at first;
+    ``x + ds t`` without it): its error is of the order of the bracket squared, where the
+    tangent's would stay of the order of ``ds`` squared.  That matters near a branch point
+    of the continued problem itself (a real multiplier of the axisymmetric block through +1
+    without a fold), where the bordered Jacobian is singular and Newton's basin shrinks with
+    the distance to it; a corrector that fails there is retried with
+    :data:`SINGULAR_MAX_ITER` iterations, and if it fails again the last corrected iterate is
+    returned (inside the bracket the iteration has narrowed so far).
 
     Returns
     -------
     (sigma, result) or None
-        The last corrected point, or None when a corrector failed.
+        The last corrected point, or None when the first corrector failed.
     """
     a, b = 0.0, ds
+    xa, xb = x, (x + ds * t if x_end is None else x_end)
     best = None
     sigma_old = np.inf
     for _ in range(60):
         sigma = (a * fb - b * fa) / (fb - fa)
-        res = correct(x + sigma * t, t, x, sigma, tol)
+        guess = xa + (sigma - a) / (b - a) * (xb - xa)
+        res = correct(guess, t, x, sigma, tol)
         if res is None:
-            return None
+            res = correct(guess, t, x, sigma, tol, max_iter=SINGULAR_MAX_ITER)
+        if res is None:
+            return best
         f = test(res)
         best = (sigma, res)
         if f == 0.0 or abs(sigma - sigma_old) < 1e-10 * ds:
             break
         sigma_old = sigma
         if f * fb < 0:
-            a, fa = b, fb
+            a, fa, xa = b, fb, xb
         else:
             fa *= 0.5
-        b, fb = sigma, f
+        b, fb, xb = sigma, f, res[0]
     return best
 
 
-def _locate(prob, kind, block, x, t, ds, fa, fb, tol):
+def _locate(prob, kind, block, x, t, ds, fa, fb, tol, x_end=None):
     """The zero of the test function of ``kind`` on ``block`` (see :func:`_test_value`)
-    between ``x`` and the next point; ``(sigma, x', phi, kind)`` or None.  Complex-pair
+    between ``x`` and the next point ``x_end``; ``(sigma, x', phi, kind)`` or None.  Complex-pair
     crossings of an NS test that turn out to be real (neutral saddles) are discarded."""
     found = locate(prob.correct, lambda res: _test_value(prob, kind, block, res[1], res[2], res[0], t),
-                   x, t, ds, fa, fb, tol)
+                   x, t, ds, fa, fb, tol, x_end)
     if found is None:
         return None
     sigma, (xs, _, phi, _) = found

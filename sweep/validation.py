@@ -1110,7 +1110,12 @@ def section_family_orbit(results: Path) -> list[str]:
            "M = 2..16) and `validation/families-viscous-axi` (the paper's",
            "P0 = 1 Pa, c = 0.05 N s/m^3, n = 1..6, K = 1..4, M = 4, 8, 16; `-k8`: K = 8, M = 8, 16). Convergence",
            "criterion as above: from M to 2M the same number of",
-           f"intervals, each end moving by less than {SETTLED:g} rad/s, at the last step.", ""]
+           f"intervals, each end moving by less than {SETTLED:g} rad/s, at the last step. \"The orbit in its K",
+           "modes\": where the axisymmetric response is unstable in its own coordinates (its largest multiplier",
+           "without the families; with K >= 2 a real multiplier through +1 without a fold, the branch point where",
+           "the response loses its half-period symmetry q(t + T/2) = -q(t): docs/model.md, \"Bifurcation test",
+           "functions\"), with its largest modulus: a family interval inside it describes an orbit that is not",
+           "observed.", ""]
     for name in ORBIT_STUDIES:
         ds = _open(results, name)
         if ds is None:
@@ -1120,14 +1125,15 @@ def section_family_orbit(results: Path) -> list[str]:
         radial = [int(m) for m in ds.family_radial.values]
         for j, fam in enumerate(ds.family.values):
             out += [f"**`{name}`** ({law}, P0 = {float(ds.P0.values.ravel()[0]):g} Pa), n = {int(fam)}:", "",
-                    "| K | resonant stretch ends at (rad/s) | " + " | ".join(f"M = {M}" for M in radial)
-                    + " | largest end move from M to 2M |", "|---|---|" + "---|" * len(radial) + "---|"]
+                    "| K | resonant stretch ends at (rad/s) | the orbit in its K modes | "
+                    + " | ".join(f"M = {M}" for M in radial)
+                    + " | largest end move from M to 2M |", "|---|---|---|" + "---|" * len(radial) + "---|"]
             onsets = []
             for k in range(ds.sizes.get("mode_set", 1)):
                 b = _grid_point(ds, k if "mode_set" in ds.dims else None)
                 value, modulus, intervals = _stretch_families(b)
                 K = int(b.n_modes) if "n_modes" in b.coords else b.sizes["mode"]
-                out.append(f"| {K} | {value[-1]:.3f} | " + " | ".join(
+                out.append(f"| {K} | {value[-1]:.3f} | {_axisymmetric_cell(b, value.size)} | " + " | ".join(
                     f"{_fmt_intervals(intervals[r, j])} ({np.nanmax(modulus[:, r, j]):.3f})" for r in range(len(radial)))
                     + f" | {_moves(intervals, j, len(radial))} |")
                 last = intervals[len(radial) - 1, j]
@@ -1186,7 +1192,16 @@ def section_held_families(results: Path) -> list[str]:
            "its saddle-node of largest amplitude (the upper saddle-node of the resonance, past the loops an internal",
            "resonance adds: in branch order, so that an interval through a loop can end below where it starts) where the",
            "family is unstable, in brackets its largest multiplier modulus there; convergence criterion as above",
-           f"(the same intervals, each end moving by less than {SETTLED:g} rad/s, at the last step).", ""]
+           f"(the same intervals, each end moving by less than {SETTLED:g} rad/s, at the last step).",
+           "",
+           "The tables against the ROM add where the axisymmetric orbit is unstable in its own coordinates (\"the",
+           "orbit itself\"). Once the orbit has more than one axisymmetric function it is, on the upper part of",
+           "every resonant stretch here: a real multiplier passes +1 without a fold, the branch point where the",
+           "response symmetric in time, w(t + T/2) = -w(t), gives way to responses without that symmetry",
+           "(docs/model.md, \"Bifurcation test functions\"; `tests/test_symmetry_breaking.py` checks the",
+           "multiplier against a DOP853 integration). A family interval inside that range is an instability of an",
+           "orbit a sweep does not follow; these runs predate the locator that marks the point itself, so it shows",
+           "in the multipliers only.", ""]
     for case, names, rom_names, free_names in HELD_STUDIES:
         out += [f"### u = v = 0 held: {case}", ""]
         runs = [_open(results, n) for n in names]
@@ -1256,10 +1271,11 @@ def _held_against_rom(results: Path, runs, rom_names, free_names=()) -> list[str
            + ("" if not free_names else " and the full model with the in-plane displacements free ("
               + ", ".join(f"`{n}`" for n in free_names) + ")")
            + ", each family at its largest radial count: its unstable intervals (rad/s), `stable` where it has",
-           "none, `-` where the run has no such family; and the upper saddle-node (rad/s) with its amplitude",
-           "max |w(0.5 Re)|.", "",
-           "| model | upper saddle-node | " + " | ".join(f"n = {f}" for f in families) + " |",
-           "|---|---|" + "---|" * len(families)]
+           "none, `-` where the run has no such family; the upper saddle-node (rad/s) with its amplitude",
+           "max |w(0.5 Re)|; and where the axisymmetric orbit itself is unstable (its own multipliers, the",
+           "families left out; in brackets the largest modulus).", "",
+           "| model | upper saddle-node | the orbit itself | " + " | ".join(f"n = {f}" for f in families) + " |",
+           "|---|---|---|" + "---|" * len(families)]
     onsets, held_onsets = [], []
     for label, b in rows:
         if int(b.n_points) == 0:
@@ -1269,7 +1285,9 @@ def _held_against_rom(results: Path, runs, rom_names, free_names=()) -> list[str
         # a branch that stopped (its status) right after the stretch's end: the end is where it stopped
         stopped = " (stopped)" if int(b.status) != 0 and value.size >= int(b.n_points) - 2 else ""
         by_n = {int(n): j for j, n in enumerate(b.family.values)}
-        cells, lasting = [], []
+        own = b.multiplier_modulus.values.ravel()[:value.size]
+        own_intervals = unstable_intervals(value, own)
+        cells, lasting = [], [f"{own_intervals[-1][0]:.2f}" if unstable_points(own[-1]) else "none"]
         for f in families:
             r = modulus.shape[1] - 1
             iv = intervals[r, by_n[f]] if f in by_n else None
@@ -1278,10 +1296,11 @@ def _held_against_rom(results: Path, runs, rom_names, free_names=()) -> list[str
             lasting.append("-" if iv is None else f"{iv[-1][0]:.2f}" if unstable_points(modulus[-1, r, by_n[f]])
                            else "none")
         peak = float(b.amplitude.values.ravel()[value.size - 1])
-        out.append(f"| {label} | {value[-1]:.3f} ({peak:.3f} m){stopped} | " + " | ".join(cells) + " |")
+        out.append(f"| {label} | {value[-1]:.3f} ({peak:.3f} m){stopped} | {_axisymmetric_cell(b, value.size)} | "
+                   + " | ".join(cells) + " |")
         onsets.append(f"| {label} | " + " | ".join(lasting) + " |")
         if label.startswith("u = v = 0"):
-            held_onsets.append(lasting)
+            held_onsets.append(lasting[1:])
     moves = []
     for j, f in enumerate(families):
         steps = [abs(float(a[j]) - float(b[j])) for a, b in zip(held_onsets, held_onsets[1:])
@@ -1289,8 +1308,9 @@ def _held_against_rom(results: Path, runs, rom_names, free_names=()) -> list[str
         if len(steps) == len(held_onsets) - 1 and steps:
             moves.append(f"n = {f}: " + ", ".join(f"{m:.2f}" for m in steps))
     return out + ["", "Where the instability that lasts up to the upper saddle-node begins (rad/s; `none`: no interval",
-                  "reaches it):", "", "| model | " + " | ".join(f"n = {f}" for f in families) + " |",
-                  "|---|" + "---|" * len(families), *onsets, "",
+                  "reaches it; the orbit itself: its own multipliers):", "",
+                  "| model | the orbit itself | " + " | ".join(f"n = {f}" for f in families) + " |",
+                  "|---|---|" + "---|" * len(families), *onsets, "",
                   "With u = v = 0 held, how far that onset moves from each N to the next (rad/s), for the families "
                   "that have one at every N: " + ("; ".join(moves) if moves else "none") + ".", ""]
 
@@ -1423,6 +1443,16 @@ def _stretch_families(b, to_peak: bool = False):
     intervals = {(r, j): unstable_intervals(value[:end], modulus[:, r, j])
                  for r in range(modulus.shape[1]) for j in range(modulus.shape[2])}
     return value[:end], modulus, intervals
+
+
+def _axisymmetric_cell(b, end: int) -> str:
+    """Where the axisymmetric response itself is unstable on the first ``end`` points of the
+    branch ``b`` (its largest multiplier in its own coordinates, ``multiplier_modulus``): the
+    Omega intervals (rad/s) and, in brackets, the largest modulus there; ``stable`` if nowhere."""
+    value = b.Omega.values.ravel()[:end]
+    modulus = b.multiplier_modulus.values.ravel()[:end]
+    intervals = unstable_intervals(value, modulus)
+    return f"{_fmt_intervals(intervals)} ({np.nanmax(modulus):.3f})" if intervals else "stable"
 
 
 def _moves(intervals, j: int, counts: int) -> str:
@@ -1799,7 +1829,7 @@ def section_full_fig14a_light(results: Path) -> list[str]:
            "the largest amplitude max |w(0.5 Re)| on the branch and on its stable responses, with the Omega there.", ""]
     runs = [_open(results, n) for n in names]
     if any(ds is None for ds in runs):
-        return out + _missing(*names)
+        return out + _missing(*names) + _light_families(results)
     *fulls, rom = runs
     out += ["| model | points | saddle-nodes | their Omega range (rad/s) | largest amplitude (m) at Omega (rad/s) | "
             "largest stable amplitude (m) at Omega (rad/s) |", "|---|---|---|---|---|---|"]
@@ -1820,42 +1850,57 @@ def section_full_fig14a_light(results: Path) -> list[str]:
                   "the response at the end of the range: " + "; ".join(ends) + ".", ""] + _light_families(results)
 
 
-#: The full model at the paper's damping with its families, and u = v = 0 held at 12 functions.
-LIGHT_FAMILIES = ("validation/fig14a-full-light-families-order8", "validation/fig14a-held-viscous-order12")
+#: The full model at the paper's damping with its families (8 and 12 functions), and u = v = 0
+#: held at 12 functions.
+LIGHT_FAMILIES = ("validation/fig14a-full-light-families-order8", "validation/fig14a-full-light-families-order12",
+                  "validation/fig14a-held-viscous-order12")
 
 
 def _light_families(results: Path) -> list[str]:
     """The families n = 1..6 in (U, V, W) along the full model's branch at the paper's damping,
     against u = v = 0 held on a complete radial basis at the same load and damping."""
     out = ["### The families on the full model at the paper's damping", "",
-           "The same branch with the families n = 1..6 in (U, V, W) on all 8 functions per field",
-           "(`validation/fig14a-full-light-families-order8`), against u = v = 0 held on 12 functions with its",
-           "families of W on all 12 (`validation/fig14a-held-viscous-order12`; docs/validation.md, \"The families",
-           "with u = v = 0 on a complete radial basis\"). Per family the Omega intervals (rad/s) where it is",
-           "unstable up to the saddle-node of largest amplitude (through the loops of internal resonances), in",
-           "brackets its largest multiplier modulus there, and the points of the rest of the branch where it",
-           "is unstable.", ""]
+           "The same branch with the families n = 1..6 in (U, V, W) on all 8 and 12 functions per field",
+           "(`validation/fig14a-full-light-families-order<N>`), against u = v = 0 held on 12 functions with its",
+           "families of W on all 12 (`validation/fig14a-held-viscous-order12`; \"The families with u = v = 0 on",
+           "a complete radial basis\"). Up to the saddle-node of largest amplitude (through the loops of",
+           "internal resonances): where the axisymmetric response itself is unstable (its own multipliers) and",
+           "where each family is, Omega intervals (rad/s) with the largest multiplier modulus in brackets.",
+           "Then, over the whole branch, the responses stable in their own coordinates but unstable to a",
+           "family, the symmetry-breaking instabilities a slow sweep could meet: how many points, their Omega",
+           "range and largest amplitude.", ""]
     runs = [_open(results, n) for n in LIGHT_FAMILIES]
     if any(ds is None for ds in runs):
         return out + _missing(*LIGHT_FAMILIES)
     families = [int(n) for n in runs[0].family.values]
-    out += ["| model | stretch ends at (rad/s) | amplitude there (m) | "
-            + " | ".join(f"n = {f}" for f in families) + " |", "|---|---|---|" + "---|" * len(families)]
+    out += ["| model | stretch ends at (rad/s) | amplitude there (m) | the orbit itself | "
+            + " | ".join(f"n = {f}" for f in families) + " |", "|---|---|---|---|" + "---|" * len(families)]
+    notes = []
     for ds in runs:
         b = _grid_point(ds)
         value, modulus, intervals = _stretch_families(b, to_peak=True)
         end, r = value.size, modulus.shape[1] - 1  # the largest radial count: all functions
-        n = int(b.n_points)
-        tail = (b.family_multiplier_modulus.expand_dims("family_radial")
-                if "family_radial" not in b.family_multiplier_modulus.dims else b.family_multiplier_modulus)
-        tail = tail.transpose("point", "family_radial", "family").values[end:n, r]
         label = (f"full, order {int(ds.attrs['model_order'])}" if ds.attrs.get("model_inplane", 1)
                  else f"u = v = 0, order {int(ds.attrs['model_order'])}")
-        cells = [f"{_fmt_intervals(intervals[r, j])} ({np.nanmax(modulus[:, r, j]):.3f}); "
-                 f"{int(np.count_nonzero(tail[:, j] > 1.0))} after" for j in range(len(families))]
         out.append(f"| {label} | {value[-1]:.3f} | {float(b.amplitude.values.ravel()[end - 1]):.4f} | "
-                   + " | ".join(cells) + " |")
-    return out + [""]
+                   f"{_axisymmetric_cell(b, end)} | "
+                   + " | ".join(f"{_fmt_intervals(intervals[r, j])} ({np.nanmax(modulus[:, r, j]):.3f})"
+                                for j in range(len(families))) + " |")
+        n = int(b.n_points)
+        moduli = b.family_multiplier_modulus
+        if "family_radial" in moduli.dims:
+            moduli = moduli.isel(family_radial=-1)
+        moduli = moduli.transpose("point", "family").values[:n]
+        own = ~unstable_points(b.multiplier_modulus.values.ravel()[:n])
+        omega, amplitude = b.Omega.values.ravel()[:n], b.amplitude.values.ravel()[:n]
+        cells = []
+        for j, f in enumerate(families):
+            hit = own & unstable_points(moduli[:, j])
+            cells.append(f"n = {f}: none" if not hit.any() else
+                         f"n = {f}: {int(hit.sum())} ({omega[hit].min():.2f}-{omega[hit].max():.2f} rad/s, up to "
+                         f"{amplitude[hit].max():.3f} m, modulus up to {moduli[hit, j].max():.3f})")
+        notes.append(f"* {label} ({n} points): " + "; ".join(cells) + ".")
+    return out + ["", *notes, ""]
 
 
 def section_full_model(results: Path) -> list[str]:
@@ -2030,21 +2075,21 @@ def _held_backbone(results: Path, full, rom) -> list[str]:
     names = HELD_BACKBONES
     out = ["### The converged u = v = 0 backbone", "",
            "The same targets with u = v = 0 held on the full model's radial Legendre basis of w alone",
-           "(`validation/held-backbone`, 16 functions; `validation/held-backbone-order24`, 24): the",
+           "(`validation/held-backbone-order24`, 24 functions; `validation/held-backbone`, 16): the",
            "ROM's hypothesis without its modal truncation, the limit its Bessel-mode backbones tend to.",
-           "Relative frequency differences from the held 16-function orbit: its 24-function one, the ROM",
+           "Relative frequency differences from the held 24-function orbit: its 16-function one, the ROM",
            "with M axisymmetric modes (truncation), and the full model with u free (`fig10-full-backbone`:",
            "the in-plane freedom). Targets as above, up to the last orbit the held model finds.", ""]
-    held, fine = (_open(results, n) for n in names)
-    if held is None or fine is None:
+    coarse, held = (_open(results, n) for n in names)
+    if held is None or coarse is None:
         return out + _missing(*names)
     sets = {int(k): label for label, k in zip(rom.mode_set.values, rom.n_modes.values)}
-    head = ["delta", "A (m)", "omega u = v = 0 (rad/s)", "order 24", *(f"ROM M = {k}" for k in sets),
+    head = ["delta", "A (m)", "omega u = v = 0 (rad/s)", "order 16", *(f"ROM M = {k}" for k in sets),
             "full, u free", "max abs w / A"]
     out += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     notes = []
     for d in held.delta.values:
-        h, g, f = (_point(x, delta=float(d), delta_o=0.2) for x in (held, fine, full))
+        h, g, f = (_point(x, delta=float(d), delta_o=0.2) for x in (held, coarse, full))
         r = {k: select(_point(rom, delta=float(d), delta_o=0.2), label) for k, label in sets.items()}
         amp, omega = h.amplitude.values, h.omega_nl.values
         ok = np.flatnonzero(np.isfinite(omega))
@@ -2068,6 +2113,7 @@ def _held_backbone(results: Path, full, rom) -> list[str]:
         free = (f.omega_nl.values - float(f.omega_linear)) / shift
         notes.append(f"* delta = {float(d):g}: held orbits up to {amp[ok].max():.4f} m"
                      + ("" if np.isnan(h.turn_amplitude) else f" (the branch turns back at {_turn(h)})")
+                     + f", 16 functions within {np.nanmax(np.abs(g.omega_nl.values / omega - 1)):.1e} of 24"
                      + f"; the frequency shift from the linear limit of the ROM with M = {top} over the held one "
                      f"{np.nanmin(ratio):.3f}-{np.nanmax(ratio):.3f}, of the full model with u free "
                      + (f"{np.nanmin(free[both]):.3f}-{np.nanmax(free[both]):.3f}." if both.any() else "none."))

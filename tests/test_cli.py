@@ -239,6 +239,17 @@ def test_figures_of_several_results_draw_each_and_compare(capsys, job, tmp_path)
     assert code == 1 and "results of different analyses (backbone, fake) cannot be drawn together" in err
 
 
+def test_comparison_legends_name_the_model():
+    """A legend tells the ROM's mode count, the full model's order and whether u is held."""
+    from sweep.figures.backbone import result_label
+
+    rom = xr.Dataset(coords={"m": ("mode", [1, 2, 3])}, attrs={"model": "rom"})
+    free = xr.Dataset(attrs={"model": "full", "model_order": 16, "model_inplane": 1})
+    held = xr.Dataset(attrs={"model": "full", "model_order": 24, "model_inplane": 0})
+    assert [result_label(ds) for ds in (rom, free, held)] == ["rom, 3 modes", "full, order 16",
+                                                             "full, u = v = 0, order 24"]
+
+
 def test_forced_branches_of_two_mode_sets_are_compared(capsys, tmp_path):
     text = (JOBS / "fig15-bifurcation-p0.toml").read_text().replace("delta = [1.1, 1.5, 2.0]", "delta = [1.1]")
     text = text.replace("Omega = [33.5, 46.1, 47.35]", "Omega = [33.5]")

@@ -9,6 +9,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from plain_rom import plain_rhs
+
 from model import dopri
 from model.damping import Rayleigh, Viscous
 from model.damping_kernels import matrix_or_none
@@ -39,21 +41,6 @@ def _force(rom, q):
     g = np.empty(rom.dof)
     elastic_force(np.asarray(q, dtype=float), rom.tables, g, force_work(rom.tables))
     return g
-
-
-def _plain_rhs(rom):
-    """The ROM written plainly in numpy, for solve_ivp."""
-    t, K = rom.tables, rom.dof
-
-    def f(_, y):
-        q = y[:K]
-        a, b = q @ t.b_rho, q @ t.b_theta
-        delta = t.hoop2 * (t.radial2 + a * a) + t.radial2 * b * b * t.inv_rho2  # det of the metric
-        g = (t.b_rho @ (2 * a * (1 - t.hoop2 / delta**2) * t.weight)
-             + t.b_theta @ (2 * b * t.inv_rho2 * (1 - t.radial2 / delta**2) * t.weight))
-        return np.concatenate([y[K:], -t.k_force * g])
-
-    return f
 
 
 @pytest.mark.parametrize("kind", ["axi", "mixed"])
@@ -133,7 +120,7 @@ def test_dop853_agrees_with_solve_ivp(roms):
     y0 = np.array([0.3, -0.01, 0.002, 0.0, 1.0, 0.0])
     te = np.linspace(0, 0.3, 4)
     ours, _ = dopri.solve(rom, y0, te, c=0.05, P0=1.0, Omega=33.5, rtol=1e-12, atol=1e-14)
-    ref = solve_ivp(lambda t, y: _plain_rhs(rom)(t, y) + np.concatenate(
+    ref = solve_ivp(lambda t, y: plain_rhs(rom)(t, y) + np.concatenate(
         [np.zeros(3), -0.05 / 2.2 * y[3:] + np.cos(33.5 * t) * rom.tables.load]),
         (0, 0.3), y0, method="DOP853", t_eval=te, rtol=1e-12, atol=1e-14)
     np.testing.assert_allclose(ours[0], ref.y.T, atol=1e-8 * np.abs(ref.y).max())

@@ -114,10 +114,12 @@ def _inplane_figure(plt, ds, sels, label, outdir):
 
 
 def result_label(ds) -> str:
-    """The model of a result in a legend: ``rom, 3 modes``, ``full, order 16``."""
+    """The model of a result in a legend: ``rom, 3 modes``, ``full, order 16``, ``full, u = v = 0,
+    order 24``."""
     model = ds.attrs.get("model", "rom")
     if "model_order" in ds.attrs:
-        return f"{model}, order {int(ds.attrs['model_order'])}"
+        held = "" if int(ds.attrs.get("model_inplane", 1)) else " u = v = 0,"
+        return f"{model},{held} order {int(ds.attrs['model_order'])}"
     if "mode" in ds.dims:
         return f"{model}, {ds.sizes['mode']} mode{'s' if ds.sizes['mode'] > 1 else ''}"
     return str(model)
