@@ -12,6 +12,13 @@ bifurcating branch has no parameter component there).
 Its stability is that of the mixed ROM: within the reflection-symmetric subspace of the
 cosine modes.  The multiplier 1 of rotations along the orbit family and the instabilities
 toward travelling waves need the sine companions (``n < 0`` in :func:`model.rom.build_rom`).
+
+The axisymmetric block has branch points of its own: a response symmetric in time,
+``q(t + T/2) = -q(t)`` (the transverse force is odd in ``w``), gives way to a pair of responses
+without that symmetry where a real multiplier of ``Phi`` passes +1 without a fold (docs/model.md,
+"Bifurcation test functions").  They stay axisymmetric and in the same map:
+:func:`follow_time_symmetry_breaking` switches onto them along the null vector of ``Phi - I``,
+with any map of the protocol (the ROM's or the full model's) and its families.
 """
 
 from __future__ import annotations
@@ -91,3 +98,35 @@ def follow_bifurcated_branch(fmap: ForcedMap, family: Family, parameter: str,
     asym = at.with_rom(asymmetric_part(mixed, Ka))
     amp = np.array([asym.varied(parameter, lam).amplitude(y) for lam, y in zip(branch.value, branch.state)])
     return branch, fmap_mixed, amp
+
+
+def follow_time_symmetry_breaking(fmap, parameter: str, start: float, stop: float, state, value: float,
+                                  families=(), **options) -> Branch:
+    """The axisymmetric responses without the half-period symmetry that bifurcate at the
+    branch point ``(state, value)`` of the axisymmetric block of ``fmap``'s branch.
+
+    Parameters
+    ----------
+    fmap : StroboscopicMap
+        The map the branch was continued with (its continued parameter is overridden).
+    parameter, start, stop
+        As for :func:`model.continuation.continue_orbits`; ``value`` must lie in the range.
+    state : (n,) array
+        The orbit at the branch point (the map's state).
+    families : sequence
+        The families whose multipliers are followed along the new branch, as on the old one.
+    options
+        Step and size arguments of :func:`model.continuation.continue_orbits`.
+
+    Returns
+    -------
+    Branch
+        In ``fmap``'s coordinates, from the branch point (its first point) along the null
+        vector of ``Phi - I`` (the eigenvector of the multiplier closest to 1) at fixed
+        parameter, until the parameter leaves ``[start, stop]`` or ``max_points``.
+    """
+    _, phi = fmap.varied(parameter, value).monodromy(np.asarray(state, dtype=float))
+    mu, vec = np.linalg.eig(phi)
+    direction = np.real(vec[:, np.argmin(np.abs(mu - 1.0))])
+    return continue_orbits(fmap, parameter, start, stop, families=families,
+                           switch=(state, value, direction / np.linalg.norm(direction)), **options)

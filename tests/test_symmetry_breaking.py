@@ -11,6 +11,9 @@ across it; beyond it, the Floquet multiplier against the growth of a perturbatio
 integrated by scipy's DOP853 on a plain numpy right-hand side (an independent integrator
 and force), and the half-period map's derivative by central differences of that
 integration, whose eigenvalue -sqrt(mu) says the growing perturbation breaks the symmetry.
+Switching at the point (model.switching.follow_time_symmetry_breaking) gives the responses
+without the symmetry: DOP853 finds one periodic, not symmetric, and attracting, and its image
+under the symmetry is a response too.
 """
 
 import numpy as np
@@ -24,6 +27,7 @@ from model.forced import ForcedMap, steps_per_period
 from model.params import Membrane
 from model.prestretch import solve_prestretch
 from model.rom import build_rom
+from model.switching import follow_time_symmetry_breaking
 
 #: Where the branch is followed to (rad/s): past the branch point, on the resonant stretch
 #: (its upper saddle-node with these modes lies near 45.8 rad/s).
@@ -56,13 +60,9 @@ def test_the_axisymmetric_branch_point_is_located_where_a_multiplier_is_plus_one
     assert br.value[i - 1] < br.value[i] < br.value[i + 1]
 
 
-def test_beyond_it_a_perturbation_grows_at_the_floquet_rate_and_breaks_the_symmetry(branch):
-    rom, fmap, br = branch
-    y0 = br.state[-1]
-    mu = br.multipliers[-1]
-    Omega = br.value[-1]
-    assert Omega == pytest.approx(TOP)
-    K, T = rom.dof, 2.0 * np.pi / Omega
+def _dop853(rom, fmap, Omega):
+    """The flow of the forced, damped ROM at ``Omega`` by DOP853 on the plain numpy force."""
+    K = rom.dof
     elastic = plain_rhs(rom)
     rate = fmap.forcing.damping_rate
     load = np.concatenate([np.zeros(K), rom.tables.load])
@@ -72,6 +72,18 @@ def test_beyond_it_a_perturbation_grows_at_the_floquet_rate_and_breaks_the_symme
 
     def flow(y, duration, **kw):
         return solve_ivp(f, (0.0, duration), y, method="DOP853", rtol=1e-12, atol=1e-15, **kw)
+
+    return flow
+
+
+def test_beyond_it_a_perturbation_grows_at_the_floquet_rate_and_breaks_the_symmetry(branch):
+    rom, fmap, br = branch
+    y0 = br.state[-1]
+    mu = br.multipliers[-1]
+    Omega = br.value[-1]
+    assert Omega == pytest.approx(TOP)
+    K, T = rom.dof, 2.0 * np.pi / Omega
+    flow = _dop853(rom, fmap, Omega)
 
     # the RK4 orbit is periodic for DOP853 to its discretisation error; take DOP853's point
     y0 = flow(y0, T).y[:, -1]
@@ -99,3 +111,34 @@ def test_beyond_it_a_perturbation_grows_at_the_floquet_rate_and_breaks_the_symme
     largest = half[np.argmax(np.abs(half))]
     assert abs(largest.imag) < 1e-6 and largest.real < -1.0
     assert largest.real ** 2 == pytest.approx(growth_floquet, rel=1e-4)
+
+
+def test_the_responses_without_the_symmetry_are_periodic_attracting_and_come_in_pairs(branch):
+    rom, fmap, br = branch
+    i = int(np.flatnonzero((br.kind == BRANCH_POINT) & (br.family == 0))[0])
+    sw = follow_time_symmetry_breaking(fmap, "Omega", 25.0, TOP, br.state[i], br.value[i], ds_max=0.3,
+                                       max_points=60)
+    assert sw.kind[0] == BRANCH_POINT and sw.value[0] == br.value[i]
+    # the first regular point past 40 rad/s on the new branch, which the continuation finds stable
+    j = int(np.flatnonzero((sw.value > 40.0) & (sw.kind == 0))[0])
+    assert sw.stable[j]
+    y0, Omega = sw.state[j], sw.value[j]
+    K, T = rom.dof, 2.0 * np.pi / Omega
+    flow = _dop853(rom, fmap, Omega)
+    scale = np.abs(y0).max()
+    # periodic for an independent integrator (to RK4's discretisation error of the orbit)
+    assert np.abs(flow(y0, T).y[:, -1] - y0).max() < 1e-6 * scale
+    # not symmetric in time: the half-period image differs from the state by a finite amount
+    image = -flow(y0, T / 2).y[:, -1]
+    assert np.abs(image - y0).max() > 1e-2 * scale
+    # and that image is a periodic response too (the pair the pitchfork gives)
+    assert np.abs(flow(image, T).y[:, -1] - image).max() < 1e-6 * scale
+    # attracting: the monodromy of the DOP853 flow (central differences, steps of 1e-6 of the
+    # state: errors of order 1e-10 to 1e-8) has every multiplier inside the unit circle and
+    # equals the continuation's RK4 monodromy (312 steps per period) to well within 1e-6
+    steps = 1e-6 * np.maximum(np.abs(y0), 1e-3)
+    jac = np.column_stack([(flow(y0 + h * e, T).y[:, -1] - flow(y0 - h * e, T).y[:, -1]) / (2 * h)
+                           for e, h in zip(np.eye(2 * K), steps)])
+    mu = np.sort(np.abs(np.linalg.eigvals(jac)))
+    assert mu.max() < 1.0
+    np.testing.assert_allclose(mu, np.sort(np.abs(sw.multipliers[j])), atol=1e-6)

@@ -71,6 +71,11 @@ rotating wave nearest the middle of the family's unstable interval (where the ax
 response is unstable), perturbed towards a standing wave: ``rotating_check_*`` as for
 branch switching.
 
+Time-symmetry breaking (``symmetry_breaking = {max_points = N}``): at the first branch point of
+the axisymmetric block, the responses without the half-period symmetry for at most N points,
+with the families' multipliers: ``broken_*`` over ``broken_point``
+(:mod:`sweep.analyses.time_symmetry`).
+
 Brute-force check (``family_check = {values = [40, 44], periods = 100, saturate = 0}``, with
 ``families``): at the resonant responses (the stretch from ``start`` to the first
 saddle-node) nearest each value, each family's mixed ROM (axisymmetric modes plus the
@@ -138,10 +143,11 @@ from .base import (DEFAULT_CONTEXT, GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERG
                    blank_outputs, check_keys)
 from .branch_features import (BRANCH_FEATURES, BranchContext, by_symmetry, curves_option, family_check_option,
                               family_radials, second_parameter, tongues_option)
+from .time_symmetry import TIME_SYMMETRY_FEATURES, symmetry_breaking_option
 from .wave_features import WAVE_FEATURES, rotating_option, switching_option
 
 #: The optional features, in the order of their outputs and of their computation.
-FEATURES = BRANCH_FEATURES + WAVE_FEATURES
+FEATURES = BRANCH_FEATURES + WAVE_FEATURES + TIME_SYMMETRY_FEATURES
 
 #: Length of the ``fold`` dimension: the first saddle-nodes of a branch (``n_folds`` counts
 #: them all; ``point_type`` marks every one). The full model's Fig. 15a branch has 8.
@@ -174,6 +180,8 @@ class ContinuationOptions:
     material: str = "neo-hookean"
     #: ``rotating_waves``: (max_points, wave number, periods of the check); (0, 0, 0) without
     rotating: tuple[int, int, int] = (0, 0, 0)
+    #: ``symmetry_breaking``: points of the branch without the half-period symmetry (0: none)
+    broken_points: int = 0
 
 
 #: Arclength (scaled unknowns: the parameter range is 1, 0.05 m of displacement is 1) that
@@ -233,6 +241,10 @@ class ContinuationAnalysis(Analysis):
                     "count, along a dimension family_radial; the full model ([model] kind = \"full\"): the first M "
                     "functions of its basis per field (M <= order), the perturbations in (U, V, W), or W alone "
                     "with inplane = false (the ROM's families are W alone)",
+        "symmetry_breaking": "{max_points = N}: at the first branch point of the axisymmetric block (a response "
+                             "symmetric in time, w(t + T/2) = -w(t), giving way to responses without that "
+                             "symmetry), switch onto the new branch and follow it for at most N points, with the "
+                             "families' multipliers along it (default none)",
         "tongues": "true: at every point and for every family, the smallest scale of the orbit's stiffness "
                    "modulation that destabilises the family (Floquet multipliers of the scaled block) and the "
                    "same by first-order averaging, with the resonance p Omega ~ omega_i + omega_j it finds "
@@ -256,11 +268,15 @@ class ContinuationAnalysis(Analysis):
         families = opt.families(table, s, modes, context.model)
         opt.model_modes(s, context.model, modes)
         if families is not None and isinstance(families[1], tuple):  # a study in the radial modes
-            for key in ("branch_switching", "rotating_waves", "family_check", "bifurcation_curves"):
+            for key in ("branch_switching", "rotating_waves", "family_check", "bifurcation_curves",
+                        "symmetry_breaking"):
                 if key in table:
                     raise JobError(f"{s}.{key}", table[key], "needs one radial count in continuation.families "
                                    "(radial = M), not a list")
         opt.damping_modes(context.damping, s, modes, families or any(n for _, n in modes))
+        if "symmetry_breaking" in table and families is None and any(n for _, n in modes):
+            raise JobError(f"{s}.symmetry_breaking", table["symmetry_breaking"], "needs axisymmetric modes "
+                           "(their asymmetric ones as continuation.families)")
         curves = curves_option(table, s, parameter, grid, context.damping)
         if curves is not None and curves[0] == "delta" and not context.model.model().provides("rebuilt"):
             raise JobError(f"{s}.bifurcation_curves", table["bifurcation_curves"],
@@ -276,7 +292,7 @@ class ContinuationAnalysis(Analysis):
             second_parameter(table, s, parameter, context.damping), families,
             curves, *switching_option(table, s, families),
             family_check_option(table, s), tongues_option(table, s), membrane.law,
-            rotating_option(table, s, families))
+            rotating_option(table, s, families), symmetry_breaking_option(table, s))
 
     def variables(self, options):
         return [v for feature in FEATURES for v in feature.variables(options)] + self._branch_variables(options)
