@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-from model.continuation import (FOLD, KIND_LABELS, NEIMARK_SACKER, resonant_end, stable_amplitudes_at,
-                                unstable_intervals, unstable_points)
+from model.continuation import (BRANCH_POINT, FOLD, KIND_LABELS, NEIMARK_SACKER, resonant_end,
+                                stable_amplitudes_at, unstable_intervals, unstable_points)
 from sweep.analyses.backbone import FE_AROUND, FE_PERIODS
 from sweep.analyses.branch_features import CURVE_DS_MAX
 from sweep.analyses.mode_sets import select
@@ -1215,6 +1215,153 @@ def section_held_families(results: Path) -> list[str]:
     return out
 
 
+#: Past the half-period symmetry breaking, u = v = 0 held: per damping case, its runs by order.
+BROKEN_STUDIES = (
+    ("the paper's light viscous damping (P0 = 1 Pa, c = 0.05 N s/m^3)",
+     tuple(f"validation/fig14a-broken-viscous-order{o}" for o in (16, 24))),
+    ("a first-mode ratio of 1 %, viscous law (P0 = 10 Pa)", ("validation/fig14a-broken-1pct-viscous-order16",)),
+    *((f"a first-mode ratio of 1 %, {law} law (P0 = 10 Pa)",
+       tuple(f"validation/fig14a-broken-1pct-{law}-order{o}" for o in (16, 24))) for law in ("modal", "rayleigh")),
+)
+
+
+def _broken_stretch(b):
+    """The branch without the half-period symmetry of one grid point ``b`` from its branch
+    point to its first saddle-node of largest amplitude (the whole of it without one): Omega, the
+    amplitude, the axisymmetric block's largest multiplier modulus and the families' ``(point,
+    family)`` (None without families)."""
+    value = b.broken_Omega.values.ravel()
+    n = int(np.count_nonzero(np.isfinite(value)))
+    kind = b.broken_point_type.values.ravel()[:n]
+    amplitude = b.broken_amplitude.values.ravel()[:n]
+    folds = np.flatnonzero(kind == FOLD)
+    # the first of them: the continuation may go round the loop through the pair's image again
+    top = folds[amplitude[folds] >= (1 - 1e-6) * np.nanmax(amplitude[folds])] if folds.size else folds
+    end = int(top[0]) + 1 if folds.size else n
+    families = (b.broken_family_multiplier_modulus.transpose("broken_point", "family").values[:end]
+                if "broken_family_multiplier_modulus" in b else None)
+    return value[:end], amplitude[:end], b.broken_multiplier_modulus.values.ravel()[:end], families
+
+
+def section_time_symmetry(results: Path) -> list[str]:
+    """The Fig. 14a resonance past the branch point where it loses its half-period symmetry:
+    the responses without it, with the families along them (u = v = 0 held), and what an
+    Omega sweep of the ROM does there."""
+    out = ["## Past the half-period symmetry breaking (Fig. 14a)", "",
+           "The transverse force is odd in w, so the response to P0 cos(Omega t) can be symmetric in time,",
+           "w(t + T/2) = -w(t). With more than one axisymmetric function the resonant response of Fig. 14a",
+           "loses that symmetry on its way up (\"The families with u = v = 0 on a complete radial basis\", the",
+           "column \"the orbit itself\"): a real multiplier passes +1 without a fold, and a pair of responses",
+           "without the symmetry bifurcates, each the other's image under t -> t + T/2, w -> -w. The option",
+           "`symmetry_breaking` switches onto them at the first such point and follows them with the families'",
+           "multipliers (docs/model.md, \"Bifurcation test functions\"; `tests/test_symmetry_breaking.py`:",
+           "DOP853 finds them periodic, not symmetric and attracting where the continuation does).", ""]
+    out += _broken_held(results)
+    out += _broken_sweeps(results)
+    return out
+
+
+def _broken_held(results: Path) -> list[str]:
+    out = ["### u = v = 0 held, the families on the responses without the symmetry", "",
+           "u = v = 0 held on N Legendre functions, the families n = 1..6 of W on all N (`validation/fig14a-",
+           "broken-<case>-order<N>`). Per run: where the symmetric response loses its symmetry (the branch",
+           "point, rad/s) and where its resonance ends (its upper saddle-node); the responses without the",
+           "symmetry up to their saddle-node of largest amplitude (rad/s, m), the Omega intervals (rad/s)",
+           "where they are themselves unstable and where each family is (largest multiplier modulus in",
+           "brackets).", ""]
+    families = None
+    for case, names in BROKEN_STUDIES:
+        runs = [_open(results, n) for n in names]
+        if any(ds is None for ds in runs):
+            out += [f"**{case}**: " + _missing(*names)[0], ""]
+            continue
+        rows, intervals_by_N = [], []
+        for ds in runs:
+            b = _grid_point(ds)
+            families = [int(n) for n in ds.family.values]
+            N = int(ds.attrs["model_order"])
+            n = int(b.n_points)
+            kind, fam = b.point_type.values.ravel()[:n], b.point_family.values.ravel()[:n]
+            points = np.flatnonzero((kind == BRANCH_POINT) & (fam == 0))
+            symmetric, _, _ = _stretch_families(b, to_peak=True)
+            if not points.size or not np.isfinite(b.broken_Omega.values.ravel()[0]):
+                rows.append(f"| {N} | none | {symmetric[-1]:.3f} | - | - |" + " - |" * len(families))
+                intervals_by_N.append(None)
+                continue
+            value, amplitude, own, fm = _broken_stretch(b)
+            iv = [unstable_intervals(value, fm[:, j]) for j in range(len(families))]
+            intervals_by_N.append(iv)
+            own_iv = unstable_intervals(value, own)
+            rows.append(f"| {N} | {float(b.Omega.values.ravel()[points[0]]):.3f} | {symmetric[-1]:.3f} | "
+                        f"{value[-1]:.3f} ({amplitude[-1]:.3f} m) | "
+                        + (f"{_fmt_intervals(own_iv)} ({own.max():.3f})" if own_iv else "stable") + " | "
+                        + " | ".join(f"{_fmt_intervals(x)} ({np.nanmax(fm[:, j]):.3f})" if x else
+                                     f"stable ({np.nanmax(fm[:, j]):.3f})" for j, x in enumerate(iv)) + " |")
+        out += [f"**{case}**:", "", "| N | branch point | symmetric resonance ends | without the symmetry, ends "
+                "| itself unstable | " + " | ".join(f"n = {f}" for f in families) + " |",
+                "|---|---|---|---|---|" + "---|" * len(families), *rows, ""]
+        done = [x for x in intervals_by_N if x is not None]
+        if len(done) == 2:
+            moves = [_largest_move(a, b) for a, b in zip(*done)]
+            out += ["From N = 16 to 24 the largest end move per family: " + ", ".join(
+                f"n = {f}: " + ("appears/vanishes" if not np.isfinite(m) else f"{m:.2f}")
+                for f, m in zip(families, moves)) + f" (converged below {SETTLED:g} rad/s: "
+                + (", ".join(f"n = {f}" for f, m in zip(families, moves) if m < SETTLED) or "none") + ").", ""]
+    return out
+
+
+def _broken_sweeps(results: Path) -> list[str]:
+    names = ("validation/fig14a-bruteforce-axi", "validation/fig14a-broken-rom")
+    out = ["### What an Omega sweep does", "",
+           "The ROM with K = 1, 2, 3 axisymmetric modes at the paper's damping, Omega stepped up (1500 transient",
+           "periods, then 200 Poincare points; `validation/fig14a-bruteforce-axi`) against its continued branches",
+           "(`validation/fig14a-broken-rom`): at each Omega of the resonant stretch the sweep's kind and amplitude",
+           "max |w(0.5 Re)|, and the stable responses the continuation has there, symmetric (s) or not (b), with",
+           "their amplitudes (m).", ""]
+    sweep, branches = (_open(results, n) for n in names)
+    if sweep is None or branches is None:
+        return out + _missing(*names)
+    kinds = dict(zip(sweep.response_kind.attrs["flag_values"].tolist(),
+                     sweep.response_kind.attrs["flag_meanings"].split()))
+    sets = sweep.sizes.get("mode_set", 1)
+    out += ["| Omega (rad/s) | " + " | ".join(f"K = {k + 1}: sweep up | stable branches" for k in range(sets)) + " |",
+            "|---|" + "---|---|" * sets]
+    columns, notes = [], []
+    for k in range(sets):
+        up = sweep.isel(mode_set=k, direction=0).squeeze() if "mode_set" in sweep.dims else \
+            sweep.isel(direction=0).squeeze()
+        b = _grid_point(branches, k if "mode_set" in branches.dims else None)
+        n = int(b.n_points)
+        sym = (b.Omega.values.ravel()[:n], b.amplitude.values.ravel()[:n], b.stable.values.ravel()[:n] == 1)
+        # the branch without the symmetry up to its saddle-node of largest amplitude: past it the
+        # continuation returns and goes round again through the pair's image (the same amplitudes)
+        value, amplitude, _, _ = _broken_stretch(b)
+        broken = (value, amplitude, b.broken_stable.values.ravel()[:value.size] == 1)
+        cells, on_broken, periodic = [], 0, 0
+        for j, om in enumerate(up.Omega.values):
+            kind = kinds.get(int(up.response_kind.values[j]), "?").replace("_", "-")
+            period = int(up.response_period.values[j])
+            label = f"{kind} {period}" if kind == "periodic" else kind
+            found = [f"s {a:.3f}" for a in stable_amplitudes_at(*sym, om)]
+            at_broken = stable_amplitudes_at(*broken, om)
+            found += [f"b {a:.3f}" for a in at_broken]
+            swept = float(up.amplitude.values[j])
+            if kind == "periodic" and period == 1 and at_broken.size:
+                periodic += 1
+                on_broken += bool(np.any(np.abs(at_broken / swept - 1) < 0.01))
+            cells.append(f"{label} {float(up.amplitude.values[j]):.3f} | " + (", ".join(found) or "-"))
+        columns.append(cells)
+        if value.size:
+            notes.append(f"K = {k + 1}: the symmetry breaks at {value[0]:.2f} rad/s, the responses without it are "
+                         f"stable up to {value[-1]:.2f} rad/s; of the sweep's period-one responses where they are "
+                         f"stable, {on_broken} of {periodic} have their amplitude (within 1 %)")
+    for j, om in enumerate(sweep.Omega.values):
+        out.append(f"| {om:.1f} | " + " | ".join(c[j] for c in columns) + " |")
+    return out + ["", "; ".join(notes) + ". At this light damping (a decay of 0.2 % per period) 1500 periods",
+                  "do not always settle a response: values classified quasi-periodic on stable branches are such",
+                  "transients (\"A brute-force bifurcation diagram\").", ""]
+
+
 def _held_tables(runs) -> list[str]:
     """Per family, the intervals of held runs at increasing order against the radial count,
     and their convergence in M and in N."""
@@ -2330,6 +2477,7 @@ SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_mo
             section_continuation_bruteforce, section_forced_modes, section_full_forced, section_full_families,
             section_cusp,
             section_families, section_waves, section_tongues, section_family_orbit, section_held_families,
+            section_time_symmetry,
             section_full_fig14a, section_full_fig14a_light,
             section_bruteforce_diagram, section_basins,
             section_basins_modes, section_full_basins)

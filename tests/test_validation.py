@@ -25,7 +25,7 @@ def test_missing_results_name_the_jobs(tmp_path):
              + validation.section_tongues(tmp_path) + validation.section_family_orbit(tmp_path)
              + validation.section_waves(tmp_path) + validation.section_fig08(tmp_path)
              + validation.section_fe_motion(tmp_path) + validation.section_full_basins(tmp_path)
-             + validation.section_held_families(tmp_path))
+             + validation.section_held_families(tmp_path) + validation.section_time_symmetry(tmp_path))
     text = "\n".join(lines)
     for job in ("fig09-modes", "fig15-bifurcation-p0", "fig15-bruteforce", "fig19-basins",
                 "fig10-11-backbone", "fig12-inner-radius", "fig17-cusp", "fig16-17-damping",
@@ -69,10 +69,10 @@ def test_the_report_computes_nothing_from_the_model():
     assert through_sweep <= {("sweep.analyses.branch_features", "CURVE_DS_MAX"), ("sweep.analyses.mode_sets", "select"),
                              ("sweep.analyses.backbone", "FE_AROUND"), ("sweep.analyses.backbone", "FE_PERIODS"),
                              ("sweep.errors", "RunError"), ("sweep.storage.netcdf", "run_attributes")}
-    assert imported <= {("model.continuation", "KIND_LABELS"), ("model.continuation", "NEIMARK_SACKER"), ("model.continuation", "resonant_end"),
-                        ("model.continuation", "stable_amplitudes_at"), ("model.continuation", "unstable_intervals"),
-                        ("model.continuation", "unstable_points"), ("model.continuation", "FOLD"),
-                        ("model", "attractors"), ("model", "lattice"), ("model.basins", "default_settings")}
+    assert imported <= {("model.continuation", name) for name in (
+        "KIND_LABELS", "BRANCH_POINT", "NEIMARK_SACKER", "FOLD", "resonant_end", "stable_amplitudes_at",
+        "unstable_intervals", "unstable_points")} | {("model", "attractors"), ("model", "lattice"),
+                                                     ("model.basins", "default_settings")}
 
 
 @pytest.mark.parametrize("name", paper.PAPER_JOBS + paper.VALIDATION_JOBS)
