@@ -138,14 +138,19 @@ def unstable_points(modulus) -> np.ndarray:
     return np.asarray(modulus) > 1.0 + 1e-9
 
 
-def unstable_intervals(value, modulus) -> list[tuple[float, float]]:
+def unstable_intervals(value, modulus, located=None) -> list[tuple[float, float]]:
     """Parameter intervals along a branch where the largest multiplier ``modulus`` exceeds 1.
 
     An interval runs between the points that bound a run of unstable points: the located
     bifurcation points where the run starts and ends (modulus 1 to ~1e-10), or the ends of
-    the branch.  ``value`` and ``modulus`` are per point, in branch order.
+    the branch.  ``value`` and ``modulus`` are per point, in branch order.  ``located``
+    (bool per point, optional): the block's own located points, bounds whatever their
+    modulus (a branch point of the axisymmetric block is located only to ~1e-5:
+    :func:`locate`).
     """
     unstable = unstable_points(modulus)
+    if located is not None:
+        unstable &= ~np.asarray(located, dtype=bool)
     out = []
     i = 0
     while i < unstable.size:
@@ -512,7 +517,7 @@ def step(correct, tangent, x, t, ds, ds_min, tol):
     return None, None, ds
 
 
-def locate(correct, test, x, t, ds, fa, fb, tol, x_end=None):
+def locate(correct, test, x, t, ds, fa, fb, tol, x_end=None, singular=False):
     """Zero of a test function between ``x`` (arclength 0) and the next point (``ds``).
 
     Illinois (modified regula falsi) on the arclength ``sigma`` along the hyperplanes
@@ -521,32 +526,36 @@ def locate(correct, test, x, t, ds, fa, fb, tol, x_end=None):
     the test function at a corrected point.  Each corrector starts on the chord between the
     corrected points that bracket the zero (``x`` and ``x_end``, the next point, at first;
     ``x + ds t`` without it): its error is of the order of the bracket squared, where the
-    tangent's would stay of the order of ``ds`` squared.  That matters near a branch point
-    of the continued problem itself (a real multiplier of the axisymmetric block through +1
-    without a fold), where the bordered Jacobian is singular and Newton's basin shrinks with
-    the distance to it; a corrector that fails there is retried with
-    :data:`SINGULAR_MAX_ITER` iterations, and if it fails again the last corrected iterate is
-    returned (inside the bracket the iteration has narrowed so far).
+    tangent's would stay of the order of ``ds`` squared.
+
+    ``singular``: the zero is a branch point of the continued problem itself (a real
+    multiplier of the axisymmetric block through +1 without a fold), where the bordered
+    Jacobian is singular and Newton's basin shrinks with the distance to it.  A corrector that
+    fails there is retried with :data:`SINGULAR_MAX_ITER` iterations (``correct`` must take
+    ``max_iter``), and if it fails again the corrected iterate with the smallest ``|test|``
+    is returned: inside the bracket, as close to the point as the correctors reached.
 
     Returns
     -------
     (sigma, result) or None
-        The last corrected point, or None when the first corrector failed.
+        The last corrected point (``singular``: the best one), or None when a corrector
+        failed (``singular``: when the first one did).
     """
     a, b = 0.0, ds
     xa, xb = x, (x + ds * t if x_end is None else x_end)
-    best = None
+    best, best_f = None, np.inf
     sigma_old = np.inf
     for _ in range(60):
         sigma = (a * fb - b * fa) / (fb - fa)
         guess = xa + (sigma - a) / (b - a) * (xb - xa)
         res = correct(guess, t, x, sigma, tol)
-        if res is None:
+        if res is None and singular:
             res = correct(guess, t, x, sigma, tol, max_iter=SINGULAR_MAX_ITER)
         if res is None:
-            return best
+            return best if singular else None
         f = test(res)
-        best = (sigma, res)
+        if not singular or abs(f) <= best_f:
+            best, best_f = (sigma, res), abs(f)
         if f == 0.0 or abs(sigma - sigma_old) < 1e-10 * ds:
             break
         sigma_old = sigma
@@ -563,7 +572,7 @@ def _locate(prob, kind, block, x, t, ds, fa, fb, tol, x_end=None):
     between ``x`` and the next point ``x_end``; ``(sigma, x', phi, kind)`` or None.  Complex-pair
     crossings of an NS test that turn out to be real (neutral saddles) are discarded."""
     found = locate(prob.correct, lambda res: _test_value(prob, kind, block, res[1], res[2], res[0], t),
-                   x, t, ds, fa, fb, tol, x_end)
+                   x, t, ds, fa, fb, tol, x_end, singular=kind == BRANCH_POINT and block is None)
     if found is None:
         return None
     sigma, (xs, _, phi, _) = found

@@ -33,13 +33,17 @@ from .forced import ForcedMap
 from .rom import Rom, build_rom
 
 
-def null_direction(fmap: ForcedMap, state, family: Family) -> np.ndarray:
-    """The unit null vector ``(u, u')`` (2M) of ``Phi_n - I`` at the orbit ``state``: the
-    eigenvector of the family's multiplier closest to 1."""
-    block = fmap.family_monodromy(state, family)
-    mu, vec = np.linalg.eig(block)
+def null_vector(phi) -> np.ndarray:
+    """The unit null vector of ``phi - I`` at a branch point: the (real) eigenvector of the
+    monodromy block ``phi``'s multiplier closest to 1."""
+    mu, vec = np.linalg.eig(phi)
     v = np.real(vec[:, np.argmin(np.abs(mu - 1.0))])
     return v / np.linalg.norm(v)
+
+
+def null_direction(fmap: ForcedMap, state, family: Family) -> np.ndarray:
+    """The unit null vector ``(u, u')`` (2M) of ``Phi_n - I`` at the orbit ``state``."""
+    return null_vector(fmap.family_monodromy(state, family))
 
 
 def mixed_rom(rom: Rom, family: Family) -> Rom:
@@ -126,7 +130,5 @@ def follow_time_symmetry_breaking(fmap, parameter: str, start: float, stop: floa
         parameter, until the parameter leaves ``[start, stop]`` or ``max_points``.
     """
     _, phi = fmap.varied(parameter, value).monodromy(np.asarray(state, dtype=float))
-    mu, vec = np.linalg.eig(phi)
-    direction = np.real(vec[:, np.argmin(np.abs(mu - 1.0))])
     return continue_orbits(fmap, parameter, start, stop, families=families,
-                           switch=(state, value, direction / np.linalg.norm(direction)), **options)
+                           switch=(state, value, null_vector(phi)), **options)

@@ -1291,7 +1291,8 @@ def _broken_held(results: Path) -> list[str]:
             value, amplitude, own, fm = _broken_stretch(b)
             iv = [unstable_intervals(value, fm[:, j]) for j in range(len(families))]
             intervals_by_N.append(iv)
-            own_iv = unstable_intervals(value, own)
+            own_iv = unstable_intervals(value, own, _own_points(b.broken_point_type, b.broken_point_family,
+                                                                value.size))
             rows.append(f"| {N} | {float(b.Omega.values.ravel()[points[0]]):.3f} | {symmetric[-1]:.3f} | "
                         f"{value[-1]:.3f} ({amplitude[-1]:.3f} m) | "
                         + (f"{_fmt_intervals(own_iv)} ({own.max():.3f})" if own_iv else "stable") + " | "
@@ -1351,13 +1352,16 @@ def _broken_sweeps(results: Path) -> list[str]:
                 on_broken += bool(np.any(np.abs(at_broken / swept - 1) < 0.01))
             cells.append(f"{label} {float(up.amplitude.values[j]):.3f} | " + (", ".join(found) or "-"))
         columns.append(cells)
-        if value.size:
+        stable = np.flatnonzero(broken[2])
+        if stable.size:
             notes.append(f"K = {k + 1}: the symmetry breaks at {value[0]:.2f} rad/s, the responses without it are "
-                         f"stable up to {value[-1]:.2f} rad/s; of the sweep's period-one responses where they are "
-                         f"stable, {on_broken} of {periodic} have their amplitude (within 1 %)")
+                         f"stable between {value[stable[0]]:.2f} and {value[stable[-1]]:.2f} rad/s; of the sweep's "
+                         f"period-one responses where they are stable, {on_broken} of {periodic} have their "
+                         "amplitude (within 1 %)")
     for j, om in enumerate(sweep.Omega.values):
         out.append(f"| {om:.1f} | " + " | ".join(c[j] for c in columns) + " |")
-    return out + ["", "; ".join(notes) + ". At this light damping (a decay of 0.2 % per period) 1500 periods",
+    return out + ["", ("; ".join(notes) + ". " if notes else "")
+                  + "At this light damping (a decay of 0.2 % per period) 1500 periods",
                   "do not always settle a response: values classified quasi-periodic on stable branches are such",
                   "transients (\"A brute-force bifurcation diagram\").", ""]
 
@@ -1433,7 +1437,7 @@ def _held_against_rom(results: Path, runs, rom_names, free_names=()) -> list[str
         stopped = " (stopped)" if int(b.status) != 0 and value.size >= int(b.n_points) - 2 else ""
         by_n = {int(n): j for j, n in enumerate(b.family.values)}
         own = b.multiplier_modulus.values.ravel()[:value.size]
-        own_intervals = unstable_intervals(value, own)
+        own_intervals = unstable_intervals(value, own, _own_points(b.point_type, b.point_family, value.size))
         cells, lasting = [], [f"{own_intervals[-1][0]:.2f}" if unstable_points(own[-1]) else "none"]
         for f in families:
             r = modulus.shape[1] - 1
@@ -1598,8 +1602,14 @@ def _axisymmetric_cell(b, end: int) -> str:
     Omega intervals (rad/s) and, in brackets, the largest modulus there; ``stable`` if nowhere."""
     value = b.Omega.values.ravel()[:end]
     modulus = b.multiplier_modulus.values.ravel()[:end]
-    intervals = unstable_intervals(value, modulus)
+    intervals = unstable_intervals(value, modulus, _own_points(b.point_type, b.point_family, end))
     return f"{_fmt_intervals(intervals)} ({np.nanmax(modulus):.3f})" if intervals else "stable"
+
+
+def _own_points(kind, family, end: int) -> np.ndarray:
+    """The located points of the axisymmetric block among the first ``end`` points (their
+    types and blocks ``kind``, ``family``), the bounds of its unstable intervals."""
+    return (kind.values.ravel()[:end] > 0) & (family.values.ravel()[:end] == 0)
 
 
 def _moves(intervals, j: int, counts: int) -> str:
@@ -2170,7 +2180,7 @@ def section_full_backbone(results: Path) -> list[str]:
            "before the branch turns.", ""]
     full, coarse, rom = (_open(results, n) for n in names)
     if any(ds is None for ds in (full, coarse, rom)):
-        return out + _missing(*names, *HELD_BACKBONES)
+        return out + _missing(*(n for n in (*names, *HELD_BACKBONES) if _open(results, n) is None))
     sets = {int(k): label for label, k in zip(rom.mode_set.values, rom.n_modes.values)}
     top = max(sets)
     head = ["delta", "A (m)", "omega full (rad/s)", "peak-to-peak", "order 12", f"ROM M = {top}",
@@ -2230,6 +2240,11 @@ def _held_backbone(results: Path, full, rom) -> list[str]:
     coarse, held = (_open(results, n) for n in names)
     if held is None or coarse is None:
         return out + _missing(*names)
+    targets = held.amplitude.values
+    if any(ds.amplitude.shape[-1] != targets.shape[-1] or not np.allclose(ds.amplitude.values, targets, equal_nan=True)
+           for ds in (coarse, full)) or rom.sizes["point"] != held.sizes["point"]:
+        return out + ["*The held, full and ROM runs have different target amplitudes: rerun them with the "
+                      "targets of `fig10-full-backbone`.*", ""]
     sets = {int(k): label for label, k in zip(rom.mode_set.values, rom.n_modes.values)}
     head = ["delta", "A (m)", "omega u = v = 0 (rad/s)", "order 16", *(f"ROM M = {k}" for k in sets),
             "full, u free", "max abs w / A"]

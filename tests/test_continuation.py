@@ -168,11 +168,14 @@ MEMBRANE = Membrane()
      "continuation.rotating_waves = {'max_points': 10, 'n': 1} is invalid: needs one radial count in "
      "continuation.families"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "symmetry_breaking": {"points": 10}}, GRID,
-     "continuation.symmetry_breaking = {'points': 10} is invalid: must be a table {max_points = N}"),
+     "continuation.symmetry_breaking.points = 10 is invalid: unknown key (the table is {max_points = N})"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "symmetry_breaking": 10}, GRID,
+     "continuation.symmetry_breaking = 10 is invalid: must be a table {max_points = N}"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "symmetry_breaking": {"max_points": 1}}, GRID,
      "continuation.symmetry_breaking.max_points = 1 is invalid: must be >= 2"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "modes": [[1, 0], [1, 1]], "symmetry_breaking": {"max_points": 9}},
-     GRID, "continuation.symmetry_breaking = {'max_points': 9} is invalid: needs axisymmetric modes"),
+     GRID, "continuation.modes = [[1, 0], [1, 1]] is invalid: must be axisymmetric (every n = 0) with "
+     "continuation.symmetry_breaking"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": [2, 4]},
       "symmetry_breaking": {"max_points": 10}}, GRID,
      "continuation.symmetry_breaking = {'max_points': 10} is invalid: needs one radial count in "

@@ -244,7 +244,8 @@ class ContinuationAnalysis(Analysis):
         "symmetry_breaking": "{max_points = N}: at the first branch point of the axisymmetric block (a response "
                              "symmetric in time, w(t + T/2) = -w(t), giving way to responses without that "
                              "symmetry), switch onto the new branch and follow it for at most N points, with the "
-                             "families' multipliers along it (default none)",
+                             "families' multipliers along it; past the point where it meets the symmetric branch "
+                             "again it goes on along its image under the symmetry (default none)",
         "tongues": "true: at every point and for every family, the smallest scale of the orbit's stiffness "
                    "modulation that destabilises the family (Floquet multipliers of the scaled block) and the "
                    "same by first-order averaging, with the resonance p Omega ~ omega_i + omega_j it finds "
@@ -275,8 +276,8 @@ class ContinuationAnalysis(Analysis):
                                    "(radial = M), not a list")
         opt.damping_modes(context.damping, s, modes, families or any(n for _, n in modes))
         if "symmetry_breaking" in table and families is None and any(n for _, n in modes):
-            raise JobError(f"{s}.symmetry_breaking", table["symmetry_breaking"], "needs axisymmetric modes "
-                           "(their asymmetric ones as continuation.families)")
+            raise JobError(f"{s}.modes", table.get("modes"), "must be axisymmetric (every n = 0) with "
+                           "continuation.symmetry_breaking (the asymmetric modes go in continuation.families)")
         curves = curves_option(table, s, parameter, grid, context.damping)
         if curves is not None and curves[0] == "delta" and not context.model.model().provides("rebuilt"):
             raise JobError(f"{s}.bifurcation_curves", table["bifurcation_curves"],

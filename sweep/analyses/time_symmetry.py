@@ -8,7 +8,10 @@ symmetry (docs/model.md, "Bifurcation test functions").  With ``symmetry_breakin
 {max_points = N}`` the first such branch point of the branch is switched at
 (:func:`model.switching.follow_time_symmetry_breaking`) and the new branch followed for at most
 N points, with the multipliers of the branch's families along it: the responses a slow sweep
-follows past the point, and their stability to the asymmetric families.  Any model with
+follows past the point, and their stability to the asymmetric families.  Where the new branch
+meets the symmetric one again (at a second such point, a saddle-node of the new branch) the
+continuation goes on along the pair's image, the same amplitudes and multipliers: N need not
+be larger than that.  Any model with
 forced maps (the ROM's axisymmetric modes, the full model with u free or held).
 
 Outputs over ``broken_point``: ``broken_<parameter>``, ``broken_amplitude``,
@@ -40,8 +43,11 @@ def symmetry_breaking_option(table, section) -> int:
     if value is None:
         return 0
     name = f"{section}.symmetry_breaking"
-    if not isinstance(value, dict) or set(value) != {"max_points"}:
+    if not isinstance(value, dict):
         raise JobError(name, value, "must be a table {max_points = N}")
+    for key in value:
+        if key != "max_points":
+            raise JobError(f"{name}.{key}", value[key], "unknown key (the table is {max_points = N})")
     return opt.number(value, name, "max_points", integer=True, low=2, high=100_000)
 
 
