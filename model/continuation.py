@@ -61,6 +61,10 @@ MAX_TURN = 0.3
 #: Newton iterations of a corrector retried while a bifurcation point is located (near a
 #: singular point of the continued problem Newton converges linearly).
 SINGULAR_MAX_ITER = 40
+#: How far from the unit circle a located point's largest multiplier may lie and still bound
+#: an unstable interval (:func:`unstable_intervals`): the accuracy of a located branch point of
+#: the axisymmetric block, the least accurate kind (~1e-5, ``tests/test_symmetry_breaking.py``).
+LOCATED_TOL = 1e-4
 #: Labels of the points of a branch.
 REGULAR, FOLD, PERIOD_DOUBLING, NEIMARK_SACKER, BRANCH_POINT = 0, 1, 2, 3, 4
 KIND_NAMES = ("regular", "fold", "period_doubling", "neimark_sacker", "branch_point")
@@ -144,13 +148,14 @@ def unstable_intervals(value, modulus, located=None) -> list[tuple[float, float]
     An interval runs between the points that bound a run of unstable points: the located
     bifurcation points where the run starts and ends (modulus 1 to ~1e-10), or the ends of
     the branch.  ``value`` and ``modulus`` are per point, in branch order.  ``located``
-    (bool per point, optional): the block's own located points, bounds whatever their
-    modulus (a branch point of the axisymmetric block is located only to ~1e-5:
-    :func:`locate`).
+    (bool per point, optional): the block's own located points; one whose largest modulus
+    is within :data:`LOCATED_TOL` of 1 is a bound, not an unstable point (a branch point of
+    the axisymmetric block is located only to ~1e-5: :func:`locate`), one with another
+    multiplier already outside stays unstable.
     """
     unstable = unstable_points(modulus)
     if located is not None:
-        unstable &= ~np.asarray(located, dtype=bool)
+        unstable &= ~(np.asarray(located, dtype=bool) & (np.abs(np.asarray(modulus) - 1.0) < LOCATED_TOL))
     out = []
     i = 0
     while i < unstable.size:
