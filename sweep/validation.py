@@ -1275,7 +1275,7 @@ def _broken_held(results: Path) -> list[str]:
         if any(ds is None for ds in runs):
             out += [f"**{case}**: " + _missing(*names)[0], ""]
             continue
-        rows, intervals_by_N = [], []
+        rows, intervals_by_N, ends_by_N = [], [], []
         for ds in runs:
             b = _grid_point(ds)
             families = [int(n) for n in ds.family.values]
@@ -1291,6 +1291,7 @@ def _broken_held(results: Path) -> list[str]:
             value, amplitude, own, fm = _broken_stretch(b)
             iv = [unstable_intervals(value, fm[:, j]) for j in range(len(families))]
             intervals_by_N.append(iv)
+            ends_by_N.append((value[0], value[-1]))
             own_iv = unstable_intervals(value, own, _own_points(b.broken_point_type, b.broken_point_family,
                                                                 value.size))
             rows.append(f"| {N} | {float(b.Omega.values.ravel()[points[0]]):.3f} | {symmetric[-1]:.3f} | "
@@ -1305,10 +1306,14 @@ def _broken_held(results: Path) -> list[str]:
         if len(done) == 2:
             moves = [_largest_move(a, b) for a, b in zip(*done)]
             orders = [int(ds.attrs["model_order"]) for ds in runs]
-            out += [f"From N = {orders[0]} to {orders[1]} the largest end move per family: " + ", ".join(
-                f"n = {f}: " + ("appears/vanishes" if not np.isfinite(m) else f"{m:.2f}")
-                for f, m in zip(families, moves)) + f" (converged below {SETTLED:g} rad/s: "
-                + (", ".join(f"n = {f}" for f, m in zip(families, moves) if m < SETTLED) or "none") + ").", ""]
+            (p0, e0), (p1, e1) = ends_by_N
+            out += [f"From N = {orders[0]} to {orders[1]} the branch point moves by {abs(p1 - p0):.2f} rad/s and "
+                    f"the end of the responses without the symmetry by {abs(e1 - e0):.2f} rad/s; the largest end "
+                    "move of the families' intervals: " + ", ".join(
+                        f"n = {f}: " + ("appears/vanishes" if not np.isfinite(m) else f"{m:.2f}")
+                        for f, m in zip(families, moves)) + f" (converged below {SETTLED:g} rad/s: "
+                    + (", ".join(f"n = {f}" for f, m in zip(families, moves) if m < SETTLED) or "none")
+                    + "; a family stable at both N counts as converged).", ""]
     return out
 
 

@@ -16,6 +16,9 @@ without the symmetry: DOP853 finds one periodic, not symmetric, and attracting, 
 under the symmetry is a response too.
 """
 
+import re
+from pathlib import Path
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -198,3 +201,32 @@ symmetry_breaking = {{max_points = 30}}
         np.testing.assert_allclose(p.broken_family_multiplier_modulus.values[:m, 0],
                                    np.abs(sw.family_multipliers[:, 0]).max(axis=1), rtol=1e-7)
         assert np.isnan(p.broken_Omega.values[m:]).all() and (p.broken_point_type.values[m:] == -1).all()
+
+
+def test_the_report_compares_an_omega_sweep_with_both_branches(tmp_path):
+    """docs/validation.md's sweep table from small runs of its two jobs: a row per Omega, and
+    for two modes the branch point and the stable responses without the symmetry, which the
+    sweep's period-one responses are checked against."""
+    from sweep import validation
+
+    jobs = Path(__file__).resolve().parents[1] / "jobs" / "validation"
+    runs = tmp_path / "validation"
+    sets = "[[[1, 0]], [[1, 0], [2, 0]]]"
+    sweep = (jobs / "fig14a-bruteforce-axi.toml").read_text()
+    sweep = re.sub(r"values = \{.*\}", "values = {start = 40.0, stop = 40.4, num = 2}", sweep)
+    sweep = re.sub(r"modes = .*", f"modes = {sets}", sweep)
+    sweep = sweep.replace("max_periods = 1500", "max_periods = 60").replace("poincare_points = 200",
+                                                                          "poincare_points = 10")
+    branches = (jobs / "fig14a-broken-rom.toml").read_text()
+    branches = re.sub(r"modes = .*", f"modes = {sets}", branches).replace("stop = 55.0", f"stop = {TOP}")
+    branches = re.sub(r"symmetry_breaking = \{.*\}", "symmetry_breaking = {max_points = 200}", branches)
+    for name, text in (("fig14a-bruteforce-axi", sweep), ("fig14a-broken-rom", branches)):
+        (tmp_path / f"{name}.toml").write_text(text)
+        assert cli.main(["run", str(tmp_path / f"{name}.toml"), "-o", str(runs / f"{name}.nc")]) == 0
+    text = "\n".join(validation.section_time_symmetry(tmp_path))
+    assert "| 40.0 | " in text and "| 40.4 | " in text
+    # one mode: no such point; two: the point of test_the_axisymmetric_branch_point_is_located...
+    assert "K = 1: the symmetry breaks" not in text
+    assert re.search(r"K = 2: the symmetry breaks at 38\.6\d rad/s", text)
+    row = next(line for line in text.splitlines() if line.startswith("| 40.0 | "))
+    assert " b 0." in row.split("|")[5]  # K = 2's stable branches at 40 rad/s: one without the symmetry
