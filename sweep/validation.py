@@ -1257,8 +1257,37 @@ def section_time_symmetry(results: Path) -> list[str]:
            "multipliers (docs/model.md, \"Bifurcation test functions\"; `tests/test_symmetry_breaking.py`:",
            "DOP853 finds them periodic, not symmetric and attracting where the continuation does).", ""]
     out += _broken_held(results)
+    out += _broken_rom(results)
     out += _broken_sweeps(results)
     return out
+
+
+def _broken_rom(results: Path) -> list[str]:
+    """Per axisymmetric mode count K of the ROM at the paper's damping: where the symmetry
+    breaks and how far the responses without it reach (no families)."""
+    name = "validation/fig14a-broken-rom"
+    out = ["### The ROM's responses without the symmetry against its modes", "",
+           "The paper's damping, the ROM with K axisymmetric Bessel modes (`validation/fig14a-broken-rom`, no",
+           "families): the branch point, the saddle-node of largest amplitude of the responses without the",
+           "symmetry (rad/s, m) and the Omega range where they are stable.", ""]
+    ds = _open(results, name)
+    if ds is None:
+        return out + _missing(name)
+    out += ["| K | branch point | without the symmetry, ends | stable on |", "|---|---|---|---|"]
+    for k, K in enumerate(int(x) for x in ds.n_modes.values):
+        b = _grid_point(ds, k)
+        n = int(b.n_points)
+        points = np.flatnonzero((b.point_type.values.ravel()[:n] == BRANCH_POINT)
+                                & (_point_family(b)[:n] == 0))
+        if not points.size:
+            out.append(f"| {K} | none | - | - |")
+            continue
+        value, amplitude, _, _ = _broken_stretch(b)
+        stable = np.flatnonzero(b.broken_stable.values.ravel()[:value.size] == 1)
+        out.append(f"| {K} | {float(b.Omega.values.ravel()[points[0]]):.3f} | {value[-1]:.3f} "
+                   f"({amplitude[-1]:.3f} m) | "
+                   + (f"{value[stable[0]]:.2f}-{value[stable[-1]]:.2f}" if stable.size else "nowhere") + " |")
+    return out + [""]
 
 
 def _broken_held(results: Path) -> list[str]:
@@ -1328,16 +1357,19 @@ def _broken_sweeps(results: Path) -> list[str]:
     sweep, branches = (_open(results, n) for n in names)
     if sweep is None or branches is None:
         return out + _missing(*names)
+    if not set(sweep.n_modes.values) <= set(branches.n_modes.values):
+        return out + ["*The sweep's mode sets are not all among the branches': rerun both jobs.*", ""]
     kinds = dict(zip(sweep.response_kind.attrs["flag_values"].tolist(),
                      sweep.response_kind.attrs["flag_meanings"].split()))
     sets = sweep.sizes.get("mode_set", 1)
-    out += ["| Omega (rad/s) | " + " | ".join(f"K = {k + 1}: sweep up | stable branches" for k in range(sets)) + " |",
+    out += ["| Omega (rad/s) | " + " | ".join(f"K = {int(K)}: sweep up | stable branches" for K in sweep.n_modes.values)
+            + " |",
             "|---|" + "---|---|" * sets]
     columns, notes = [], []
+    counts = [int(x) for x in branches.n_modes.values]
     for k in range(sets):
-        up = sweep.isel(mode_set=k, direction=0).squeeze() if "mode_set" in sweep.dims else \
-            sweep.isel(direction=0).squeeze()
-        b = _grid_point(branches, k if "mode_set" in branches.dims else None)
+        up = sweep.isel(mode_set=k, direction=0).squeeze()
+        b = _grid_point(branches, counts.index(int(up.n_modes)))
         n = int(b.n_points)
         sym = (b.Omega.values.ravel()[:n], b.amplitude.values.ravel()[:n], b.stable.values.ravel()[:n] == 1)
         # the branch without the symmetry up to its saddle-node of largest amplitude: past it the
@@ -1360,8 +1392,8 @@ def _broken_sweeps(results: Path) -> list[str]:
         columns.append(cells)
         stable = np.flatnonzero(broken[2])
         if stable.size:
-            notes.append(f"K = {k + 1}: the symmetry breaks at {value[0]:.2f} rad/s, the responses without it are "
-                         f"stable between {value[stable[0]]:.2f} and {value[stable[-1]]:.2f} rad/s; of the sweep's "
+            notes.append(f"K = {int(up.n_modes)}: the symmetry breaks at {value[0]:.2f} rad/s, the responses "
+                         f"without it are stable between {value[stable[0]]:.2f} and {value[stable[-1]]:.2f} rad/s; of the sweep's "
                          f"period-one responses where they are stable, {on_broken} of {periodic} have their "
                          "amplitude (within 1 %)")
     for j, om in enumerate(sweep.Omega.values):
@@ -1443,7 +1475,7 @@ def _held_against_rom(results: Path, runs, rom_names, free_names=()) -> list[str
         stopped = " (stopped)" if int(b.status) != 0 and value.size >= int(b.n_points) - 2 else ""
         by_n = {int(n): j for j, n in enumerate(b.family.values)}
         own = b.multiplier_modulus.values.ravel()[:value.size]
-        own_intervals = unstable_intervals(value, own, _own_points(b.point_type, b.point_family, value.size))
+        own_intervals = unstable_intervals(value, own, _own_points(b.point_type, _point_family(b), value.size))
         cells, lasting = [], [f"{own_intervals[-1][0]:.2f}" if unstable_points(own[-1]) else "none"]
         for f in families:
             r = modulus.shape[1] - 1
@@ -1608,14 +1640,20 @@ def _axisymmetric_cell(b, end: int) -> str:
     Omega intervals (rad/s) and, in brackets, the largest modulus there; ``stable`` if nowhere."""
     value = b.Omega.values.ravel()[:end]
     modulus = b.multiplier_modulus.values.ravel()[:end]
-    intervals = unstable_intervals(value, modulus, _own_points(b.point_type, b.point_family, end))
+    intervals = unstable_intervals(value, modulus, _own_points(b.point_type, _point_family(b), end))
     return f"{_fmt_intervals(intervals)} ({np.nanmax(modulus):.3f})" if intervals else "stable"
 
 
 def _own_points(kind, family, end: int) -> np.ndarray:
     """The located points of the axisymmetric block among the first ``end`` points (their
-    types and blocks ``kind``, ``family``), the bounds of its unstable intervals."""
-    return (kind.values.ravel()[:end] > 0) & (family.values.ravel()[:end] == 0)
+    types and blocks ``kind``, ``family``: arrays), the bounds of its unstable intervals."""
+    return (np.asarray(kind).ravel()[:end] > 0) & (np.asarray(family).ravel()[:end] == 0)
+
+
+def _point_family(b) -> np.ndarray:
+    """The block of each located point of a branch: ``point_family``, or the axisymmetric one
+    (0) for a run without families."""
+    return b.point_family.values.ravel() if "point_family" in b else np.zeros(b.sizes["point"], np.int16)
 
 
 def _moves(intervals, j: int, counts: int) -> str:

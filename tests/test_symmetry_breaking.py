@@ -218,7 +218,8 @@ def test_the_report_compares_an_omega_sweep_with_both_branches(tmp_path):
     sweep = sweep.replace("max_periods = 1500", "max_periods = 60").replace("poincare_points = 200",
                                                                           "poincare_points = 10")
     branches = (jobs / "fig14a-broken-rom.toml").read_text()
-    branches = re.sub(r"modes = .*", f"modes = {sets}", branches).replace("stop = 55.0", f"stop = {TOP}")
+    branches = re.sub(r"modes = \[.*?\]\]\]\n", f"modes = {sets}\n", branches, flags=re.S)
+    branches = branches.replace("stop = 55.0", f"stop = {TOP}")
     branches = re.sub(r"symmetry_breaking = \{.*\}", "symmetry_breaking = {max_points = 200}", branches)
     for name, text in (("fig14a-bruteforce-axi", sweep), ("fig14a-broken-rom", branches)):
         (tmp_path / f"{name}.toml").write_text(text)
