@@ -1257,36 +1257,48 @@ def section_time_symmetry(results: Path) -> list[str]:
            "multipliers (docs/model.md, \"Bifurcation test functions\"; `tests/test_symmetry_breaking.py`:",
            "DOP853 finds them periodic, not symmetric and attracting where the continuation does).", ""]
     out += _broken_held(results)
-    out += _broken_rom(results)
+    out += _broken_extent(results)
     out += _broken_sweeps(results)
     return out
 
 
-def _broken_rom(results: Path) -> list[str]:
-    """Per axisymmetric mode count K of the ROM at the paper's damping: where the symmetry
-    breaks and how far the responses without it reach (no families)."""
-    name = "validation/fig14a-broken-rom"
-    out = ["### The ROM's responses without the symmetry against its modes", "",
-           "The paper's damping, the ROM with K axisymmetric Bessel modes (`validation/fig14a-broken-rom`, no",
-           "families): the branch point, the saddle-node of largest amplitude of the responses without the",
-           "symmetry (rad/s, m) and the Omega range where they are stable.", ""]
-    ds = _open(results, name)
-    if ds is None:
-        return out + _missing(name)
-    out += ["| K | branch point | without the symmetry, ends | stable on |", "|---|---|---|---|"]
-    for k, K in enumerate(int(x) for x in ds.n_modes.values):
-        b = _grid_point(ds, k)
+#: The responses without the symmetry at the paper's damping without families: the ROM by its
+#: axisymmetric modes, u = v = 0 held by its radial functions.
+BROKEN_EXTENT = ("validation/fig14a-broken-rom", "validation/fig14a-broken-viscous-axi-order16",
+                 "validation/fig14a-broken-viscous-axi-order24")
+
+
+def _broken_extent(results: Path) -> list[str]:
+    """At the paper's damping, without families: where the symmetry breaks and how far the
+    responses without it reach, for the ROM by K and for u = v = 0 held by N."""
+    out = ["### How far the responses without the symmetry reach, against the resolution", "",
+           "The paper's damping, without families: the ROM with K axisymmetric Bessel modes",
+           "(`validation/fig14a-broken-rom`) and u = v = 0 held on N functions (`validation/fig14a-broken-",
+           "viscous-axi-order<N>`). The branch point; the saddle-node of largest amplitude of the responses",
+           "without the symmetry (rad/s, m), and the Omega range over which they are stable in themselves",
+           "(all of the branch followed).", ""]
+    runs = [_open(results, n) for n in BROKEN_EXTENT]
+    if any(ds is None for ds in runs):
+        return out + _missing(*(n for n, ds in zip(BROKEN_EXTENT, runs) if ds is None))
+    rom, *held = runs
+    rows = [(f"ROM, K = {int(K)}", _grid_point(rom, k)) for k, K in enumerate(rom.n_modes.values)]
+    rows += [(f"u = v = 0, N = {int(ds.attrs['model_order'])}", _grid_point(ds)) for ds in held]
+    out += ["| model | branch point | without the symmetry, ends | stable on | points followed |",
+            "|---|---|---|---|---|"]
+    for label, b in rows:
         n = int(b.n_points)
-        points = np.flatnonzero((b.point_type.values.ravel()[:n] == BRANCH_POINT)
-                                & (_point_family(b)[:n] == 0))
+        points = np.flatnonzero((b.point_type.values.ravel()[:n] == BRANCH_POINT) & (_point_family(b)[:n] == 0))
         if not points.size:
-            out.append(f"| {K} | none | - | - |")
+            out.append(f"| {label} | none | - | - | - |")
             continue
         value, amplitude, _, _ = _broken_stretch(b)
-        stable = np.flatnonzero(b.broken_stable.values.ravel()[:value.size] == 1)
-        out.append(f"| {K} | {float(b.Omega.values.ravel()[points[0]]):.3f} | {value[-1]:.3f} "
+        m = int(np.count_nonzero(np.isfinite(b.broken_Omega.values)))
+        every = b.broken_Omega.values.ravel()[:m]
+        stable = np.flatnonzero(b.broken_stable.values.ravel()[:m] == 1)
+        out.append(f"| {label} | {float(b.Omega.values.ravel()[points[0]]):.3f} | {value[-1]:.3f} "
                    f"({amplitude[-1]:.3f} m) | "
-                   + (f"{value[stable[0]]:.2f}-{value[stable[-1]]:.2f}" if stable.size else "nowhere") + " |")
+                   + (f"{every[stable].min():.2f}-{every[stable].max():.2f}" if stable.size else "nowhere")
+                   + f" | {m} |")
     return out + [""]
 
 
