@@ -1227,9 +1227,9 @@ BROKEN_STUDIES = (
 
 def _broken_stretch(b):
     """The branch without the half-period symmetry of one grid point ``b`` from its branch
-    point to its first saddle-node of largest amplitude (the whole of it without one): Omega, the
-    amplitude, the axisymmetric block's largest multiplier modulus and the families' ``(point,
-    family)`` (None without families)."""
+    point to its first saddle-node of largest amplitude (all the points followed without one:
+    :func:`_broken_end` says which): Omega, the amplitude, the axisymmetric block's largest
+    multiplier modulus and the families' ``(point, family)`` (None without families)."""
     value = b.broken_Omega.values.ravel()
     n = int(np.count_nonzero(np.isfinite(value)))
     kind = b.broken_point_type.values.ravel()[:n]
@@ -1241,6 +1241,27 @@ def _broken_stretch(b):
     families = (b.broken_family_multiplier_modulus.transpose("broken_point", "family").values[:end]
                 if "broken_family_multiplier_modulus" in b else None)
     return value[:end], amplitude[:end], b.broken_multiplier_modulus.values.ravel()[:end], families
+
+
+def _broken_end(b, value, amplitude) -> str:
+    """The end of :func:`_broken_stretch`'s ``value``, ``amplitude`` in a table: a saddle-node,
+    or the last of the points followed when there is none."""
+    n = int(np.count_nonzero(np.isfinite(b.broken_Omega.values)))
+    if np.any(b.broken_point_type.values.ravel()[:n] == FOLD):
+        return f"{value[-1]:.3f} ({amplitude[-1]:.3f} m)"
+    where = (f"in the {n} points followed" if n == b.sizes["broken_point"]
+             else "up to where it stopped (the range's end, or the message)")
+    return f"no saddle-node {where} (last: {value[-1]:.3f}, {amplitude[-1]:.3f} m)"
+
+
+def _stable_range(b) -> str:
+    """Where the points followed of the branch without the symmetry are stable: the Omega range
+    (rad/s) and how many of them."""
+    m = int(np.count_nonzero(np.isfinite(b.broken_Omega.values)))
+    every = b.broken_Omega.values.ravel()[:m]
+    stable = np.flatnonzero(b.broken_stable.values.ravel()[:m] == 1)
+    return (f"{every[stable].min():.2f}-{every[stable].max():.2f} ({stable.size} of {m} points)"
+            if stable.size else f"nowhere ({m} points)")
 
 
 def section_time_symmetry(results: Path) -> list[str]:
@@ -1276,30 +1297,26 @@ def _broken_extent(results: Path) -> list[str]:
            "(`validation/fig14a-broken-rom`) and u = v = 0 held on N functions (`validation/fig14a-broken-",
            "viscous-axi-order<N>`). The branch point; the saddle-node of largest amplitude of the responses",
            "without the symmetry (rad/s, m), and the Omega range over which they are stable in themselves",
-           "(all of the branch followed).", ""]
+           "(all of the branch followed; not one interval: the stable points may lie in several pieces).", ""]
     runs = [_open(results, n) for n in BROKEN_EXTENT]
-    if any(ds is None for ds in runs):
-        return out + _missing(*(n for n, ds in zip(BROKEN_EXTENT, runs) if ds is None))
+    absent = [n for n, ds in zip(BROKEN_EXTENT, runs) if ds is None]
+    if len(absent) == len(runs):
+        return out + _missing(*absent)
     rom, *held = runs
-    rows = [(f"ROM, K = {int(K)}", _grid_point(rom, k)) for k, K in enumerate(rom.n_modes.values)]
-    rows += [(f"u = v = 0, N = {int(ds.attrs['model_order'])}", _grid_point(ds)) for ds in held]
-    out += ["| model | branch point | without the symmetry, ends | stable on | points followed |",
-            "|---|---|---|---|---|"]
+    rows = [] if rom is None else [(f"ROM, K = {int(K)}", _grid_point(rom, k))
+                                   for k, K in enumerate(np.atleast_1d(rom.n_modes.values))]
+    rows += [(f"u = v = 0, N = {int(ds.attrs['model_order'])}", _grid_point(ds)) for ds in held if ds is not None]
+    out += ["| model | branch point | without the symmetry, ends | stable on |", "|---|---|---|---|"]
     for label, b in rows:
         n = int(b.n_points)
         points = np.flatnonzero((b.point_type.values.ravel()[:n] == BRANCH_POINT) & (_point_family(b)[:n] == 0))
-        if not points.size:
-            out.append(f"| {label} | none | - | - | - |")
+        if not points.size or not np.isfinite(b.broken_Omega.values.ravel()[0]):
+            out.append(f"| {label} | " + ("none" if not points.size else "no branch followed") + " | - | - |")
             continue
         value, amplitude, _, _ = _broken_stretch(b)
-        m = int(np.count_nonzero(np.isfinite(b.broken_Omega.values)))
-        every = b.broken_Omega.values.ravel()[:m]
-        stable = np.flatnonzero(b.broken_stable.values.ravel()[:m] == 1)
-        out.append(f"| {label} | {float(b.Omega.values.ravel()[points[0]]):.3f} | {value[-1]:.3f} "
-                   f"({amplitude[-1]:.3f} m) | "
-                   + (f"{every[stable].min():.2f}-{every[stable].max():.2f}" if stable.size else "nowhere")
-                   + f" | {m} |")
-    return out + [""]
+        out.append(f"| {label} | {float(b.Omega.values.ravel()[points[0]]):.3f} | {_broken_end(b, value, amplitude)} | "
+                   f"{_stable_range(b)} |")
+    return out + [""] + (_missing(*absent) if absent else [])
 
 
 def _broken_held(results: Path) -> list[str]:
@@ -1336,7 +1353,7 @@ def _broken_held(results: Path) -> list[str]:
             own_iv = unstable_intervals(value, own, _own_points(b.broken_point_type, b.broken_point_family,
                                                                 value.size))
             rows.append(f"| {N} | {float(b.Omega.values.ravel()[points[0]]):.3f} | {symmetric[-1]:.3f} | "
-                        f"{value[-1]:.3f} ({amplitude[-1]:.3f} m) | "
+                        f"{_broken_end(b, value, amplitude)} | "
                         + (f"{_fmt_intervals(own_iv)} ({own.max():.3f})" if own_iv else "stable") + " | "
                         + " | ".join(f"{_fmt_intervals(x)} ({np.nanmax(fm[:, j]):.3f})" if x else
                                      f"stable ({np.nanmax(fm[:, j]):.3f})" for j, x in enumerate(iv)) + " |")
@@ -1369,19 +1386,20 @@ def _broken_sweeps(results: Path) -> list[str]:
     sweep, branches = (_open(results, n) for n in names)
     if sweep is None or branches is None:
         return out + _missing(*names)
-    if not set(sweep.n_modes.values) <= set(branches.n_modes.values):
+    if "mode_set" not in sweep.dims or "mode_set" not in branches.dims \
+            or not set(sweep.mode_set.values) <= set(branches.mode_set.values):
         return out + ["*The sweep's mode sets are not all among the branches': rerun both jobs.*", ""]
     kinds = dict(zip(sweep.response_kind.attrs["flag_values"].tolist(),
                      sweep.response_kind.attrs["flag_meanings"].split()))
     sets = sweep.sizes.get("mode_set", 1)
-    out += ["| Omega (rad/s) | " + " | ".join(f"K = {int(K)}: sweep up | stable branches" for K in sweep.n_modes.values)
-            + " |",
+    out += ["| Omega (rad/s) | " + " | ".join(f"K = {int(K)}: sweep up | stable branches"
+                                              for K in sweep.n_modes.values) + " |",
             "|---|" + "---|---|" * sets]
     columns, notes = [], []
-    counts = [int(x) for x in branches.n_modes.values]
+    labels = list(branches.mode_set.values)
     for k in range(sets):
         up = sweep.isel(mode_set=k, direction=0).squeeze()
-        b = _grid_point(branches, counts.index(int(up.n_modes)))
+        b = _grid_point(branches, labels.index(up.mode_set.values))
         n = int(b.n_points)
         sym = (b.Omega.values.ravel()[:n], b.amplitude.values.ravel()[:n], b.stable.values.ravel()[:n] == 1)
         # the branch without the symmetry up to its saddle-node of largest amplitude: past it the
@@ -1405,8 +1423,8 @@ def _broken_sweeps(results: Path) -> list[str]:
         stable = np.flatnonzero(broken[2])
         if stable.size:
             notes.append(f"K = {int(up.n_modes)}: the symmetry breaks at {value[0]:.2f} rad/s, the responses "
-                         f"without it are stable between {value[stable[0]]:.2f} and {value[stable[-1]]:.2f} rad/s; of the sweep's "
-                         f"period-one responses where they are stable, {on_broken} of {periodic} have their "
+                         f"without it are stable between {value[stable[0]]:.2f} and {value[stable[-1]]:.2f} "
+                         f"rad/s; of the sweep's period-one responses where they are stable, {on_broken} of {periodic} have their "
                          "amplitude (within 1 %)")
     for j, om in enumerate(sweep.Omega.values):
         out.append(f"| {om:.1f} | " + " | ".join(c[j] for c in columns) + " |")

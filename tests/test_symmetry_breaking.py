@@ -60,7 +60,7 @@ def test_the_axisymmetric_branch_point_is_located_where_a_multiplier_is_plus_one
     distance = [np.min(np.abs(br.multipliers[k] - 1.0)) for k in (i - 1, i, i + 1)]
     assert distance[1] < 1e-3 * min(distance[0], distance[2])
     assert br.stable[i - 1] and not br.stable[i + 1]
-    # the unstable interval starts at the located point, a bound whatever its last digits
+    # the unstable interval starts at the located point, a bound though not exactly on the circle
     located = (br.kind > 0) & (br.family == 0)
     modulus = np.abs(br.multipliers).max(axis=1)
     assert unstable_intervals(br.value, modulus, located)[0][0] == br.value[i]
@@ -231,3 +231,8 @@ def test_the_report_compares_an_omega_sweep_with_both_branches(tmp_path):
     assert re.search(r"K = 2: the symmetry breaks at 38\.6\d rad/s", text)
     row = next(line for line in text.splitlines() if line.startswith("| 40.0 | "))
     assert " b 0." in row.split("|")[5]  # K = 2's stable branches at 40 rad/s: one without the symmetry
+    # the table against the resolution, from the same branches (the held runs absent)
+    assert "| ROM, K = 1 | none | - | - |" in text
+    assert re.search(r"\| ROM, K = 2 \| 38\.6\d\d \| no saddle-node up to where it stopped \(the range's end, "
+                     r"or the message\) \(last: 42\.000, ", text)
+    assert "`jobs/validation/fig14a-broken-viscous-axi-order16.toml`" in text
