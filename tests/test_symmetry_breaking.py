@@ -201,6 +201,9 @@ symmetry_breaking = {{max_points = 30}}
         np.testing.assert_allclose(p.broken_family_multiplier_modulus.values[:m, 0],
                                    np.abs(sw.family_multipliers[:, 0]).max(axis=1), rtol=1e-7)
         assert np.isnan(p.broken_Omega.values[m:]).all() and (p.broken_point_type.values[m:] == -1).all()
+    # the bifurcation diagram draws them too (thin lines)
+    assert cli.main(["figures", str(out), "-o", str(tmp_path / "figures")]) == 0
+    assert (tmp_path / "figures" / "bifurcation_Omega.png").exists()
 
 
 def test_the_report_compares_an_omega_sweep_with_both_branches(tmp_path):

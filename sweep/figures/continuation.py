@@ -16,7 +16,8 @@ def continuation_figures(ds, outdir) -> list:
     One panel per combination of the grid keys other than ``c``; the ``c`` values are
     overlaid (a colour bar when there are more than four).  Stable responses solid,
     unstable dashed, saddle-nodes circles (period doubling squares, Neimark-Sacker
-    diamonds).  Continuations in Omega are zoomed on the resonance (:func:`_zoom_omega`).
+    diamonds); with ``symmetry_breaking`` the responses without the half-period symmetry in
+    thin lines.  Continuations in Omega are zoomed on the resonance (:func:`_zoom_omega`).
     The fold-loci figure skips the panels without saddle-nodes.  Of a study in the families'
     radial modes (a ``family_radial`` dimension) the figures show the largest count, but for the
     stability map, which has a panel per count.
@@ -47,16 +48,19 @@ def continuation_figures(ds, outdir) -> list:
             _draw_branch(ax, b[par].values, b.amplitude.values, b.stable.values, b.point_type.values,
                          colors[j], None if c is None or many else f"c = {float(c):g} N s/m$^3$",
                          stopped="status" in b and int(b.status) in (1, 2))
+            if f"broken_{par}" in b:  # the responses without the half-period symmetry
+                _draw_branch(ax, b[f"broken_{par}"].values, b.broken_amplitude.values, b.broken_stable.values,
+                             b.broken_point_type.values, colors[j], None, lw=0.6)
         if par == "Omega":
             b = ds.sel(sel)
             _zoom_omega(ax, b[par].values.ravel(), b.amplitude.values.ravel())
         ax.set(xlabel=xlabel, ylabel=r"amplitude of $w(0.5, 0)$ (mm)")
         ax.set_title(point_label(sel), fontsize=9)
         if len(cs) > 1 and not many:
-            ax.add_artist(_style_legend(ax))
+            ax.add_artist(_style_legend(ax, f"broken_{par}" in ds))
             ax.legend(fontsize=7, loc="lower right")
     if len(cs) <= 1 or many:
-        _style_legend(axes[0])
+        _style_legend(axes[0], f"broken_{par}" in ds)
     fig.suptitle("Periodic responses (stroboscopic map)", fontsize=11)
     fig.tight_layout()
     if many:
@@ -124,14 +128,14 @@ def _runs(stable):
     return runs
 
 
-def _draw_branch(ax, x, amp, stable, kind, color, label, stopped=False):
+def _draw_branch(ax, x, amp, stable, kind, color, label, stopped=False, lw=1.2):
     ok = np.isfinite(x)
     x, amp, stable, kind = x[ok], amp[ok], stable[ok], kind[ok]
     if stopped and x.size:  # the branch ended before its range did: mark where
         ax.plot(x[-1:], amp[-1:] * 1e3, ls="none", marker="X", ms=8, color=color, mec="k")
     first = True
     for i0, i1, st in _runs(stable):
-        ax.plot(x[i0:i1 + 1], amp[i0:i1 + 1] * 1e3, color=color, ls="-" if st else "--", lw=1.2,
+        ax.plot(x[i0:i1 + 1], amp[i0:i1 + 1] * 1e3, color=color, ls="-" if st else "--", lw=lw,
                 label=label if first else None)
         first = False
     for k, marker in BIFURCATION_MARKERS.items():
@@ -298,9 +302,10 @@ def _zoom_omega(ax, x, amp):
     ax.set_xlim(max(x.min(), peak.min() - pad), min(x.max(), peak.max() + pad))
 
 
-def _style_legend(ax):
+def _style_legend(ax, thin: bool = False):
     """Legend of the line styles (black): stable, unstable, the markers of every kind of
-    located point and of a branch stopped early."""
+    located point and of a branch stopped early; ``thin``: the responses without the
+    half-period symmetry."""
     from matplotlib.lines import Line2D
 
     from model.continuation import KIND_LABELS
@@ -310,6 +315,8 @@ def _style_legend(ax):
     handles += [Line2D([], [], color="k", ls="none", marker=marker, mfc="white", label=KIND_LABELS[kind])
                 for kind, marker in BIFURCATION_MARKERS.items()]
     handles.append(Line2D([], [], color="k", ls="none", marker="X", label="branch stopped early"))
+    if thin:
+        handles.append(Line2D([], [], color="k", ls="-", lw=0.6, label="without the half-period symmetry"))
     return ax.legend(handles=handles, loc="upper left", fontsize=7)
 
 
