@@ -55,7 +55,7 @@ VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
     "fig14a-held-viscous-order24", *(f"fig14a-held-1pct-{law}-order{o}" for law in ("viscous", "modal", "rayleigh")
                                      for o in (16, 24)),
     "fig14a-full-1pct-rayleigh-order12", "fig14a-full-1pct-rayleigh-order16",
-    "fig14a-broken-viscous-order12", "fig14a-broken-viscous-order16", "fig14a-broken-1pct-viscous-order16",
+    "fig14a-broken-viscous-order12", "fig14a-broken-viscous-order16", "fig14a-broken-1pct-viscous-order16", "fig14a-broken-1pct-viscous-order24",
     *(f"fig14a-broken-1pct-{law}-order{o}" for law in ("modal", "rayleigh") for o in (16, 24)),
     "fig14a-broken-rom", "fig14a-broken-viscous-axi-order16", "fig14a-broken-viscous-axi-order24",
     "fig14a-bruteforce-axi",
