@@ -27,6 +27,11 @@ RESULTS = {
     "erosion-profile.nc": ("erosion-profile", {"num = 8": "num = 2", "num = 60": "num = 12"}),
     "backbone-a.nc": ("fig10-11-backbone", {"delta = [1.1, 1.2, 1.5, 2.0]": "delta = [1.1]", "num = 40": "num = 4"}),
     "backbone-b.nc": ("fig10-11-backbone", {"delta = [1.1, 1.2, 1.5, 2.0]": "delta = [2.0]", "num = 40": "num = 4"}),
+    "fig14a-broken-rom.nc": ("validation/fig14a-broken-rom", {
+        "modes = [[[1, 0]], [[1, 0], [2, 0]], [[1, 0], [2, 0], [3, 0]], [[1, 0], [2, 0], [3, 0], [4, 0]],\n"
+        "         [[1, 0], [2, 0], [3, 0], [4, 0], [5, 0], [6, 0]],\n"
+        "         [[1, 0], [2, 0], [3, 0], [4, 0], [5, 0], [6, 0], [7, 0], [8, 0]]]": "modes = [[[1, 0]], [[1, 0], [2, 0]]]",
+        "stop = 55.0": "stop = 42.0", "max_points = 500": "max_points = 60"}),
 }
 
 
