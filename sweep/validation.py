@@ -1226,6 +1226,16 @@ BROKEN_STUDIES = (
 )
 
 
+def _peak_end(kind, amplitude) -> int:
+    """Points of a branch (its point types ``kind``, amplitudes ``amplitude``) up to and with
+    its first saddle-node of largest amplitude (to 1e-6: a continuation that goes round a
+    closed loop meets it again), or all of them without a saddle-node."""
+    folds = np.flatnonzero(kind == FOLD)
+    if not folds.size or not np.isfinite(amplitude[folds]).any():
+        return len(kind)
+    return int(folds[amplitude[folds] >= (1 - 1e-6) * np.nanmax(amplitude[folds])][0]) + 1
+
+
 def _broken_stretch(b):
     """The branch without the half-period symmetry of one grid point ``b`` from its branch
     point to its first saddle-node of largest amplitude (all the points followed without one:
@@ -1235,10 +1245,7 @@ def _broken_stretch(b):
     n = int(np.count_nonzero(np.isfinite(value)))
     kind = b.broken_point_type.values.ravel()[:n]
     amplitude = b.broken_amplitude.values.ravel()[:n]
-    folds = np.flatnonzero(kind == FOLD)
-    # the first of them: the continuation may go round the loop through the pair's image again
-    top = folds[amplitude[folds] >= (1 - 1e-6) * np.nanmax(amplitude[folds])] if folds.size else folds
-    end = int(top[0]) + 1 if folds.size else n
+    end = _peak_end(kind, amplitude)
     families = (b.broken_family_multiplier_modulus.transpose("broken_point", "family").values[:end]
                 if "broken_family_multiplier_modulus" in b else None)
     return value[:end], amplitude[:end], b.broken_multiplier_modulus.values.ravel()[:end], families
@@ -1651,9 +1658,7 @@ def _stretch_families(b, to_peak: bool = False):
     value = b.Omega.values.ravel()[:n]
     kind = b.point_type.values.ravel()[:n]
     if to_peak:
-        folds = np.flatnonzero(kind == FOLD)
-        amplitude = b.amplitude.values.ravel()[folds]
-        end = int(folds[np.nanargmax(amplitude)]) + 1 if np.isfinite(amplitude).any() else n
+        end = _peak_end(kind, b.amplitude.values.ravel()[:n])
     else:
         end = resonant_end(kind)
     moduli = b.family_multiplier_modulus
