@@ -413,23 +413,31 @@ def embedded(state, dof: int) -> np.ndarray:
 
 
 def perturbation_growth(fmap, state, asymmetric, periods: int = 100, settle: int = 20,
-                        size: float = 1e-9, limit: float = 1e-5,
-                        saturate: int = 0) -> tuple[float, tuple[float, float]]:
+                        size: float = 1e-9, limit: float = 1e-5, saturate: int = 0,
+                        probe=None, start=None, metric=None) -> tuple[float, tuple[float, float]]:
     """Growth per period of a small asymmetric perturbation, by integrating the nonlinear ROM.
 
-    The independent check of :func:`family_monodromy`: ``fmap`` is the map of a mixed ROM
-    whose modes are the axisymmetric ones followed by the family's; ``state`` an
-    axisymmetric periodic state of the axisymmetric modes; the coordinates ``asymmetric``
-    (indices into the mixed ROM's modes) start at ``size`` (m).  After ``settle`` periods
-    (for the dominant Floquet modes to take over) the norm of the asymmetric part of the
-    state is recorded once per period for up to ``periods`` more, stopping early once a
+    The independent check of :func:`family_monodromy`: ``fmap`` is the map of a mixed model
+    whose first coordinates are the axisymmetric ones, followed by the family's (the ROM's
+    :meth:`model.forced.ForcedMap.perturbed_family`, the full model's
+    :meth:`model.full.forced.ForcedFull.perturbed_family`); ``state`` an axisymmetric
+    periodic state of the axisymmetric map; the coordinates ``asymmetric`` (indices into the
+    mixed model's) start at ``size`` (m) times ``start`` (default: all ones).  After ``settle``
+    periods (for the dominant Floquet modes to take over) the norm of the asymmetric part
+    ``(x, x')`` of the state, ``sqrt((x, x') metric (x, x')^T)`` (default: Euclidean), is
+    recorded once per period for up to ``periods`` more, stopping early once a
     displacement exceeds ``limit`` (m; the perturbation must stay linear), and the rate is
     the least-squares slope of its logarithm.  The fit averages the beats of complex pairs
-    (a single ratio of norms does not: the Floquet vectors are not orthogonal).  With
+    (a single ratio of norms does not: the Floquet vectors are not orthogonal); an energy
+    norm (``metric``) keeps a pair's rotation from modulating the norm, and a smooth
+    ``start`` keeps fast, more damped modes (whose initial size in that norm is large) from
+    dominating the fitted periods.  With
     ``saturate > 0`` the integration goes on for that many periods more and the range of the
     asymmetric displacement at the probe over the stroboscopic samples of the last tenth is
     reported: where the perturbation grows, the size of the state it saturates at, and
-    whether that state is periodic (a period-one orbit gives a range of zero width).
+    whether that state is periodic (a period-one orbit gives a range of zero width), with
+    ``probe`` (``(dof,)``, needed then) giving the asymmetric displacement
+    ``w_asym(rho_probe, 0) = probe @ q``.
 
     Returns
     -------
@@ -440,15 +448,19 @@ def perturbation_growth(fmap, state, asymmetric, periods: int = 100, settle: int
         ``saturate`` periods, NaN without ``saturate``.
     """
     K = fmap.dof
-    Ka = state.size // 2
     z = embedded(state, K)
-    z[list(asymmetric)] = size
+    z[list(asymmetric)] = size * (1.0 if start is None else np.asarray(start, float))
     idx = list(asymmetric) + [K + i for i in asymmetric]
+
+    def norm(z):
+        x = z[idx]
+        return float(np.linalg.norm(x) if metric is None else np.sqrt(x @ metric @ x))
+
     z = fmap.advance(z, settle)
-    norms = [np.linalg.norm(z[idx])]
+    norms = [norm(z)]
     for _ in range(periods):
         z = fmap.advance(z)
-        norms.append(np.linalg.norm(z[idx]))
+        norms.append(norm(z))
         if np.abs(z[list(asymmetric)]).max() > limit:
             break
     if len(norms) < 6:
@@ -457,11 +469,12 @@ def perturbation_growth(fmap, state, asymmetric, periods: int = 100, settle: int
     slope = np.polyfit(np.arange(len(norms)), np.log(norms), 1)[0]
     saturated = (np.nan, np.nan)
     if saturate > 0:
-        probe = fmap.rom.tables.probe[list(asymmetric)]
+        if probe is None:
+            raise ValueError("probe = None is invalid with saturate > 0: give the asymmetric displacement's vector")
         z = fmap.advance(z, saturate - max(saturate // 10, 1))
         samples = []
         for _ in range(max(saturate // 10, 1)):
             z = fmap.advance(z)
-            samples.append(probe @ z[list(asymmetric)])
+            samples.append(float(np.asarray(probe) @ z[:K]))
         saturated = (float(min(samples)), float(max(samples)))
     return float(np.exp(slope)), saturated

@@ -28,7 +28,7 @@ from .damping_kernels import matrix_or_none
 from .families import Family, family_monodromy
 from .integrate import OMEGA, PRESSURE, monodromy, monodromy_parameter, rk4_one_mode, rk4_steps
 from .params import Loading
-from .protocol import PARAMETERS, KernelArguments, sorted_multipliers, state_scale
+from .protocol import PARAMETERS, KernelArguments, PerturbedFamily, sorted_multipliers, state_scale
 from .rom import Forcing, Rom, acceleration_mismatch, build_rom, lean_radial_points, linear_frequencies, linear_system
 
 #: RK4 steps per forcing period of shooting, continuation and stepped sweeps.  At
@@ -69,6 +69,12 @@ def family_damping(fam, membrane, damping: DampingLaw) -> tuple[float, np.ndarra
             _FAMILY_DAMPING.pop(next(iter(_FAMILY_DAMPING)))
         _FAMILY_DAMPING[key] = (fam, damping.terms(*fam.linear_system(membrane), membrane.Gamma * membrane.h))
     return _FAMILY_DAMPING[key][1]
+
+
+def mixed_rom(rom: Rom, family: Family) -> Rom:
+    """The ROM of ``rom``'s axisymmetric modes followed by the family's cosine modes, on
+    ``rom``'s pre-stretch."""
+    return build_rom(rom.prestretch, list(rom.modes) + list(family.modes), probe_rho=rom.probe_rho)
 
 
 def steps_per_period(rom: Rom, base: int) -> int:
@@ -158,6 +164,17 @@ class ForcedMap:
         if self.damping is None:
             return ForcedMap(rom, self.forcing, self.steps)
         return ForcedMap.build(rom, self.forcing.P0, self.forcing.Omega, self.damping, self.steps)
+
+    def perturbed_family(self, family: Family) -> PerturbedFamily:
+        """What :func:`model.families.perturbation_growth` integrates to check ``family``'s
+        multipliers (the optional capability of :mod:`model.protocol`): the map of the mixed
+        ROM of this ROM's axisymmetric modes followed by the family's cosine modes
+        (:func:`mixed_rom`), each of the family's modal coordinates perturbed alike and
+        measured by the Euclidean norm."""
+        mixed = self.with_rom(mixed_rom(self.rom, family))
+        probe = mixed.rom.tables.probe.copy()
+        probe[:self.rom.dof] = 0.0
+        return PerturbedFamily(mixed, tuple(range(self.rom.dof, mixed.dof)), probe, np.ones(len(family.modes)), None)
 
     @property
     def radial_points(self) -> int:

@@ -32,6 +32,10 @@ back without them:
     ``modal_section`` gives the coordinates back to the fit error; the basins' lattices of
     initial conditions.  Without it the modal coordinates are
     the state (:func:`modal_lift`).
+``perturbed_family(family)``
+    :class:`PerturbedFamily`: the nonlinear model in which a family's perturbations grow
+    from an axisymmetric orbit, to check the family's multipliers by time integration
+    (continuation ``family_check``, :func:`model.families.perturbation_growth`).
 ``lean(sample, rtol)`` with ``acceleration_mismatch(reference, states)``
     A cheaper map that is the same to ``rtol`` on the states ``sample()`` (the ROM's
     fewest radial quadrature points), and how far it is from the original on other
@@ -152,6 +156,24 @@ class FreeVibration(Protocol):
         damping ``c`` from the rows of ``y0`` (``(N, 2 dof)``) until ``t_end`` (s): a record
         with ``times`` ``(N, max_count)``, ``states`` ``(N, max_count, 2 dof)`` and
         ``count`` ``(N,)``."""
+
+
+class PerturbedFamily(NamedTuple):
+    """What :func:`model.families.perturbation_growth` integrates to check a family's
+    Floquet multipliers (the optional capability ``perturbed_family`` of the maps)."""
+
+    #: the map of the nonlinear model holding the axisymmetric coordinates first (in the
+    #: order of the axisymmetric map's state) and the family's among the rest
+    fmap: Any
+    #: the indices of the family's coordinates in it
+    asymmetric: tuple[int, ...]
+    #: ``(dof,)``: the asymmetric displacement ``w_asym(rho_probe, 0) = probe @ q`` (m)
+    probe: np.ndarray
+    #: ``(len(asymmetric),)``: the shape of the initial perturbation (largest entry 1)
+    start: np.ndarray
+    #: ``(2 A, 2 A)`` for ``A = len(asymmetric)``: the quadratic form whose root measures the
+    #: perturbation ``(x, x')`` (None: the Euclidean norm)
+    metric: np.ndarray | None
 
 
 class KernelArguments(NamedTuple):

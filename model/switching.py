@@ -29,8 +29,8 @@ import numpy as np
 
 from .continuation import Branch, continue_orbits
 from .families import Family, embedded
-from .forced import ForcedMap
-from .rom import Rom, build_rom
+from .forced import ForcedMap, mixed_rom
+from .rom import Rom
 
 
 def null_vector(phi) -> np.ndarray:
@@ -44,12 +44,6 @@ def null_vector(phi) -> np.ndarray:
 def null_direction(fmap: ForcedMap, state, family: Family) -> np.ndarray:
     """The unit null vector ``(u, u')`` (2M) of ``Phi_n - I`` at the orbit ``state``."""
     return null_vector(fmap.family_monodromy(state, family))
-
-
-def mixed_rom(rom: Rom, family: Family) -> Rom:
-    """The ROM of ``rom``'s axisymmetric modes followed by the family's cosine modes, on
-    ``rom``'s pre-stretch."""
-    return build_rom(rom.prestretch, list(rom.modes) + list(family.modes), probe_rho=rom.probe_rho)
 
 
 def asymmetric_part(rom: Rom, axisymmetric: int) -> Rom:

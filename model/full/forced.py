@@ -37,19 +37,20 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.linalg import eigh
+from scipy.linalg import block_diag, eigh
 
 from model.damping import DampingLaw, Viscous
 from model.damping_kernels import matrix_or_none
 from model.forced import family_damping, periodic_peak
 from model.modes import bessel_roots, mode_shape
-from model.protocol import PARAMETERS, sorted_multipliers, state_scale
+from model.protocol import PARAMETERS, PerturbedFamily, sorted_multipliers, state_scale
 from model.rk4 import stable
 
 from .axisymmetric import AxisymmetricFull
 from .axisymmetric_kernels import NO_PARAMETER, OMEGA, PRESSURE, rk4_motion, rk4_variational
 from .families import FullFamily
 from .family_kernels import family_monodromy
+from .harmonic import HarmonicForced, HarmonicFull
 
 #: RK4 step times the highest frequency of the discretisation, at most (stable below 2.8).
 STABLE_STEP = 2.0
@@ -301,6 +302,49 @@ class ForcedFull:
         law, phi, dphi, s, sw, _, r0, dr0 = m.kernel_tables
         return family_monodromy(law, phi, dphi, s, sw, r0, dr0, stages, fam.phi, fam.dphi, fam.variations,
                                 fam.inverse_mass, m.omega0_2, rate, matrix_or_none(matrix), dt)
+
+    def perturbed_family(self, fam: FullFamily) -> PerturbedFamily:
+        """What :func:`model.families.perturbation_growth` integrates to check ``fam``'s
+        multipliers (the optional capability of :mod:`model.protocol`): the map of the full
+        model on the circumferential harmonics ``0, n, 2n`` (:class:`model.full.harmonic.HarmonicFull`:
+        the family's own harmonic and the one its square feeds), at this map's forcing and RK4
+        steps, each harmonic damped by this map's law on its own linear problem (as
+        :meth:`family_monodromy` damps the family); the perturbation starts in the family's
+        lowest mode about the pre-stretch and is measured in the energy norm of its linear
+        problem there, ``x^T K0 x + x'^T M x'`` (the fast in-plane modes, more damped, would
+        otherwise dominate the fitted periods); the asymmetric displacement is
+        ``w(probe_rho, 0) - w_0(probe_rho)``.  The family must carry ``U, V, W`` on all the
+        model's radial functions (the harmonics' blocks); ValueError where RK4's step is
+        beyond the stability of a harmonic's damped linear motion."""
+        m = self.model
+        if fam.model is not m:
+            raise ValueError("fam is invalid here: a family of another model (build it on this map's model)")
+        if fam.fields != "UVW" or fam.radial != m.order:
+            raise ValueError(f"fam is invalid here: the nonlinear check needs the family in U, V, W on all "
+                             f"{m.order} radial functions; it has {fam.fields} on {fam.radial}")
+        harmonic = HarmonicFull(m, (0, fam.n, 2 * fam.n))
+        dt = self.period / self.steps
+        blocks = [self.matrix if self.matrix.shape[0] else np.zeros((2 * m.order, 2 * m.order))]
+        for k in (fam.n, 2 * fam.n):
+            family = fam if k == fam.n else FullFamily.build(m, k)
+            rate, matrix = family_damping(family, m.membrane, self.damping)
+            eigenvalues = damped_eigenvalues(*family.linear_system(), rate, matrix)
+            if not (self.stable_step and stable(eigenvalues, dt)):
+                raise ValueError(f"steps = {self.steps} is invalid for the harmonic {k}: RK4's step leaves the "
+                                 "stability region of its damped linear motion")
+            blocks.append((matrix if matrix.shape[0] else 0.0) + (rate - self.rate) * np.eye(family.size // 2))
+        matrix = np.zeros((harmonic.dof, harmonic.dof))
+        start = 0
+        for block in blocks:
+            matrix[start:start + block.shape[0], start:start + block.shape[0]] = block
+            start += block.shape[0]
+        forced = HarmonicForced(harmonic, self.P0, self.Omega, self.steps, self.rate,
+                                matrix if np.any(matrix) else np.zeros((0, 0)))
+        n = harmonic.block(fam.n, "U").start, harmonic.block(fam.n, "W").stop
+        mass, stiffness = fam.linear_system()
+        lowest = eigh(stiffness, mass)[1][:, 0]
+        return PerturbedFamily(forced, tuple(range(*n)), forced.probe(self.probe_rho, (fam.n, 2 * fam.n)),
+                               lowest / np.abs(lowest).max(), block_diag(stiffness, mass))
 
     def modal_section(self, states) -> np.ndarray:
         """The ROM's modal coordinates and velocities ``(..., 2K)`` (m, m s-1) of the states

@@ -34,7 +34,6 @@ import numpy as np
 from model.codim2 import continue_curve, continue_folds
 from model.continuation import KIND_NAMES, resonant_end
 from model.families import perturbation_growth, symmetry_blocks
-from model.switching import mixed_rom
 from model.tongues import family_tongue
 
 from . import options as opt
@@ -361,7 +360,7 @@ class FamilyCheck(BranchFeature):
                      "family_check value)"),
             Variable("check_floquet_modulus", cf, (C, F), "f8", "1", "largest multiplier modulus of the family's block"),
             Variable("check_growth", cf, (C, F), "f8", "1",
-                     "growth per period of a small asymmetric perturbation in the nonlinear mixed ROM"),
+                     "growth per period of a small asymmetric perturbation in the nonlinear mixed model"),
             Variable("check_asymmetric_amplitude", cf, (C, F), "f8", "m",
                      "largest asymmetric |w(0.5 Re, 0)| after the family_check saturate periods (NaN without)"),
             Variable("check_asymmetric_spread", cf, (C, F), "f8", "m",
@@ -381,18 +380,17 @@ class FamilyCheck(BranchFeature):
         values, periods, saturate = options.check
         p = options.parameter
         end = resonant_end(br.kind)
-        Ka = fmap.rom.dof
         problems = []
         for j, fam in enumerate(ctx.families):
-            mixed = fmap.with_rom(mixed_rom(fmap.rom, fam))
-            asymmetric = tuple(range(Ka, Ka + len(fam.radial)))
+            mixed = fmap.perturbed_family(fam)
             for c, v in enumerate(values):
                 i = int(np.argmin(np.abs(br.value[:end] - v)))
                 out[f"check_{p}"][c] = br.value[i]
                 out["check_floquet_modulus"][c, j] = np.nanmax(np.abs(br.family_multipliers[i, j]))
                 try:
                     out["check_growth"][c, j], (low, high) = perturbation_growth(
-                        mixed.varied(p, br.value[i]), br.state[i], asymmetric, periods=periods, saturate=saturate)
+                        mixed.fmap.varied(p, br.value[i]), br.state[i], mixed.asymmetric, periods=periods,
+                        saturate=saturate, probe=mixed.probe, start=mixed.start, metric=mixed.metric)
                     out["check_asymmetric_amplitude"][c, j] = max(abs(low), abs(high))
                     out["check_asymmetric_spread"][c, j] = high - low
                 except ValueError as exc:

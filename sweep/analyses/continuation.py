@@ -78,9 +78,11 @@ with the families' multipliers: ``broken_*`` over ``broken_point``
 
 Brute-force check (``family_check = {values = [40, 44], periods = 100, saturate = 0}``, with
 ``families``): at the resonant responses (the stretch from ``start`` to the first
-saddle-node) nearest each value, each family's mixed ROM (axisymmetric modes plus the
-family's, 2-D quadrature) is integrated from the orbit plus 1e-9 m in the family's
-coordinates (:func:`model.families.perturbation_growth`): ``check_growth`` (``check``,
+saddle-node) nearest each value, each family's mixed model is integrated from the orbit plus
+1e-9 m in the family's coordinates (:func:`model.families.perturbation_growth`): the ROM's
+axisymmetric modes plus the family's (2-D quadrature), or the full model on the
+circumferential harmonics 0, n and 2n (:mod:`model.full.harmonic`; families in ``U, V, W``
+on all the model's radial functions): ``check_growth`` (``check``,
 ``family``), the growth per period, against ``check_floquet_modulus``; with ``saturate``
 the asymmetric amplitude reached, ``check_asymmetric_amplitude``, and the width of the range
 of its stroboscopic samples, ``check_asymmetric_spread`` (zero for a period-one state).
@@ -231,9 +233,10 @@ class ContinuationAnalysis(Analysis):
                           "family's unstable interval, perturbed towards a standing wave (needs families; default none)",
         "family_check": "{values = [..], periods = 100, saturate = 0}: brute-force check of the families' "
                         "stability at the resonant responses nearest these parameter values: growth per period of "
-                        "a small asymmetric perturbation in the nonlinear mixed ROM (axisymmetric + family modes, "
-                        "2-D quadrature) against the Floquet multiplier; with saturate = N, N periods more and the "
-                        "asymmetric amplitude reached (needs families; default none)",
+                        "a small asymmetric perturbation in the nonlinear mixed model (the ROM: axisymmetric + family "
+                        "modes, 2-D quadrature; the full model: circumferential harmonics 0, n, 2n, families in U, V, "
+                        "W on all its radial functions) against the Floquet multiplier; with saturate = N, N periods "
+                        "more and the asymmetric amplitude reached (needs families; default none)",
         "families": "{n = [wave numbers], radial = M}: Floquet multipliers of the asymmetric mode families "
                     "(radial modes 1..M of each n) along the axisymmetric branch; branch points, period "
                     "doublings and Neimark-Sacker points of each family are located (default none; needs "
@@ -262,11 +265,18 @@ class ContinuationAnalysis(Analysis):
         if start == stop:
             raise JobError(f"{s}.stop", stop, "must differ from continuation.start")
         modes = opt.modes(table, s)
-        opt.rom_only(table, s, context.model, ("branch_switching", "rotating_waves", "family_check", "tongues"))
+        opt.rom_only(table, s, context.model, ("branch_switching", "rotating_waves", "tongues"))
         if "families" in table and not context.model.model().provides("families"):
             raise JobError(f"{s}.families", table["families"], f"needs a model with asymmetric families; this "
                            f"job's model is {context.model.kind!r} ([model] kind)")
         families = opt.families(table, s, modes, context.model)
+        if ("family_check" in table and families is not None and not isinstance(families.radial, tuple)
+                and not context.model.model().rom_features):
+            order, _ = context.model.model().family_limits(context.model.options)
+            if not families.inplane or families.radial != order:
+                raise JobError(f"{s}.family_check", table["family_check"], "needs on this model the families in "
+                               f"U, V, W on all its radial functions (continuation.families: radial = {order}, "
+                               "inplane = true): the harmonics' blocks of the nonlinear model")
         opt.model_modes(s, context.model, modes)
         if families is not None and isinstance(families[1], tuple):  # a study in the radial modes
             for key in ("branch_switching", "rotating_waves", "family_check", "bifurcation_curves",

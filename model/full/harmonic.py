@@ -1,0 +1,221 @@
+"""The full model's motion that is not axisymmetric: circumferential harmonics of the three
+displacement fields with the exact energy (docs/model.md, "The full model", "Circumferential
+harmonics").
+
+The fields are ``u = sum_k U_k(s) cos k theta``, ``v = sum_k V_k(s) sin k theta`` (``k >= 1``)
+and ``w = sum_k W_k(s) cos k theta`` over a set of harmonics ``k`` that holds 0: the subspace
+even under the reflection ``theta -> -theta``, where the cosine families
+(:mod:`model.full.families`) live and where the nonlinearity keeps them (a product of
+harmonics ``k`` and ``l`` feeds ``k + l`` and ``|k - l|``; the harmonics left out are a
+truncation in ``theta``, as the ROM's modes are one in both directions).  Each field of each
+harmonic has the ``order`` functions of the radial basis; the energy is
+``(1 / 2 pi) int int W s ds dtheta`` (over ``2 pi h C1 Re^2``: the axisymmetric model's
+:meth:`model.full.axisymmetric.AxisymmetricFull.energy` on the harmonic 0) and Lagrange's
+equations are
+
+    q'' = -omega_0^2 M^-1 g(q) - D q' + P(t) load,
+
+with the mass of a block ``int phi_k phi_l s ds`` times the angular mean of ``cos^2 k theta``
+or ``sin^2 k theta`` (1 for ``k = 0``, 1/2 otherwise) and the pressure on the harmonic 0 of
+``w`` alone (the uniform pressure's work on ``cos k theta`` vanishes for ``k >= 1``).  About
+an axisymmetric state the block of harmonic ``n`` of the Hessian is half the family's
+stiffness ``K_n`` (:meth:`model.full.families.FullFamily.stiffness`): with the half mass the
+linearised motion is the family's, which is what makes the nonlinear model an independent
+check of the families' Floquet multipliers (:func:`model.families.perturbation_growth`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from model.damping_kernels import matrix_or_none
+from model.protocol import PARAMETERS
+
+from . import surface
+from .axisymmetric import AxisymmetricFull
+from .family_kernels import FIELD_U, FIELD_V, FIELD_W
+from .harmonic_kernels import harmonic_gradient, harmonic_motion
+
+_LETTERS = {FIELD_U: "U", FIELD_V: "V", FIELD_W: "W"}
+
+
+class HarmonicFull:
+    """The full model of ``model``'s pre-stretch and basis on the circumferential
+    ``harmonics`` (0 among them), its angular integrals on ``theta_points`` points of
+    ``[0, pi]`` (default ``4 max(harmonics) + 4``).
+
+    Attributes
+    ----------
+    blocks : tuple of (int, str)
+        The coordinate blocks in order, ``(k, field)``: per harmonic ``U``, ``V`` (``k >= 1``)
+        and ``W``, each ``order`` coefficients (over ``Re``).
+    dof : int
+        ``len(blocks) order``.
+    """
+
+    def __init__(self, model: AxisymmetricFull, harmonics, theta_points: int | None = None):
+        if not model.inplane:
+            raise ValueError("model is invalid here: the circumferential harmonics need the in-plane fields "
+                             "(inplane = true)")
+        ks = sorted({int(k) for k in harmonics})
+        if not ks or ks[0] != 0 or any(k != h for k, h in zip(ks, harmonics)) or len(ks) != len(harmonics):
+            raise ValueError(f"harmonics = {list(harmonics)!r} is invalid: distinct increasing integers >= 0 "
+                             "starting with 0")
+        points = 4 * ks[-1] + 4 if theta_points is None else int(theta_points)
+        if points < 2 * ks[-1] + 1:
+            raise ValueError(f"theta_points = {theta_points!r} is invalid: at least 2 max(harmonics) + 1 = "
+                             f"{2 * ks[-1] + 1}")
+        self.model = model
+        self.harmonics = tuple(ks)
+        self.order = model.order
+        self.blocks = tuple((k, _LETTERS[f]) for k in ks for f in ((FIELD_U, FIELD_W) if k == 0
+                                                                  else (FIELD_U, FIELD_V, FIELD_W)))
+        self.dof = len(self.blocks) * self.order
+        codes = {v: c for c, v in _LETTERS.items()}
+        self._fields = np.array([codes[f] for _, f in self.blocks], dtype=np.int64)
+        self._wave = np.array([float(k) for k, _ in self.blocks])
+        theta = math.pi * (np.arange(points) + 0.5) / points
+        self.theta = theta
+        self._cos = np.ascontiguousarray(np.cos(np.outer(self._wave, theta)))
+        self._sin = np.ascontiguousarray(np.sin(np.outer(self._wave, theta)))
+        self._theta_weight = np.full(points, 1.0 / points)
+        #: each block's inverse angular mean of ``cos^2`` or ``sin^2``: 1 for ``k = 0``, else 2
+        self.inverse_scale = np.where(self._wave == 0.0, 1.0, 2.0)
+        g0 = self.compiled_gradient(np.zeros(self.dof))
+        #: ``omega_0^2 M^-1 g(0)`` (s-2): the rounding of the pre-stretch's equilibrium, added
+        #: back as in :attr:`model.full.axisymmetric.AxisymmetricFull.bias`
+        self.bias = model.omega0_2 * np.concatenate(
+            [self.inverse_scale[b] * (model.inverse_mass @ g0[b * self.order:(b + 1) * self.order])
+             for b in range(len(self.blocks))])
+        #: the index of the block ``W_0``, where the pressure acts
+        self.load_block = self.blocks.index((0, "W"))
+
+    def block(self, k: int, field: str) -> slice:
+        """The coordinates of the field ``"U"``, ``"V"`` or ``"W"`` of harmonic ``k``."""
+        b = self.blocks.index((int(k), field))
+        return slice(b * self.order, (b + 1) * self.order)
+
+    def _tables(self):
+        m = self.model
+        return (*m.kernel_tables, self._fields, self._wave, self._cos, self._sin, self._theta_weight)
+
+    def compiled_gradient(self, q) -> np.ndarray:
+        """``d energy / dq`` (``(dof,)``) by the compiled loop (:func:`harmonic_gradient`)."""
+        out = np.empty(self.dof)
+        B = len(self.blocks)
+        harmonic_gradient(*self._tables(), np.ascontiguousarray(q, dtype=float), out, np.empty(B), np.empty(B),
+                          np.empty(B), np.empty(B))
+        return out
+
+    def _fields_on_grid(self, q):
+        # u, u_s, u_theta, v, v_s, v_theta, w_s, w_theta at (theta, s): (T, points) each
+        b = self.model.state.basis
+        zero = np.zeros((self.theta.size, b.s.size), dtype=np.result_type(q, float))
+        out = {key: zero.copy() for key in ("u", "us", "ut", "v", "vs", "vt", "ws", "wt")}
+        for i, (k, f) in enumerate(self.blocks):
+            c = q[i * self.order:(i + 1) * self.order]
+            value, slope = c @ b.phi, c @ b.dphi
+            cos, sin = np.cos(k * self.theta)[:, None], np.sin(k * self.theta)[:, None]
+            if f == "U":
+                out["u"] += value * cos
+                out["us"] += slope * cos
+                out["ut"] -= k * value * sin
+            elif f == "V":
+                out["v"] += value * sin
+                out["vs"] += slope * sin
+                out["vt"] += k * value * cos
+            else:
+                out["ws"] += slope * cos
+                out["wt"] -= k * value * sin
+        return out
+
+    def energy(self, q):
+        """``(1 / 2 pi) int int W / C1 s ds dtheta`` by numpy (:mod:`model.full.surface`; complex
+        for complex ``q``, the complex-step derivatives of the tests)."""
+        m, b = self.model, self.model.state.basis
+        f = self._fields_on_grid(q)
+        s = b.s
+        a1 = np.stack([m.dr0 + f["us"], f["vs"], f["ws"]], axis=-1)
+        a2 = np.stack([(f["ut"] - f["v"]) / s, (m.r0 + f["u"] + f["vt"]) / s, f["wt"] / s], axis=-1)
+        density = surface.energy(m.membrane.material, a1, a2)  # (T, points)
+        return self._theta_weight @ density @ (s * b.weights)
+
+    def kinetic(self, v) -> float:
+        """The kinetic energy in the units of :meth:`energy` (``(1/2) v^T M v / omega_0^2``)."""
+        o, mass = self.order, self.model.mass_block
+        return 0.5 * sum(float(v[b * o:(b + 1) * o] @ mass @ v[b * o:(b + 1) * o]) / self.inverse_scale[b]
+                         for b in range(len(self.blocks))) / self.model.omega0_2
+
+    def embedded(self, y_axisymmetric) -> np.ndarray:
+        """The state ``(q, q')`` of this model for an axisymmetric state ``(U, W, U', W')`` of
+        :attr:`model` (the other harmonics at rest and zero)."""
+        y_axisymmetric = np.asarray(y_axisymmetric, float)
+        o, n = self.order, self.model.dof
+        y = np.zeros(2 * self.dof)
+        for shift, part in ((0, y_axisymmetric[:n]), (self.dof, y_axisymmetric[n:])):
+            y[shift:][self.block(0, "U")] = part[:o]
+            y[shift:][self.block(0, "W")] = part[o:]
+        return y
+
+    def motion(self, y0, dt: float, steps: int, every: int = 1, P0: float = 0.0, Omega: float = 0.0,
+               rate: float = 0.0, matrix=None) -> np.ndarray:
+        """``steps`` RK4 steps of ``dt`` (s) from ``y0`` (over ``Re``) under ``P0 cos(Omega t)``
+        (Pa) and the damping ``rate I + matrix`` (s-1; ``matrix`` ``(dof, dof)`` or None): the
+        states every ``every`` steps, ``(steps // every + 1, 2 dof)`` (:func:`harmonic_motion`)."""
+        m = self.model
+        record = np.empty((steps // every + 1, 2 * self.dof))
+        harmonic_motion(*self._tables(), m.inverse_mass, self.inverse_scale, m.omega0_2, self.bias, float(rate),
+                        matrix, m.load, self.load_block, float(P0), float(Omega), np.asarray(y0, float), float(dt),
+                        int(steps), int(every), record)
+        return record
+
+
+@dataclass(frozen=True)
+class HarmonicForced:
+    """The stroboscopic map of :class:`HarmonicFull` under ``P0 cos(Omega t)`` with
+    ``steps`` RK4 steps per period and the damping ``rate I + matrix`` (s-1; ``matrix``
+    ``(dof, dof)``, or ``(0, 0)`` for none).  States ``(Re q, Re q')`` (m, m s-1), as the
+    axisymmetric map's (:class:`model.full.forced.ForcedFull`)."""
+
+    model: HarmonicFull
+    P0: float
+    Omega: float
+    steps: int
+    rate: float
+    matrix: np.ndarray
+
+    @property
+    def dof(self) -> int:
+        """Coordinates: :attr:`HarmonicFull.dof`."""
+        return self.model.dof
+
+    @property
+    def period(self) -> float:
+        """Forcing period ``2 pi / Omega`` (s)."""
+        return 2.0 * math.pi / self.Omega
+
+    def varied(self, parameter: str, value: float) -> HarmonicForced:
+        """The same map (its steps per period kept) with ``Omega`` or ``P0`` set to ``value``."""
+        if parameter not in PARAMETERS:
+            raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(PARAMETERS)}")
+        return replace(self, **{parameter: float(value)})
+
+    def advance(self, y, periods: int = 1) -> np.ndarray:
+        """The state after ``periods`` forcing periods from ``y`` at ``t = 0``."""
+        re = self.model.model.membrane.Re
+        n = periods * self.steps
+        record = self.model.motion(np.asarray(y, float) / re, self.period / self.steps, n, n, self.P0, self.Omega,
+                                   self.rate, matrix_or_none(self.matrix))
+        return record[-1] * re
+
+    def probe(self, rho: float, harmonics) -> np.ndarray:
+        """``(dof,)``: ``w(rho, 0) = probe @ y[:dof]`` summed over the given ``harmonics`` (m)."""
+        m = self.model.model
+        phi, _ = m.state.basis.evaluate(np.eye(m.order), np.array([rho / m.membrane.Re]))
+        out = np.zeros(self.dof)
+        for k in harmonics:
+            out[self.model.block(k, "W")] = phi[:, 0]
+        return out

@@ -1,0 +1,198 @@
+"""Compiled loops of the full model's circumferential harmonics (:mod:`model.full.harmonic`):
+the force of a state that is not axisymmetric, and its forced motion by fixed-step RK4.
+
+The coordinates are blocks of ``order`` Legendre-Galerkin coefficients (over ``Re``), one per
+field of one harmonic ``k``: ``U_k`` of ``u = sum U_k(s) cos k theta``, ``V_k`` of
+``v = sum V_k(s) sin k theta`` (``k >= 1``) and ``W_k`` of ``w = sum W_k(s) cos k theta``.  A
+material point at ``(s, theta)`` moves to ``(r_o + u) e_r + v e_theta + w e_z`` in the frame of
+its angle, so the columns of the deformation gradient are
+
+    a1 = (r_o' + u_s, v_s, w_s),    a2 = ((u_theta - v) / s, (r_o + u + v_theta) / s, w_theta / s),
+
+and the energy over ``2 pi h C1 Re^2`` is ``(1 / 2 pi) int int W s ds dtheta``.  Its gradient is
+the first Piola stress of :func:`model.full.surface.gradient` projected on the coordinates'
+variations (those of :mod:`model.full.family_kernels` times ``cos k theta`` or ``sin k theta``).
+The states of this subspace are even under ``theta -> -theta`` (the reflection that keeps the
+cosine families), so every angular integrand is even and the midpoint rule on ``[0, pi]`` is
+the trapezoidal rule on the circle: exact for harmonics below twice its points.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+from model import material_kernels  # noqa: F401  (the laws' overloads for compiled code)
+from model.damping_kernels import add_matrix_damping
+from model.materials import metric_derivatives
+from model.rk4 import combine, stage_offset, step_factor
+
+from .family_kernels import FIELD_U, FIELD_V
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy")
+def harmonic_gradient(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, q, out,
+                      value, slope, along1, along2):
+    """``out[:] = d((1 / 2 pi) int int W/C1 s ds dtheta)/dq`` for the block coordinates ``q``.
+
+    Parameters
+    ----------
+    law, phi, dphi, s, sw, w, r0, dr0
+        The axisymmetric model's tables (:attr:`model.full.axisymmetric.AxisymmetricFull.kernel_tables`):
+        the basis at the quadrature points ``(points, order)``.
+    fields, wave : (B,) arrays
+        Each block's field code (:data:`model.full.family_kernels.FIELD_U`, ...) and harmonic ``k`` (float).
+    cos_t, sin_t : (B, T) arrays
+        ``cos k theta_t``, ``sin k theta_t`` of each block's harmonic at the angular points.
+    theta_weight : (T,) array
+        The angular weights (their sum is 1: the mean over the circle).
+    q, out : (B order,) arrays
+    value, slope, along1, along2 : (B,) work arrays
+    """
+    points, order = phi.shape
+    blocks = fields.size
+    angles = theta_weight.size
+    out[:] = 0.0
+    for p in range(points):
+        for b in range(blocks):
+            v0 = 0.0
+            d0 = 0.0
+            for j in range(order):
+                v0 += q[b * order + j] * phi[p, j]
+                d0 += q[b * order + j] * dphi[p, j]
+            value[b] = v0
+            slope[b] = d0
+            along1[b] = 0.0
+            along2[b] = 0.0
+        inv_s = 1.0 / s[p]
+        for t in range(angles):
+            u = 0.0
+            u_s = 0.0
+            u_t = 0.0
+            v = 0.0
+            v_s = 0.0
+            v_t = 0.0
+            w_s = 0.0
+            w_t = 0.0
+            for b in range(blocks):
+                c = cos_t[b, t]
+                sn = sin_t[b, t]
+                k = wave[b]
+                if fields[b] == FIELD_U:
+                    u += value[b] * c
+                    u_s += slope[b] * c
+                    u_t -= k * value[b] * sn
+                elif fields[b] == FIELD_V:
+                    v += value[b] * sn
+                    v_s += slope[b] * sn
+                    v_t += k * value[b] * c
+                else:
+                    w_s += slope[b] * c
+                    w_t -= k * value[b] * sn
+            a1r = dr0[p] + u_s
+            a1t = v_s
+            a1z = w_s
+            a2r = (u_t - v) * inv_s
+            a2t = (r0[p] + u + v_t) * inv_s
+            a2z = w_t * inv_s
+            n1 = a1r * a1r + a1t * a1t + a1z * a1z
+            n2 = a2r * a2r + a2t * a2t + a2z * a2z
+            c12 = a1r * a2r + a1t * a2t + a1z * a2z
+            delta = n1 * n2 - c12 * c12
+            w_T, w_D, _, _, _ = metric_derivatives(law, n1 + n2, delta, 1.0 / delta)
+            f1 = 2.0 * (w_T + w_D * n2)
+            f2 = 2.0 * (w_T + w_D * n1)
+            cross = -2.0 * w_D * c12
+            p1r = (f1 * a1r + cross * a2r) * theta_weight[t]
+            p1t = (f1 * a1t + cross * a2t) * theta_weight[t]
+            p1z = (f1 * a1z + cross * a2z) * theta_weight[t]
+            p2r = (f2 * a2r + cross * a1r) * theta_weight[t]
+            p2t = (f2 * a2t + cross * a1t) * theta_weight[t]
+            p2z = (f2 * a2z + cross * a1z) * theta_weight[t]
+            for b in range(blocks):
+                c = cos_t[b, t]
+                sn = sin_t[b, t]
+                k = wave[b]
+                if fields[b] == FIELD_U:
+                    along1[b] += p1r * c
+                    along2[b] += p2t * c - k * p2r * sn
+                elif fields[b] == FIELD_V:
+                    along1[b] += p1t * sn
+                    along2[b] += k * p2t * c - p2r * sn
+                else:
+                    along1[b] += p1z * c
+                    along2[b] -= k * p2z * sn
+        # a1 moves by phi' (weight s ds), a2 by phi / s (weight s ds: the plain weight)
+        for b in range(blocks):
+            g1 = along1[b] * sw[p]
+            g2 = along2[b] * w[p]
+            for j in range(order):
+                out[b * order + j] += g1 * dphi[p, j] + g2 * phi[p, j]
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy")
+def _acceleration(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, inv_mass,
+                  inv_scale, omega0_2, bias, rate, damping_matrix, load, load_block, pressure, y, out, g,
+                  value, slope, along1, along2):
+    # out = (q', q'') at the state y under the pressure `pressure` (Pa) at this instant
+    dof = g.size
+    order = phi.shape[1]
+    harmonic_gradient(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, y[:dof], g,
+                      value, slope, along1, along2)
+    for i in range(dof):
+        out[i] = y[dof + i]
+    for b in range(fields.size):
+        scale = omega0_2 * inv_scale[b]
+        for i in range(order):
+            acc = 0.0
+            for j in range(order):
+                acc += inv_mass[i, j] * g[b * order + j]
+            out[dof + b * order + i] = bias[b * order + i] - scale * acc - rate * y[dof + b * order + i]
+    for i in range(order):
+        out[dof + load_block * order + i] += pressure * load[i]
+    if damping_matrix is not None:
+        add_matrix_damping(damping_matrix, y[dof:], out[dof:])
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy")
+def harmonic_motion(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, inv_mass,
+                    inv_scale, omega0_2, bias, rate, damping_matrix, load, load_block, P0, Omega, y0, dt, steps,
+                    every, record):
+    """``steps`` RK4 steps of ``dt`` (s) from ``y0`` at ``t = 0`` of
+    ``q'' = bias - omega_0^2 M^-1 g(q) - D q' + P0 cos(Omega t) load``, the state every
+    ``every`` steps into the rows of ``record`` (``(steps // every + 1, 2 dof)``, the first
+    row ``y0``); returns the last state.
+
+    ``inv_mass`` is ``M^-1`` of one field ``(order, order)`` and ``inv_scale`` (``(B,)``) the
+    inverse of each block's angular mean of ``cos^2`` or ``sin^2`` (1 for ``k = 0``, 2
+    otherwise); ``bias`` the constant accelerations (s-2); ``D`` the rate ``rate`` (s-1) plus
+    ``damping_matrix`` (None for none); ``load`` the accelerations per Pa of block
+    ``load_block`` (``W_0``); the other arguments as :func:`harmonic_gradient`."""
+    n = y0.size
+    dof = n // 2
+    blocks = fields.size
+    y = y0.copy()
+    k = np.empty((4, n))
+    stage = np.empty(n)
+    g = np.empty(dof)
+    value = np.empty(blocks)
+    slope = np.empty(blocks)
+    along1 = np.empty(blocks)
+    along2 = np.empty(blocks)
+    record[0] = y
+    for step in range(steps):
+        for i in range(4):
+            if i == 0:
+                stage[:] = y
+            else:
+                for j in range(n):
+                    stage[j] = y[j] + stage_offset(i, dt) * k[i - 1, j]
+            pressure = P0 * np.cos(Omega * (step * dt + stage_offset(i, dt)))
+            _acceleration(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, inv_mass,
+                          inv_scale, omega0_2, bias, rate, damping_matrix, load, load_block, pressure, stage, k[i],
+                          g, value, slope, along1, along2)
+        for j in range(n):
+            y[j] += step_factor(dt) * combine(k[0, j], k[1, j], k[2, j], k[3, j])
+        if (step + 1) % every == 0:
+            record[(step + 1) // every] = y
+    return y
