@@ -18,7 +18,7 @@ steps per period).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numba as nb
 import numpy as np
@@ -75,6 +75,14 @@ def mixed_rom(rom: Rom, family: Family) -> Rom:
     """The ROM of ``rom``'s axisymmetric modes followed by the family's cosine modes, on
     ``rom``'s pre-stretch."""
     return build_rom(rom.prestretch, list(rom.modes) + list(family.modes), probe_rho=rom.probe_rho)
+
+
+def asymmetric_part(rom: Rom, axisymmetric: int) -> Rom:
+    """``rom`` with the probe of its first ``axisymmetric`` modes zeroed, so that
+    :meth:`ForcedMap.amplitude` measures ``max_t |w_asym(rho_probe, 0, t)|``."""
+    probe = rom.tables.probe.copy()
+    probe[:axisymmetric] = 0.0
+    return replace(rom, tables=rom.tables._replace(probe=probe))
 
 
 def steps_per_period(rom: Rom, base: int) -> int:
@@ -172,9 +180,9 @@ class ForcedMap:
         (:func:`mixed_rom`), each of the family's modal coordinates perturbed alike and
         measured by the Euclidean norm."""
         mixed = self.with_rom(mixed_rom(self.rom, family))
-        probe = mixed.rom.tables.probe.copy()
-        probe[:self.rom.dof] = 0.0
-        return PerturbedFamily(mixed, tuple(range(self.rom.dof, mixed.dof)), probe, np.ones(len(family.modes)), None)
+        asymmetric = mixed.with_rom(asymmetric_part(mixed.rom, self.rom.dof))
+        return PerturbedFamily(mixed, asymmetric, tuple(range(self.rom.dof, mixed.dof)), asymmetric.rom.tables.probe,
+                               np.ones(len(family.modes)), None)
 
     @property
     def radial_points(self) -> int:

@@ -165,12 +165,16 @@ class PerturbedFamily(NamedTuple):
     #: the map of the nonlinear model holding the axisymmetric coordinates first (in the
     #: order of the axisymmetric map's state) and the family's among the rest
     fmap: Any
+    #: the same map whose ``amplitude`` measures the asymmetric displacement alone
+    #: (``max_t |probe @ q(t)|``)
+    asymmetric_map: Any
     #: the indices of the family's coordinates in it
     asymmetric: tuple[int, ...]
     #: ``(dof,)``: the asymmetric displacement ``w_asym(rho_probe, 0) = probe @ q`` (m)
     probe: np.ndarray
-    #: ``(len(asymmetric),)``: the shape of the initial perturbation (largest entry 1)
-    start: np.ndarray
+    #: ``(len(asymmetric),)``: the shape of the initial perturbation (largest entry 1); None:
+    #: along the family's dominant Floquet mode at the orbit (:func:`model.families.floquet_start`)
+    start: np.ndarray | None
     #: ``(2 A, 2 A)`` for ``A = len(asymmetric)``: the quadratic form whose root measures the
     #: perturbation ``(x, x')`` (None: the Euclidean norm)
     metric: np.ndarray | None

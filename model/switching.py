@@ -23,13 +23,12 @@ with any map of the protocol (the ROM's or the full model's) and its families.
 
 from __future__ import annotations
 
-from dataclasses import replace
 
 import numpy as np
 
 from .continuation import Branch, continue_orbits
 from .families import Family, embedded
-from .forced import ForcedMap, mixed_rom
+from .forced import ForcedMap
 from .rom import Rom
 
 
@@ -46,24 +45,18 @@ def null_direction(fmap: ForcedMap, state, family: Family) -> np.ndarray:
     return null_vector(fmap.family_monodromy(state, family))
 
 
-def asymmetric_part(rom: Rom, axisymmetric: int) -> Rom:
-    """``rom`` with the probe of its first ``axisymmetric`` modes zeroed, so that
-    :meth:`model.forced.ForcedMap.amplitude` measures ``max_t |w_asym(rho_probe, 0, t)|``."""
-    probe = rom.tables.probe.copy()
-    probe[:axisymmetric] = 0.0
-    return replace(rom, tables=rom.tables._replace(probe=probe))
-
-
-def follow_bifurcated_branch(fmap: ForcedMap, family: Family, parameter: str,
-                             start: float, stop: float, state, value: float,
-                             **options) -> tuple[Branch, ForcedMap, np.ndarray]:
+def follow_bifurcated_branch(fmap, family, parameter: str, start: float, stop: float, state, value: float,
+                             **options) -> tuple[Branch, object, np.ndarray]:
     """The asymmetric branch bifurcating at the branch point ``(state, value)`` of ``family``.
 
     Parameters
     ----------
-    fmap : ForcedMap
-        The map of the axisymmetric ROM (its continued parameter is overridden).
-    family : Family
+    fmap : StroboscopicMap
+        The map of the axisymmetric model (its continued parameter is overridden), with the
+        capabilities ``family_monodromy`` and ``perturbed_family`` (:mod:`model.protocol`):
+        the ROM's :class:`model.forced.ForcedMap` or the full model's
+        :class:`model.full.forced.ForcedFull`.
+    family
         The family whose multiplier is 1 at the point.
     parameter, start, stop
         As for :func:`model.continuation.continue_orbits`; ``value`` must lie in the range.
@@ -75,27 +68,28 @@ def follow_bifurcated_branch(fmap: ForcedMap, family: Family, parameter: str,
     Returns
     -------
     branch : Branch
-        In the mixed ROM's coordinates (axisymmetric modes, then the family's).
-    fmap_mixed : ForcedMap
-        The map of the mixed ROM (at ``value``).
+        In the mixed model's coordinates (:attr:`model.protocol.PerturbedFamily.fmap`: the
+        ROM's axisymmetric modes then the family's cosine modes; the full model's harmonics
+        ``0, n, 2n``).
+    fmap_mixed
+        The map of the mixed model (at ``value``).
     asymmetric_amplitude : (N,) array
         ``max_t |w_asym(rho_probe, 0, t)|`` (m) along the branch: the family's part of the
         displacement at the probe.
     """
     at = fmap.varied(parameter, value)
     v = null_direction(at, state, family)
-    mixed = mixed_rom(fmap.rom, family)
-    Ka, M = fmap.rom.dof, len(family.radial)
-    K = Ka + M
+    mixed = at.perturbed_family(family)
+    K, A = mixed.fmap.dof, len(mixed.asymmetric)
     y0 = embedded(state, K)
     direction = np.zeros(2 * K)
-    direction[Ka:K], direction[K + Ka:] = v[:M], v[M:]
-    fmap_mixed = at.with_rom(mixed)
-    branch = continue_orbits(fmap_mixed, parameter, start, stop, switch=(y0, value, direction), **options)
+    direction[list(mixed.asymmetric)] = v[:A]
+    direction[[K + i for i in mixed.asymmetric]] = v[A:]
+    branch = continue_orbits(mixed.fmap, parameter, start, stop, switch=(y0, value, direction), **options)
     branch.family[0] = family.n  # the first point is the branch point of this family
-    asym = at.with_rom(asymmetric_part(mixed, Ka))
-    amp = np.array([asym.varied(parameter, lam).amplitude(y) for lam, y in zip(branch.value, branch.state)])
-    return branch, fmap_mixed, amp
+    amp = np.array([mixed.asymmetric_map.varied(parameter, lam).amplitude(y)
+                    for lam, y in zip(branch.value, branch.state)])
+    return branch, mixed.fmap, amp
 
 
 def follow_time_symmetry_breaking(fmap, parameter: str, start: float, stop: float, state, value: float,

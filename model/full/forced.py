@@ -309,10 +309,12 @@ class ForcedFull:
         model on the circumferential harmonics ``0, n, 2n`` (:class:`model.full.harmonic.HarmonicFull`:
         the family's own harmonic and the one its square feeds), at this map's forcing and RK4
         steps, each harmonic damped by this map's law on its own linear problem (as
-        :meth:`family_monodromy` damps the family); the perturbation starts in the family's
-        lowest mode about the pre-stretch and is measured in the energy norm of its linear
-        problem there, ``x^T K0 x + x'^T M x'`` (the fast in-plane modes, more damped, would
-        otherwise dominate the fitted periods); the asymmetric displacement is
+        :meth:`family_monodromy` damps the family); the perturbation starts along the family's
+        dominant Floquet mode (``start`` None) and is measured in the energy norm of its linear
+        problem about the pre-stretch, ``x^T K0 x + x'^T M x'`` (a start in every coefficient
+        puts most of its energy in fast in-plane modes, more damped, that would dominate the
+        fitted periods; the lowest linear mode shares its energy with pairs at the damping's
+        modulus, perturbation_growth); the asymmetric displacement is
         ``w(probe_rho, 0) - w_0(probe_rho)``.  The family must carry ``U, V, W`` on all the
         model's radial functions (the harmonics' blocks); ValueError where RK4's step is
         beyond the stability of a harmonic's damped linear motion."""
@@ -340,11 +342,12 @@ class ForcedFull:
             start += block.shape[0]
         forced = HarmonicForced(harmonic, self.P0, self.Omega, self.steps, self.rate,
                                 matrix if np.any(matrix) else np.zeros((0, 0)))
+        forced = replace(forced, probe=forced.probe_vector(self.probe_rho))
         n = harmonic.block(fam.n, "U").start, harmonic.block(fam.n, "W").stop
         mass, stiffness = fam.linear_system()
-        lowest = eigh(stiffness, mass)[1][:, 0]
-        return PerturbedFamily(forced, tuple(range(*n)), forced.probe(self.probe_rho, (fam.n, 2 * fam.n)),
-                               lowest / np.abs(lowest).max(), block_diag(stiffness, mass))
+        probe = forced.probe_vector(self.probe_rho, (fam.n, 2 * fam.n))
+        return PerturbedFamily(forced, replace(forced, probe=probe), tuple(range(*n)), probe, None,
+                               block_diag(stiffness, mass))
 
     def modal_section(self, states) -> np.ndarray:
         """The ROM's modal coordinates and velocities ``(..., 2K)`` (m, m s-1) of the states

@@ -32,12 +32,14 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from model.damping_kernels import matrix_or_none
-from model.protocol import PARAMETERS
+from model.forced import periodic_peak
+from model.protocol import PARAMETERS, sorted_multipliers, state_scale
 
 from . import surface
 from .axisymmetric import AxisymmetricFull
-from .family_kernels import FIELD_U, FIELD_V, FIELD_W
-from .harmonic_kernels import harmonic_gradient, harmonic_motion
+from .axisymmetric_kernels import NO_PARAMETER, OMEGA, PRESSURE
+from .family_kernels import FIELD_U, FIELD_V, FIELD_W, variation_vectors
+from .harmonic_kernels import harmonic_gradient, harmonic_hessian, harmonic_motion, harmonic_variational
 
 _LETTERS = {FIELD_U: "U", FIELD_V: "V", FIELD_W: "W"}
 
@@ -82,6 +84,13 @@ class HarmonicFull:
         self._cos = np.ascontiguousarray(np.cos(np.outer(self._wave, theta)))
         self._sin = np.ascontiguousarray(np.sin(np.outer(self._wave, theta)))
         self._theta_weight = np.full(points, 1.0 / points)
+        # what a coefficient of each block moves in F per phi' and per phi / s at each angle: the
+        # family's vectors, the components even under theta -> -theta times cos, the odd ones sin
+        even = np.arange(6) % 2 == 0
+        self._variations = np.ascontiguousarray(np.stack([
+            variation_vectors(k, np.array([code]))[0][None] * np.where(even, np.cos(k * theta)[:, None, None],
+                                                                       np.sin(k * theta)[:, None, None])
+            for k, code in zip(self._wave, self._fields)]))
         #: each block's inverse angular mean of ``cos^2`` or ``sin^2``: 1 for ``k = 0``, else 2
         self.inverse_scale = np.where(self._wave == 0.0, 1.0, 2.0)
         g0 = self.compiled_gradient(np.zeros(self.dof))
@@ -108,6 +117,12 @@ class HarmonicFull:
         B = len(self.blocks)
         harmonic_gradient(*self._tables(), np.ascontiguousarray(q, dtype=float), out, np.empty(B), np.empty(B),
                           np.empty(B), np.empty(B))
+        return out
+
+    def compiled_hessian(self, q) -> np.ndarray:
+        """``d^2 energy / dq^2`` (``(dof, dof)``) by the compiled loop (:func:`harmonic_hessian`)."""
+        out = np.empty((self.dof, self.dof))
+        harmonic_hessian(*self._tables(), self._variations, np.ascontiguousarray(q, dtype=float), out)
         return out
 
     def _fields_on_grid(self, q):
@@ -172,13 +187,24 @@ class HarmonicFull:
                         int(steps), int(every), record)
         return record
 
+    def variational(self, y0, dt: float, steps: int, P0: float, Omega: float, rate: float, matrix,
+                    parameter: int) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`motion` to the last step with the flow's derivative ``(2 dof, 2 dof + 1)`` in
+        ``y0`` and, in the last column, in ``parameter`` (:func:`harmonic_variational`)."""
+        m = self.model
+        return harmonic_variational(*self._tables(), self._variations, m.inverse_mass, self.inverse_scale,
+                                    m.omega0_2, self.bias, float(rate), matrix, m.load, self.load_block, float(P0),
+                                    float(Omega), int(parameter), np.asarray(y0, float), float(dt), int(steps))
+
 
 @dataclass(frozen=True)
 class HarmonicForced:
-    """The stroboscopic map of :class:`HarmonicFull` under ``P0 cos(Omega t)`` with
-    ``steps`` RK4 steps per period and the damping ``rate I + matrix`` (s-1; ``matrix``
-    ``(dof, dof)``, or ``(0, 0)`` for none).  States ``(Re q, Re q')`` (m, m s-1), as the
-    axisymmetric map's (:class:`model.full.forced.ForcedFull`)."""
+    """The stroboscopic map of :class:`HarmonicFull` under ``P0 cos(Omega t)`` with ``steps``
+    RK4 steps per period and the damping ``rate I + matrix`` (s-1; ``matrix`` ``(dof, dof)``,
+    or ``(0, 0)`` for none) (:class:`model.protocol.StroboscopicMap`).  States
+    ``(Re q, Re q')`` (m, m s-1), as the axisymmetric map's (:class:`model.full.forced.ForcedFull`);
+    :meth:`amplitude` measures ``probe @ q`` (m; default: ``w(0.5 Re, 0)`` of every harmonic,
+    :meth:`probe_vector`)."""
 
     model: HarmonicFull
     P0: float
@@ -186,6 +212,7 @@ class HarmonicForced:
     steps: int
     rate: float
     matrix: np.ndarray
+    probe: np.ndarray | None = None
 
     @property
     def dof(self) -> int:
@@ -197,25 +224,75 @@ class HarmonicForced:
         """Forcing period ``2 pi / Omega`` (s)."""
         return 2.0 * math.pi / self.Omega
 
-    def varied(self, parameter: str, value: float) -> HarmonicForced:
-        """The same map (its steps per period kept) with ``Omega`` or ``P0`` set to ``value``."""
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        """``Omega`` and ``P0``."""
+        return PARAMETERS
+
+    def value(self, parameter: str) -> float:
+        """The current value of ``Omega`` or ``P0``."""
         if parameter not in PARAMETERS:
             raise ValueError(f"parameter = {parameter!r} is invalid: must be one of {', '.join(PARAMETERS)}")
+        return float(getattr(self, parameter))
+
+    def varied(self, parameter: str, value: float) -> HarmonicForced:
+        """The same map (its steps per period kept) with ``Omega`` or ``P0`` set to ``value``."""
+        self.value(parameter)
         return replace(self, **{parameter: float(value)})
+
+    def state_scale(self, Omega: float | None = None) -> np.ndarray:
+        """:func:`model.protocol.state_scale` at this map's ``Omega`` or at ``Omega``."""
+        return state_scale(self.dof, self.Omega if Omega is None else Omega)
+
+    def _motion(self, y, steps: int, every: int) -> np.ndarray:
+        re = self.model.model.membrane.Re
+        return self.model.motion(np.asarray(y, float) / re, self.period / self.steps, steps, every, self.P0,
+                                 self.Omega, self.rate, matrix_or_none(self.matrix)) * re
 
     def advance(self, y, periods: int = 1) -> np.ndarray:
         """The state after ``periods`` forcing periods from ``y`` at ``t = 0``."""
-        re = self.model.model.membrane.Re
         n = periods * self.steps
-        record = self.model.motion(np.asarray(y, float) / re, self.period / self.steps, n, n, self.P0, self.Omega,
-                                   self.rate, matrix_or_none(self.matrix))
-        return record[-1] * re
+        return self._motion(y, n, n)[-1]
 
-    def probe(self, rho: float, harmonics) -> np.ndarray:
-        """``(dof,)``: ``w(rho, 0) = probe @ y[:dof]`` summed over the given ``harmonics`` (m)."""
+    def advance_batch(self, states, periods: int = 1) -> np.ndarray:
+        """:meth:`advance` of each row of ``states`` ``(N, 2 dof)``; a new array."""
+        states = np.array(states, dtype=float, ndmin=2)
+        return np.array([self.advance(y, periods) for y in states]).reshape(states.shape)
+
+    def _variational(self, y, parameter: int):
+        re = self.model.model.membrane.Re
+        yT, big = self.model.variational(np.asarray(y, float) / re, self.period / self.steps, self.steps, self.P0,
+                                         self.Omega, self.rate, matrix_or_none(self.matrix), parameter)
+        return yT * re, big[:, :-1], big[:, -1] * re
+
+    def monodromy(self, y) -> tuple[np.ndarray, np.ndarray]:
+        """``P(y)`` and ``dP/dy`` (the RK4 variational equations: exact for the discrete map)."""
+        yT, phi, _ = self._variational(y, NO_PARAMETER)
+        return yT, phi
+
+    def monodromy_parameter(self, y, parameter: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``P(y)``, ``dP/dy`` and ``dP/d parameter`` (``"Omega"`` at fixed steps per period, or
+        ``"P0"``)."""
+        self.value(parameter)
+        return self._variational(y, OMEGA if parameter == "Omega" else PRESSURE)
+
+    def multipliers(self, y) -> np.ndarray:
+        """Floquet multipliers at ``y`` by decreasing modulus."""
+        return sorted_multipliers(self.monodromy(y)[1])
+
+    def probe_vector(self, rho: float, harmonics=None) -> np.ndarray:
+        """``(dof,)``: ``w(rho, 0) = probe @ q`` summed over ``harmonics`` (default: all)."""
         m = self.model.model
         phi, _ = m.state.basis.evaluate(np.eye(m.order), np.array([rho / m.membrane.Re]))
         out = np.zeros(self.dof)
-        for k in harmonics:
+        for k in self.model.harmonics if harmonics is None else harmonics:
             out[self.model.block(k, "W")] = phi[:, 0]
         return out
+
+    def amplitude(self, y, periods: int = 1) -> float:
+        """``max_t |probe @ q(t)|`` (m) over ``periods`` periods from ``y``: the largest RK4
+        sample refined by a parabola (:func:`model.forced.periodic_peak`); NaN when the motion
+        does not stay finite."""
+        probe = self.probe_vector(0.5 * self.model.model.membrane.Re) if self.probe is None else self.probe
+        w = self._motion(y, periods * self.steps, 1)[:, :self.dof] @ probe
+        return periodic_peak(w, periods * self.steps) if np.all(np.isfinite(w)) else math.nan

@@ -27,7 +27,52 @@ from model.damping_kernels import add_matrix_damping
 from model.materials import metric_derivatives
 from model.rk4 import combine, stage_offset, step_factor
 
+from .axisymmetric_kernels import OMEGA, PRESSURE
 from .family_kernels import FIELD_U, FIELD_V
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy", inline="always")
+def _radial_values(phi, dphi, q, p, value, slope):
+    # each block's field and its s-derivative at quadrature point p
+    order = phi.shape[1]
+    for b in range(value.size):
+        v0 = 0.0
+        d0 = 0.0
+        for j in range(order):
+            v0 += q[b * order + j] * phi[p, j]
+            d0 += q[b * order + j] * dphi[p, j]
+        value[b] = v0
+        slope[b] = d0
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy", inline="always")
+def _columns_at(fields, wave, cos_t, sin_t, value, slope, r0, dr0, inv_s, t):
+    """The columns ``a1``, ``a2`` (6 components) at the angular point ``t`` from the blocks'
+    radial ``value`` and ``slope`` at one radius (``r0``, ``dr0``: the pre-stretch there)."""
+    u = 0.0
+    u_s = 0.0
+    u_t = 0.0
+    v = 0.0
+    v_s = 0.0
+    v_t = 0.0
+    w_s = 0.0
+    w_t = 0.0
+    for b in range(fields.size):
+        c = cos_t[b, t]
+        sn = sin_t[b, t]
+        k = wave[b]
+        if fields[b] == FIELD_U:
+            u += value[b] * c
+            u_s += slope[b] * c
+            u_t -= k * value[b] * sn
+        elif fields[b] == FIELD_V:
+            v += value[b] * sn
+            v_s += slope[b] * sn
+            v_t += k * value[b] * c
+        else:
+            w_s += slope[b] * c
+            w_t -= k * value[b] * sn
+    return dr0 + u_s, v_s, w_s, (u_t - v) * inv_s, (r0 + u + v_t) * inv_s, w_t * inv_s
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
@@ -54,47 +99,13 @@ def harmonic_gradient(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, si
     angles = theta_weight.size
     out[:] = 0.0
     for p in range(points):
-        for b in range(blocks):
-            v0 = 0.0
-            d0 = 0.0
-            for j in range(order):
-                v0 += q[b * order + j] * phi[p, j]
-                d0 += q[b * order + j] * dphi[p, j]
-            value[b] = v0
-            slope[b] = d0
-            along1[b] = 0.0
-            along2[b] = 0.0
+        _radial_values(phi, dphi, q, p, value, slope)
+        along1[:] = 0.0
+        along2[:] = 0.0
         inv_s = 1.0 / s[p]
         for t in range(angles):
-            u = 0.0
-            u_s = 0.0
-            u_t = 0.0
-            v = 0.0
-            v_s = 0.0
-            v_t = 0.0
-            w_s = 0.0
-            w_t = 0.0
-            for b in range(blocks):
-                c = cos_t[b, t]
-                sn = sin_t[b, t]
-                k = wave[b]
-                if fields[b] == FIELD_U:
-                    u += value[b] * c
-                    u_s += slope[b] * c
-                    u_t -= k * value[b] * sn
-                elif fields[b] == FIELD_V:
-                    v += value[b] * sn
-                    v_s += slope[b] * sn
-                    v_t += k * value[b] * c
-                else:
-                    w_s += slope[b] * c
-                    w_t -= k * value[b] * sn
-            a1r = dr0[p] + u_s
-            a1t = v_s
-            a1z = w_s
-            a2r = (u_t - v) * inv_s
-            a2t = (r0[p] + u + v_t) * inv_s
-            a2z = w_t * inv_s
+            a1r, a1t, a1z, a2r, a2t, a2z = _columns_at(fields, wave, cos_t, sin_t, value, slope, r0[p], dr0[p],
+                                                       inv_s, t)
             n1 = a1r * a1r + a1t * a1t + a1z * a1z
             n2 = a2r * a2r + a2t * a2t + a2z * a2z
             c12 = a1r * a2r + a1t * a2t + a1z * a2z
@@ -196,3 +207,163 @@ def harmonic_motion(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_
         if (step + 1) % every == 0:
             record[(step + 1) // every] = y
     return y
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy", inline="always")
+def _moduli(law, a, A):
+    """``A[:, :] = d^2(W/C1)/dF^2`` at the columns ``a = (a1, a2)`` (6 components, any state:
+    :func:`model.full.surface.hessian` written out)."""
+    n1 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2]
+    n2 = a[3] * a[3] + a[4] * a[4] + a[5] * a[5]
+    c = a[0] * a[3] + a[1] * a[4] + a[2] * a[5]
+    delta = n1 * n2 - c * c
+    w_t, w_d, w_tt, w_td, w_dd = metric_derivatives(law, n1 + n2, delta, 1.0 / delta)
+    dT = np.empty(6)
+    dD = np.empty(6)
+    for i in range(3):
+        dT[i] = 2.0 * a[i]
+        dT[3 + i] = 2.0 * a[3 + i]
+        dD[i] = 2.0 * n2 * a[i] - 2.0 * c * a[3 + i]
+        dD[3 + i] = 2.0 * n1 * a[3 + i] - 2.0 * c * a[i]
+    for i in range(6):
+        for j in range(6):
+            A[i, j] = w_tt * dT[i] * dT[j] + w_td * (dT[i] * dD[j] + dD[i] * dT[j]) + w_dd * dD[i] * dD[j]
+        A[i, i] += 2.0 * w_t
+    # W_D times the Hessian of Delta
+    for i in range(3):
+        for j in range(3):
+            A[i, j] -= 2.0 * w_d * a[3 + i] * a[3 + j]
+            A[3 + i, 3 + j] -= 2.0 * w_d * a[i] * a[j]
+            cross = w_d * (4.0 * a[i] * a[3 + j] - 2.0 * a[3 + i] * a[j])
+            A[i, 3 + j] += cross
+            A[3 + j, i] += cross
+        A[i, i] += 2.0 * w_d * n2
+        A[3 + i, 3 + i] += 2.0 * w_d * n1
+        A[i, 3 + i] -= 2.0 * w_d * c
+        A[3 + i, i] -= 2.0 * w_d * c
+
+
+@nb.njit(cache=True, fastmath=True, error_model="numpy")
+def harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, variations, q,
+                     out):
+    """``out[:, :] = d^2((1 / 2 pi) int int W/C1 s ds dtheta)/dq^2`` for the block coordinates
+    ``q``; ``variations`` (``(B, T, 2, 6)``): what a coefficient of block ``b`` moves in ``F``
+    at the angular point ``t`` per ``phi'`` and per ``phi / s`` (the family's variation vectors
+    of :mod:`model.full.family_kernels` times ``cos k theta_t`` or ``sin k theta_t``); the other
+    arguments as :func:`harmonic_gradient`.
+
+    Per radius the angular sum ``C_bc = sum_t w_t g_b^T A g_c`` (``2 x 2`` per block pair) is
+    formed first, then the radial products ``[phi', phi/s] C_bc [phi', phi/s]^T s ds``."""
+    points, order = phi.shape
+    blocks = fields.size
+    angles = theta_weight.size
+    out[:, :] = 0.0
+    value = np.empty(blocks)
+    slope = np.empty(blocks)
+    a = np.empty(6)
+    A = np.empty((6, 6))
+    Ag = np.empty((blocks, 2, 6))
+    C = np.empty((blocks, blocks, 2, 2))
+    for p in range(points):
+        _radial_values(phi, dphi, q, p, value, slope)
+        inv_s = 1.0 / s[p]
+        C[:, :, :, :] = 0.0
+        for t in range(angles):
+            a[0], a[1], a[2], a[3], a[4], a[5] = _columns_at(fields, wave, cos_t, sin_t, value, slope, r0[p], dr0[p],
+                                                             inv_s, t)
+            _moduli(law, a, A)
+            for c in range(blocks):
+                for beta in range(2):
+                    for i in range(6):
+                        acc = 0.0
+                        for j in range(6):
+                            acc += A[i, j] * variations[c, t, beta, j]
+                        Ag[c, beta, i] = acc * theta_weight[t]
+            for b in range(blocks):
+                for alpha in range(2):
+                    for c in range(b, blocks):
+                        for beta in range(2):
+                            acc = 0.0
+                            for i in range(6):
+                                acc += variations[b, t, alpha, i] * Ag[c, beta, i]
+                            C[b, c, alpha, beta] += acc
+        for b in range(blocks):
+            for c in range(b, blocks):
+                c11 = C[b, c, 0, 0] * sw[p]
+                c12 = C[b, c, 0, 1] * w[p]  # phi / s times s ds: the plain weight
+                c21 = C[b, c, 1, 0] * w[p]
+                c22 = C[b, c, 1, 1] * w[p] * inv_s
+                for j in range(order):
+                    left1 = c11 * dphi[p, j] + c21 * phi[p, j]
+                    left2 = c12 * dphi[p, j] + c22 * phi[p, j]
+                    row = out[b * order + j, c * order:(c + 1) * order]
+                    for m in range(order):
+                        row[m] += left1 * dphi[p, m] + left2 * phi[p, m]
+    for b in range(blocks):
+        for c in range(b + 1, blocks):
+            for j in range(order):
+                for m in range(order):
+                    out[c * order + m, b * order + j] = out[b * order + j, c * order + m]
+
+
+@nb.njit(cache=True, error_model="numpy")
+def harmonic_variational(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, variations,
+                         inv_mass, inv_scale, omega0_2, bias, rate, damping_matrix, load, load_block, P0, Omega,
+                         parameter, y0, dt, steps):
+    """``steps`` RK4 steps of ``dt`` (s) of the motion of :func:`harmonic_motion` from ``y0`` at
+    ``t = 0`` with its variational equations: the final state and ``(2 dof, 2 dof + 1)``, the
+    flow's derivative in ``y0`` and, in the last column, in ``parameter`` (:data:`OMEGA`,
+    :data:`PRESSURE` of :mod:`model.full.axisymmetric_kernels`; zero for another value),
+    exact for the discrete scheme (as :func:`model.full.axisymmetric_kernels.rk4_variational`)."""
+    n = y0.size
+    dof = n // 2
+    order = phi.shape[1]
+    blocks = fields.size
+    cols = n + 1
+    y = y0.copy()
+    big = np.zeros((n, cols))
+    for i in range(n):
+        big[i, i] = 1.0
+    k = np.empty((4, n))
+    kp = np.empty((4, n, cols))
+    stage = np.empty(n)
+    pstage = np.empty((n, cols))
+    g = np.empty(dof)
+    value = np.empty(blocks)
+    slope = np.empty(blocks)
+    along1 = np.empty(blocks)
+    along2 = np.empty(blocks)
+    hess = np.empty((dof, dof))
+    hess_blocks = hess.reshape((blocks, order, dof))  # each block's rows, contiguous for '@'
+    stiff = np.empty((dof, dof))
+    for step in range(steps):
+        for i in range(4):
+            f = stage_offset(i, dt)
+            if i == 0:
+                stage[:] = y
+                pstage[:, :] = big
+            else:
+                stage[:] = y + f * k[i - 1]
+                pstage[:, :] = big + f * kp[i - 1]
+            cosine = np.cos(Omega * (step * dt + f))
+            _acceleration(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, inv_mass,
+                          inv_scale, omega0_2, bias, rate, damping_matrix, load, load_block, P0 * cosine, stage,
+                          k[i], g, value, slope, along1, along2)
+            harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, variations,
+                             stage[:dof], hess)
+            for b in range(blocks):
+                stiff[b * order:(b + 1) * order, :] = (-omega0_2 * inv_scale[b]) * (inv_mass @ hess_blocks[b])
+            kp[i, :dof, :] = pstage[dof:]
+            kp[i, dof:, :] = stiff @ pstage[:dof] - rate * pstage[dof:]
+            if damping_matrix is not None:
+                kp[i, dof:, :] -= damping_matrix @ pstage[dof:]
+            if parameter == OMEGA:  # the phase's stages do not move, the step does
+                for j in range(n):
+                    kp[i, j, n] -= k[i, j] / Omega
+            elif parameter == PRESSURE:
+                for j in range(order):
+                    kp[i, dof + load_block * order + j, n] += cosine * load[j]
+        for j in range(n):
+            y[j] += step_factor(dt) * combine(k[0, j], k[1, j], k[2, j], k[3, j])
+        big += step_factor(dt) * (kp[0] + 2.0 * kp[1] + 2.0 * kp[2] + kp[3])
+    return y, big

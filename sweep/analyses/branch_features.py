@@ -33,7 +33,7 @@ import numpy as np
 
 from model.codim2 import continue_curve, continue_folds
 from model.continuation import KIND_NAMES, resonant_end
-from model.families import perturbation_growth, symmetry_blocks
+from model.families import floquet_start, perturbation_growth, symmetry_blocks
 from model.tongues import family_tongue
 
 from . import options as opt
@@ -388,9 +388,11 @@ class FamilyCheck(BranchFeature):
                 out[f"check_{p}"][c] = br.value[i]
                 out["check_floquet_modulus"][c, j] = np.nanmax(np.abs(br.family_multipliers[i, j]))
                 try:
+                    start = (mixed.start if mixed.start is not None
+                             else floquet_start(fmap.varied(p, br.value[i]).family_monodromy(br.state[i], fam)))
                     out["check_growth"][c, j], (low, high) = perturbation_growth(
                         mixed.fmap.varied(p, br.value[i]), br.state[i], mixed.asymmetric, periods=periods,
-                        saturate=saturate, probe=mixed.probe, start=mixed.start, metric=mixed.metric)
+                        saturate=saturate, probe=mixed.probe, start=start, metric=mixed.metric)
                     out["check_asymmetric_amplitude"][c, j] = max(abs(low), abs(high))
                     out["check_asymmetric_spread"][c, j] = high - low
                 except ValueError as exc:

@@ -1,0 +1,209 @@
+"""The full model on circumferential harmonics (:mod:`model.full.harmonic`): its compiled force
+against the complex-step derivative of the energy of the two-dimensional field, the harmonic 0
+against the axisymmetric model, the block of a harmonic n about an axisymmetric state against
+the family's stiffness (an independent kernel), the free motion's energy, the linearised map
+against the family's monodromy block, and the full model's ``family_check`` in a job."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from model.damping import Modal, Viscous
+from model.families import embedded, floquet_start, perturbation_growth
+from model.full.axisymmetric import AxisymmetricFull
+from model.full.families import FullFamily
+from model.full.forced import ForcedFull, steps_per_period
+from model.full.harmonic import HarmonicFull
+from model.full.static import solve_full_prestretch
+from model.params import Membrane
+from model.protocol import sorted_multipliers
+from model.shooting import shoot
+from sweep import cli
+from sweep.analyses.base import JobError
+from sweep.jobspec import parse_job
+
+ORDER = 6
+MEMBRANE = Membrane(delta=1.1, delta_o=0.2)
+
+
+@pytest.fixture(scope="module")
+def model():
+    return AxisymmetricFull(solve_full_prestretch(MEMBRANE, ORDER))
+
+
+def _state(harmonic, scale=0.02, seed=1):
+    """Coefficients of a few centimetres in every block, falling with the function's index."""
+    rng = np.random.default_rng(seed)
+    return scale * rng.standard_normal(harmonic.dof) / np.tile(np.arange(1, harmonic.order + 1),
+                                                               len(harmonic.blocks))
+
+
+def test_gradient_is_the_derivative_of_the_energy(model):
+    h = HarmonicFull(model, (0, 1, 2))
+    q = _state(h)
+    step = 1e-30
+    expected = np.array([h.energy(q + 1j * step * e).imag / step for e in np.eye(h.dof)])
+    np.testing.assert_allclose(h.compiled_gradient(q), expected, atol=1e-13 * np.abs(expected).max())
+
+
+def test_harmonic_zero_is_the_axisymmetric_model(model):
+    h = HarmonicFull(model, (0, 2))
+    q = _state(HarmonicFull(model, (0,)))  # (U_0, W_0)
+    y = h.embedded(np.concatenate([q, np.zeros_like(q)]))
+    g = h.compiled_gradient(y[:h.dof])
+    ga = model.compiled_gradient(q)
+    np.testing.assert_allclose(np.concatenate([g[h.block(0, "U")], g[h.block(0, "W")]]), ga,
+                               atol=1e-14 * np.abs(ga).max())
+    # an axisymmetric state exerts no force on another harmonic (to the angular rule's rounding)
+    assert np.abs(g[2 * ORDER:]).max() <= 1e-14 * np.abs(ga).max()
+    assert h.energy(y[:h.dof]) == pytest.approx(model.energy(q), rel=1e-14)
+
+
+@pytest.mark.parametrize("n", [1, 3])
+def test_block_of_a_harmonic_is_half_the_family_stiffness(model, n):
+    # (1/2 pi) int cos^2 = 1/2: about an axisymmetric state the harmonic's block of the Hessian
+    # (central differences of the compiled force) is half K_n of the family's kernel (its
+    # tangent moduli written out, model/full/family_kernels.py); the differences' error
+    # (step 1e-6 on coefficients of 1e-2) is about 1e-10 of the block
+    h = HarmonicFull(model, (0, n))
+    q = _state(HarmonicFull(model, (0,)))
+    y0 = h.embedded(np.concatenate([q, np.zeros_like(q)]))[:h.dof]
+    idx = np.r_[h.block(n, "U"), h.block(n, "V"), h.block(n, "W")]
+    H = np.empty((idx.size, idx.size))
+    for a, i in enumerate(idx):
+        e = np.zeros(h.dof)
+        e[i] = 1e-6
+        H[:, a] = (h.compiled_gradient(y0 + e)[idx] - h.compiled_gradient(y0 - e)[idx]) / 2e-6
+    K = FullFamily.build(model, n).stiffness(q)
+    np.testing.assert_allclose(H, 0.5 * K, atol=1e-8 * np.abs(K).max())
+
+
+def test_angular_rule_converges(model):
+    # the integrand is not a trigonometric polynomial (1 / Delta): doubling the points from
+    # the default changes the force by far less than the state's own nonlinearity does
+    q = _state(HarmonicFull(model, (0, 1, 2)), scale=0.01)
+    forces = [HarmonicFull(model, (0, 1, 2), t).compiled_gradient(q) for t in (12, 24, 48)]
+    scale = np.abs(forces[-1]).max()
+    assert np.abs(forces[0] - forces[-1]).max() <= 1e-5 * scale
+    assert np.abs(forces[1] - forces[-1]).max() <= 1e-12 * scale
+
+
+def test_free_motion_keeps_its_energy_to_the_order_of_rk4(model):
+    # undamped, unforced: the energy's drift over a period falls at least at RK4's fourth order
+    # (2^4 = 16 for half the step; 12 leaves room for the pre-asymptotic range)
+    h = HarmonicFull(model, (0, 1))
+    q = _state(h, scale=0.01)
+    y0 = np.concatenate([q, np.zeros(h.dof)])
+    e0 = h.energy(q)
+    period = 2 * np.pi / 36.0
+    omega = FullFamily.build(model, 1).omega_max
+    drifts = []
+    for steps in (400, 800):
+        assert omega * period / steps < 2.8
+        y = h.motion(y0, period / steps, steps, steps)[-1]
+        drifts.append(abs(h.energy(y[:h.dof]) + h.kinetic(y[h.dof:]) - e0))
+    assert drifts[1] < drifts[0] / 12
+
+
+@pytest.fixture(scope="module")
+def orbit(model):
+    fmap = ForcedFull.build(model, 1.0, 36.0, Viscous(0.05), steps_per_period(model, 128))
+    res = shoot(fmap, np.zeros(2 * model.dof))
+    assert res.converged
+    return fmap, res.state
+
+
+@pytest.mark.parametrize("law", [Viscous(0.05), Modal(0.01)], ids=["viscous", "modal"])
+def test_linearised_harmonic_map_is_the_family_block(model, orbit, law):
+    # central differences of the nonlinear map on the harmonics 0, n, 2n about the orbit, in
+    # the harmonic n's coordinates, against the family's monodromy block: the same discrete
+    # RK4 map by two kernels (force and tangent moduli), each harmonic damped by the law
+    fmap = orbit[0] if isinstance(law, Viscous) else ForcedFull.build(model, 1.0, 36.0, law, orbit[0].steps)
+    y = shoot(fmap, orbit[1]).state
+    fam = FullFamily.build(model, 1)
+    Phi = fmap.family_monodromy(y, fam)
+    mixed = fmap.perturbed_family(fam)
+    z0 = embedded(y, mixed.fmap.dof)
+    idx = list(mixed.asymmetric) + [mixed.fmap.dof + i for i in mixed.asymmetric]
+    J = np.empty_like(Phi)
+    for a, i in enumerate(idx):
+        e = np.zeros_like(z0)
+        e[i] = 1e-8
+        J[:, a] = (mixed.fmap.advance(z0 + e)[idx] - mixed.fmap.advance(z0 - e)[idx]) / 2e-8
+    np.testing.assert_allclose(J, Phi, atol=1e-7 * np.abs(Phi).max())
+
+
+def test_growth_of_a_perturbation_is_the_largest_multiplier(model, orbit):
+    # a stable response: every multiplier of the n = 1 block near exp(-c T / (2 Gamma h)); the
+    # perturbation, started along the dominant Floquet mode and measured in the family's energy
+    # norm, decays at the largest modulus.  Bound: a tenth of the 2e-3 between it and the unit
+    # circle, so that a wrong sign of stability fails.
+    fmap, y = orbit
+    fam = FullFamily.build(model, 1)
+    block = fmap.family_monodromy(y, fam)
+    mu = abs(sorted_multipliers(block)[0])
+    mixed = fmap.perturbed_family(fam)
+    assert mixed.start is None  # the full model starts along the Floquet mode
+    growth, (low, high) = perturbation_growth(mixed.fmap, y, mixed.asymmetric, periods=100, probe=mixed.probe,
+                                              start=floquet_start(block), metric=mixed.metric, saturate=20)
+    assert mu < 1.0 and growth == pytest.approx(mu, abs=2e-4)
+    # still tiny: the probe's samples lie within the initial 1e-9 m times the mode's size there
+    assert -1e-8 < low <= high < 1e-8
+
+
+def test_perturbed_family_needs_the_whole_family(model, orbit):
+    with pytest.raises(ValueError, match="needs the family in U, V, W on all 6 radial functions; it has W on 6"):
+        orbit[0].perturbed_family(FullFamily.build(model, 1, fields="W"))
+    with pytest.raises(ValueError, match="needs the family in U, V, W on all 6 radial functions; it has UVW on 4"):
+        orbit[0].perturbed_family(FullFamily.build(model, 1, 4))
+    with pytest.raises(ValueError, match="harmonics = \\[1, 2\\] is invalid"):
+        HarmonicFull(model, [1, 2])
+
+
+JOB = """
+[job]
+name = "full-check"
+analysis = "continuation"
+
+[model]
+kind = "full"
+order = 6
+
+[grid]
+delta = 1.1
+delta_o = 0.2
+Omega = 36.0
+c = 0.05
+
+[continuation]
+parameter = "P0"
+start = 0.0
+stop = 0.5
+modes = [[1, 0]]
+ds_max = 0.5
+max_points = 100
+families = {n = [1, 3], radial = RADIAL}
+family_check = {values = [0.5], periods = 60}
+"""
+
+
+def test_family_check_job_on_the_full_model(tmp_path):
+    job = tmp_path / "check.toml"
+    job.write_text(JOB.replace("RADIAL", "6"))
+    out = tmp_path / "check.nc"
+    assert cli.main(["run", str(job), "-o", str(out)]) == 0
+    ds = xr.load_dataset(out).squeeze()
+    assert int(ds.status) == 0 and float(ds.check_P0) == pytest.approx(0.5)
+    floquet, growth = ds.check_floquet_modulus.values.ravel(), ds.check_growth.values.ravel()
+    # both families stable at this small response (viscous damping alone: 0.998); the same bound
+    # as above
+    assert (floquet < 1).all() and np.abs(growth - floquet).max() <= 2e-4
+
+
+def test_family_check_refuses_part_of_a_family():
+    with pytest.raises(JobError, match=r"continuation.family_check = .* is invalid: needs on this model the "
+                                       r"families in U, V, W on all its radial functions \(continuation.families: "
+                                       r"radial = 6, inplane = true\)"):
+        parse_job(JOB.replace("RADIAL", "4"))
+    with pytest.raises(JobError, match="continuation.family_check = .* is invalid: needs on this model"):
+        parse_job(JOB.replace("RADIAL", "6, inplane = false"))
