@@ -9,6 +9,7 @@ import pytest
 import xarray as xr
 
 from model.damping import Modal, Viscous
+from model.continuation import BRANCH_POINT, continue_orbits
 from model.families import embedded, floquet_start, perturbation_growth
 from model.full.axisymmetric import AxisymmetricFull
 from model.full.families import FullFamily
@@ -18,6 +19,7 @@ from model.full.static import solve_full_prestretch
 from model.params import Membrane
 from model.protocol import sorted_multipliers
 from model.shooting import shoot
+from model.switching import follow_bifurcated_branch
 from sweep import cli
 from sweep.analyses.base import JobError
 from sweep.jobspec import parse_job
@@ -207,3 +209,112 @@ def test_family_check_refuses_part_of_a_family():
         parse_job(JOB.replace("RADIAL", "4"))
     with pytest.raises(JobError, match="continuation.family_check = .* is invalid: needs on this model"):
         parse_job(JOB.replace("RADIAL", "6, inplane = false"))
+
+
+@pytest.fixture(scope="module")
+def switched(model):
+    """The Fig. 14a resonance on the order-6 full model at the paper's damping (its first n = 1
+    branch point near 34.14 rad/s) and the standing waves switched onto there."""
+    fmap = ForcedFull.build(model, 1.0, 30.0, Viscous(0.05), steps_per_period(model, 128))
+    fam = FullFamily.build(model, 1)
+    br = continue_orbits(fmap, "Omega", 30.0, 34.34, families=(fam,), ds_max=0.3, max_points=400)
+    i = next(i for i in range(br.value.size) if br.kind[i] == BRANCH_POINT and br.family[i] == 1)
+    sw, mixed, asym = follow_bifurcated_branch(fmap, fam, "Omega", 30.0, 34.34, br.state[i], br.value[i],
+                                               ds_max=0.3, max_points=8)
+    return fmap, fam, br, i, sw, mixed, asym
+
+
+def test_switched_branch_leaves_the_branch_point_with_the_family_shape(switched):
+    fmap, fam, br, i, sw, mixed, asym = switched
+    assert sw.value[0] == br.value[i] and sw.kind[0] == BRANCH_POINT and asym[0] < 1e-12
+    # the asymmetric part grows from zero along the branch; the n = 1 harmonic is what grows
+    assert np.all(np.diff(asym) > 0) and asym[-1] > 1e-3
+    # its states are periodic orbits of the harmonics' map (the corrector's tolerance, 1e-10
+    # of the scaled unknowns: 0.05 m)
+    for lam, y in zip(sw.value[1:], sw.state[1:]):
+        y1 = mixed.varied("Omega", lam).advance(y)
+        assert np.abs(y1 - y).max() <= 1e-7 * np.abs(y).max()
+
+
+def test_switched_branch_has_the_reflection_through_a_half_turn(switched):
+    # theta -> theta + pi turns cos n theta into (-1)^n cos n theta: the negated n = 1
+    # harmonic (the harmonic 2 kept) is another periodic orbit, the other side of the pitchfork
+    fmap, fam, br, i, sw, mixed, asym = switched
+    h = mixed.model
+    sign = np.ones(h.dof)
+    for field in "UVW":
+        sign[h.block(1, field)] = -1.0
+    flip = np.concatenate([sign, sign])
+    y, lam = sw.state[-1], sw.value[-1]
+    at = mixed.varied("Omega", lam)
+    np.testing.assert_allclose(at.advance(flip * y), flip * at.advance(y), atol=1e-13 * np.abs(y).max())
+
+
+def test_stability_of_a_standing_wave_is_that_of_the_time_integration(switched):
+    # the last point of the switched branch: its largest multiplier (the harmonics' variational
+    # equations, their Hessian kernel) against the growth of a small perturbation along that
+    # Floquet mode in the nonlinear harmonics (their force kernel), fitted over 100 periods; the
+    # bound is a tenth of the multiplier's distance from the unit circle, so that the wrong side
+    # of it fails
+    fmap, fam, br, i, sw, mixed, asym = switched
+    y, at = sw.state[-1], mixed.varied("Omega", sw.value[-1])
+    block = at.monodromy(y)[1]
+    mu = np.abs(sorted_multipliers(block)[0])
+    z, ref, sizes = y + 1e-9 * floquet_start(block), y.copy(), []
+    for _ in range(100):
+        z, ref = at.advance(z), at.advance(ref)
+        sizes.append(np.linalg.norm(z - ref))
+    growth = np.exp(np.polyfit(np.arange(20, 100), np.log(sizes[20:]), 1)[0])
+    assert abs(growth - mu) <= 0.1 * abs(mu - 1.0)
+
+
+SWITCH_JOB = """
+[job]
+name = "full-switch"
+analysis = "continuation"
+
+[model]
+kind = "full"
+order = 6
+
+[grid]
+delta = 1.1
+delta_o = 0.2
+P0 = 1.0
+c = 0.05
+
+[continuation]
+parameter = "Omega"
+start = 30.0
+stop = 34.34
+modes = [[1, 0]]
+ds_max = 0.3
+max_points = 400
+families = {n = [1], radial = 6, inplane = true}
+branch_switching = {max_points = 8, n = 1}
+"""
+
+
+def test_branch_switching_job_on_the_full_model(tmp_path, switched):
+    # the job reports the branch of the model-level switch above: the same located point and
+    # the same standing waves (one computation, two routes)
+    fmap, fam, br, i, sw, mixed, asym = switched
+    job = tmp_path / "switch.toml"
+    job.write_text(SWITCH_JOB)
+    out = tmp_path / "switch.nc"
+    assert cli.main(["run", str(job), "-o", str(out)]) == 0
+    ds = xr.load_dataset(out).squeeze()
+    assert int(ds.status) == 0
+    np.testing.assert_allclose(ds.switched_Omega.values, sw.value, rtol=1e-9)
+    np.testing.assert_allclose(ds.switched_asymmetric_amplitude.values, asym, rtol=1e-6, atol=1e-12)
+    assert list(ds.switched_stable.values) == [int(s) for s in sw.stable]
+    assert "switched_modal_coordinate" not in ds  # the ROM's alone
+
+
+def test_branch_switching_on_the_full_model_refuses_the_sine_companions():
+    with pytest.raises(JobError, match=r"continuation.branch_switching.periods = 50 is invalid: needs the ROM's sine "
+                                       r"companions"):
+        parse_job(SWITCH_JOB.replace("n = 1}", "n = 1, periods = 50}"))
+    with pytest.raises(JobError, match=r"continuation.branch_switching = .* is invalid: needs on this model the "
+                                       r"families in U, V, W on all its radial functions"):
+        parse_job(SWITCH_JOB.replace("radial = 6", "radial = 4"))

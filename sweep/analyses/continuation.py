@@ -58,7 +58,10 @@ standing wave with a small perturbation in the sine companions: ``switched_check
 ``switched_check_drift`` (rad per period), ``switched_check_drift_spread``,
 ``switched_check_wave_amplitude`` (m) and ``switched_check_wave_spread``
 (:func:`model.waves.wave_motion`).  Reaching N points is not a failure: the branch is
-followed as far as asked.
+followed as far as asked.  On the full model (families in ``U, V, W`` on all its radial
+functions) the branch is followed on the circumferential harmonics 0, n, 2n
+(:mod:`model.full.harmonic`), ``switched_stable`` within them; the modal coordinates and the
+sine companions (O(2), ``periods``) are the ROM's alone.
 
 Rotating waves (``rotating_waves = {max_points = N, n = 3, periods = P}``, with ``families``):
 at the first Neimark-Sacker point of family n the rotating waves (:func:`model.waves.continue_rotating_waves`)
@@ -184,6 +187,9 @@ class ContinuationOptions:
     rotating: tuple[int, int, int] = (0, 0, 0)
     #: ``symmetry_breaking``: points of the branch without the half-period symmetry (0: none)
     broken_points: int = 0
+    #: whether the job's model is the ROM (:attr:`sweep.models.base.Model.rom_features`): the
+    #: switched branch's modal coordinates and its standing waves in O(2)
+    rom_features: bool = True
 
 
 #: Arclength (scaled unknowns: the parameter range is 1, 0.05 m of displacement is 1) that
@@ -222,9 +228,10 @@ class ContinuationAnalysis(Analysis):
         "branch_switching": "{max_points = N, n = wave number, periods = P}: at the first branch point of family n "
                             "(of any family without n) on the branch, switch onto the bifurcating asymmetric branch "
                             "(standing waves) and follow it for at most N points in the ROM of the axisymmetric "
-                            "modes plus the family's cosine modes; its stability also with the sine companions "
+                            "modes plus the family's cosine modes (the full model: its harmonics 0, n, 2n, families "
+                            "in U, V, W on all its radial functions); its stability also with the sine companions "
                             "(O(2)); with P >= 20, P periods of time integration from the last standing wave with a "
-                            "small perturbation in the sine companions (needs families; default none)",
+                            "small perturbation in the sine companions (the ROM; needs families; default none)",
         "rotating_waves": "{max_points = N, n = wave number, periods = P}: at the first Neimark-Sacker point of "
                           "family n on the branch, follow the rotating waves (periodic in a turning frame) for at "
                           "most N points in the ROM of the axisymmetric modes plus the family's cosine and sine "
@@ -265,18 +272,23 @@ class ContinuationAnalysis(Analysis):
         if start == stop:
             raise JobError(f"{s}.stop", stop, "must differ from continuation.start")
         modes = opt.modes(table, s)
-        opt.rom_only(table, s, context.model, ("branch_switching", "rotating_waves", "tongues"))
+        opt.rom_only(table, s, context.model, ("rotating_waves", "tongues"))
         if "families" in table and not context.model.model().provides("families"):
             raise JobError(f"{s}.families", table["families"], f"needs a model with asymmetric families; this "
                            f"job's model is {context.model.kind!r} ([model] kind)")
         families = opt.families(table, s, modes, context.model)
-        if ("family_check" in table and families is not None and not isinstance(families.radial, tuple)
-                and not context.model.model().rom_features):
-            order, _ = context.model.model().family_limits(context.model.options)
-            if not families.inplane or families.radial != order:
-                raise JobError(f"{s}.family_check", table["family_check"], "needs on this model the families in "
-                               f"U, V, W on all its radial functions (continuation.families: radial = {order}, "
-                               "inplane = true): the harmonics' blocks of the nonlinear model")
+        rom = context.model.model().rom_features
+        for key in ("family_check", "branch_switching"):
+            if key in table and families is not None and not isinstance(families.radial, tuple) and not rom:
+                order, _ = context.model.model().family_limits(context.model.options)
+                if not families.inplane or families.radial != order:
+                    raise JobError(f"{s}.{key}", table[key], "needs on this model the families in U, V, W on all "
+                                   f"its radial functions (continuation.families: radial = {order}, inplane = "
+                                   "true): the harmonics' blocks of the nonlinear model")
+        if not rom and isinstance(table.get("branch_switching"), dict) and table["branch_switching"].get("periods"):
+            raise JobError(f"{s}.branch_switching.periods", table["branch_switching"]["periods"],
+                           "needs the ROM's sine companions (the standing waves in O(2)); this job's model is "
+                           f"{context.model.kind!r} ([model] kind)")
         opt.model_modes(s, context.model, modes)
         if families is not None and isinstance(families[1], tuple):  # a study in the radial modes
             for key in ("branch_switching", "rotating_waves", "family_check", "bifurcation_curves",
@@ -303,7 +315,7 @@ class ContinuationAnalysis(Analysis):
             second_parameter(table, s, parameter, context.damping), families,
             curves, *switching_option(table, s, families),
             family_check_option(table, s), tongues_option(table, s), membrane.law,
-            rotating_option(table, s, families), symmetry_breaking_option(table, s))
+            rotating_option(table, s, families), symmetry_breaking_option(table, s), rom)
 
     def variables(self, options):
         return [v for feature in FEATURES for v in feature.variables(options)] + self._branch_variables(options)

@@ -130,11 +130,15 @@ class BranchSwitching(BranchFeature):
             Variable("switched_amplitude", sp, (n,), "f8", "m", "max over one period of |w(0.5 Re, 0, t)|"),
             Variable("switched_asymmetric_amplitude", sp, (n,), "f8", "m",
                      "max over one period of the asymmetric part of w(0.5 Re, 0, t)"),
-            Variable("switched_stable", sp, (n,), "i1", "1", "stability within the ROM of the axisymmetric and "
-                     "the family's cosine modes", -1, _FLAGS),
+            Variable("switched_stable", sp, (n,), "i1", "1", "stability within the mixed model: the ROM of the "
+                     "axisymmetric and the family's cosine modes, or the full model's harmonics 0, n, 2n", -1, _FLAGS),
             Variable("switched_point_type", sp, (n,), "i1", "1", "kind of point on the asymmetric branch", -1,
                      kind_attrs()),
             Variable("switched_multiplier_modulus", sp, (n,), "f8", "1", "largest Floquet multiplier modulus"),
+        ]
+        if not options.rom_features:
+            return out
+        out += [
             Variable("switched_odd_multiplier_modulus", sp, (n,), "f8", "1", "largest multiplier modulus of the "
                      "perturbations in the family's sine companions, the group orbit's multiplier 1 removed"),
             Variable("switched_neutral_multiplier", sp, (n,), "f8", "1", "the group orbit's multiplier as computed "
@@ -178,10 +182,12 @@ class BranchSwitching(BranchFeature):
         out["switched_asymmetric_amplitude"][:m], out["switched_stable"][:m] = asym, sw.stable
         out["switched_point_type"][:m] = sw.kind
         out["switched_multiplier_modulus"][:m] = np.abs(sw.multipliers).max(axis=1)
+        problems = [] if sw.complete or m >= n else [f"switched branch: {sw.message}"]
+        if not options.rom_features:  # the full model's harmonics: no modal coordinates, no sine companions
+            return out, "; ".join(problems)
         out["switched_modal_coordinate"][:m] = sw.state[:, :K]
         modes = np.array(fmap_mixed.rom.modes, dtype=np.int32)
         out["switched_mode_m"], out["switched_mode_n"] = modes[:, 0], modes[:, 1]
-        problems = [] if sw.complete or m >= n else [f"switched branch: {sw.message}"]
         try:
             self._o2(out, options, fmap, fmap_mixed, family, sw)
         except (RuntimeError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
