@@ -38,6 +38,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from benchmarks.c_reference import compile_reference  # noqa: E402
 from benchmarks.full_states import first_mode_coordinates  # noqa: E402
+from benchmarks.kernel_report import print_kernel, print_rk4  # noqa: E402
 from model.full.axisymmetric import AxisymmetricFull  # noqa: E402
 from model.full.axisymmetric_kernels import axisymmetric_gradient, axisymmetric_hessian  # noqa: E402
 from model.full.static import solve_full_prestretch  # noqa: E402
@@ -138,22 +139,9 @@ def main(argv=None) -> None:
     for kernel in ("force", "Hessian"):
         if kernel == "Hessian":
             print(f"full-model axisymmetric Hessian ({2 * N} x {2 * N}), the same states")
-        for name in (f"numba {kernel}", f"numpy {kernel}", f"C {kernel}"):
-            if name in med:
-                print(f"  {name:13s} {med[name]:10.1f} ns per call   (vs numba {kernel}: {err[name]:.1e} relative)")
-        if f"C {kernel}" in med:
-            print(f"  ratio numba / C, {kernel}: {med[f'numba {kernel}'] / med[f'C {kernel}']:.2f} (target <= 1.5)")
-        print(f"  ratio numpy / numba, {kernel}: {med[f'numpy {kernel}'] / med[f'numba {kernel}']:.1f}")
+        print_kernel(med, err, kernel)
     print(f"full-model axisymmetric RK4, {steps} steps of 1/omega_max = {dt:.3e} s")
-    for name in ("numba RK4", "C RK4"):
-        if name in med:
-            print(f"  {name:12s} {med[name]:9.1f} ns per step   (vs numba RK4: {err[name]:.1e} relative)")
-    if "C RK4" in med:
-        print(f"  ratio numba / C, RK4 step: {med['numba RK4'] / med['C RK4']:.2f} (target <= 1.5)")
-    scipy_s = statistics.median(scipy_times)
-    print(f"  solve_ivp (RK45, numpy force, rtol 1e-8) over the same {steps * dt:.3e} s: {scipy_s * 1e3:.1f} ms, "
-          f"{ivp.nfev} evaluations; speed-up of numba RK4: {scipy_s / (med['numba RK4'] * 1e-9 * steps):.0f}x "
-          f"(final states differ by {_rel(ivp.y[:, -1], end):.1e} relative)")
+    print_rk4(med, err, steps, dt, statistics.median(scipy_times), ivp.nfev, _rel(ivp.y[:, -1], end))
 
 
 if __name__ == "__main__":

@@ -1777,12 +1777,11 @@ def section_full_family_check(results: Path) -> list[str]:
            "dominant Floquet mode; its growth per period (least-squares slope of the log of the",
            "perturbation's energy norm x^T K0 x + x'^T M x' about the pre-stretch over periods 20..120, or",
            "until a coefficient reaches 1e-5 m) against the largest multiplier modulus of the family's",
-           "block there. The same",
-           "discrete RK4 map, by an independent kernel: the nonlinear force of the two-dimensional field",
-           "against the family's tangent moduli (their linearisations agree to 1e-7 of the block,",
-           "tests/test_full_harmonic.py). Then the `saturate` periods: w(0.5 Re, 0) - w_0(0.5 Re) (harmonics",
-           "n and 2n) over the stroboscopic samples of their last tenth. \"Orbit\": the axisymmetric",
-           "response's own stability.", ""]
+           "block there: the same discrete RK4 map by an independent kernel, the nonlinear force of the",
+           "two-dimensional field against the family's tangent moduli (their linearisations agree to 1e-7 of",
+           "the block, tests/test_full_harmonic.py). Then the `saturate` periods: w(0.5 Re, 0) - w_0(0.5 Re)",
+           "(harmonics n and 2n) over the stroboscopic samples of their last tenth. \"Orbit\": the",
+           "axisymmetric response's own stability (its multipliers, the families' aside).", ""]
     ds = _open(results, "validation/family-check-full")
     if ds is None or "check_growth" not in ds:
         return out + _missing("validation/family-check-full")
@@ -1794,6 +1793,63 @@ def section_full_family_check(results: Path) -> list[str]:
                          "Where the family is unstable (Floquet modulus > 1) the integrated growth agrees to "
                          + (f"{worst[True]:.1e}" if worst[True] else "- (no such point)") + "; where it is stable, to "
                          f"{worst[False]:.1e} (the damping alone: {_damping_moduli(b)}). " + _check_states(), ""]
+
+
+def section_full_switching(results: Path) -> list[str]:
+    """The standing waves of the full model at its first n = 1 branch point (Fig. 14a)."""
+    out = ["## Standing waves on the full model (Fig. 14a)", "",
+           "At the first branch point of the family n = 1 on the full model's Fig. 14a resonance (delta = 1.1,",
+           "delta_o = 0.2, P0 = 1 Pa, c = 0.05 N s/m^3, 8 radial functions per field; the same branch as",
+           "`validation/family-check-full`), the standing waves are followed on the full model's",
+           "circumferential harmonics 0, 1 and 2 (`validation/fig14a-full-switching-order8`, `branch_switching`,",
+           "model/full/harmonic.py: u, w on cos k theta, v on sin k theta, the exact energy integrated in",
+           "theta), with their Floquet multipliers on these harmonics (the families n = 1 and 2 of the",
+           "orbit included, the sine companions not). Every twentieth point, the located ones and the last:",
+           ""]
+    ds = _open(results, "validation/fig14a-full-switching-order8")
+    if ds is None or "switched_Omega" not in ds:
+        return out + _missing("validation/fig14a-full-switching-order8")
+    b = _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
+    omega = b.switched_Omega.values.ravel()
+    m = int(np.isfinite(omega).sum())
+    omega = omega[:m]
+    amp, asym = b.switched_amplitude.values.ravel()[:m], b.switched_asymmetric_amplitude.values.ravel()[:m]
+    stable, mod = b.switched_stable.values.ravel()[:m], b.switched_multiplier_modulus.values.ravel()[:m]
+    kind = b.switched_point_type.values.ravel()[:m]
+    out += ["| point | Omega (rad/s) | amplitude (m) | asymmetric amplitude (m) | stable | largest multiplier "
+            "modulus | kind |", "|---|---|---|---|---|---|---|"]
+    rows = sorted(set(range(0, m, 20)) | set(np.flatnonzero(kind > 0).tolist()) | {m - 1})
+    for i in rows:
+        out.append(f"| {i} | {omega[i]:.4f} | {amp[i]:.4f} | {asym[i]:.4f} | {'yes' if stable[i] == 1 else 'no'} "
+                   f"| {mod[i]:.5f} | {KIND_LABELS[int(kind[i])]} |")
+    n = int(b.n_points)
+    bp = omega[0]
+    toward = "down" if omega[min(5, m - 1)] < bp else "up"
+    runs = _runs(np.flatnonzero(stable[1:] == 1) + 1)
+    stable_text = ("none of its points" if not runs else
+                   ", ".join(f"{omega[i]:.4f}-{omega[j]:.4f} rad/s (asymmetric amplitude {asym[i]:.4f}-{asym[j]:.4f} "
+                             "m)" for i, j in runs))
+    folds = [omega[i] for i in np.flatnonzero(kind == FOLD)]
+    message = str(b.message.values) if "message" in b else ""
+    return out + ["", f"The branch point: Omega = {bp:.4f} rad/s, {amp[0]:.4f} m on a response of the axisymmetric "
+                  f"branch ({n} points from 25 rad/s). The standing waves leave it {toward}ward in Omega "
+                  f"({'a subcritical' if toward == 'down' else 'a supercritical'} pitchfork in the harmonics' "
+                  f"coordinates) and cover {omega.min():.4f}-{omega.max():.4f} rad/s in {m} points, the asymmetric "
+                  f"amplitude up to {asym.max():.4f} m, with {len(folds)} saddle-nodes"
+                  + (f" ({', '.join(f'{f:.4f}' for f in folds)} rad/s)" if folds else "")
+                  + f". Stable on the harmonics 0, 1, 2: {stable_text}."
+                  + (f" The run's message: {message}." if message else ""), ""]
+
+
+def _runs(indices) -> list[tuple[int, int]]:
+    """Consecutive runs ``(first, last)`` of sorted integer ``indices``."""
+    runs = []
+    for i in indices:
+        if runs and i == runs[-1][1] + 1:
+            runs[-1] = (runs[-1][0], int(i))
+        else:
+            runs.append((int(i), int(i)))
+    return runs
 
 
 def _folds(p) -> np.ndarray:
@@ -2626,7 +2682,7 @@ SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_mo
             section_cusp,
             section_families, section_waves, section_tongues, section_family_orbit, section_held_families,
             section_time_symmetry,
-            section_full_fig14a, section_full_fig14a_light, section_full_family_check,
+            section_full_fig14a, section_full_fig14a_light, section_full_family_check, section_full_switching,
             section_bruteforce_diagram, section_basins,
             section_basins_modes, section_full_basins)
 

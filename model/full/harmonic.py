@@ -147,16 +147,41 @@ class HarmonicFull:
                 out["wt"] -= k * value * sin
         return out
 
-    def energy(self, q):
-        """``(1 / 2 pi) int int W / C1 s ds dtheta`` by numpy (:mod:`model.full.surface`; complex
-        for complex ``q``, the complex-step derivatives of the tests)."""
+    def _columns(self, q):
+        # a1, a2 at (theta, s): (T, points, 3) each
         m, b = self.model, self.model.state.basis
         f = self._fields_on_grid(q)
         s = b.s
         a1 = np.stack([m.dr0 + f["us"], f["vs"], f["ws"]], axis=-1)
         a2 = np.stack([(f["ut"] - f["v"]) / s, (m.r0 + f["u"] + f["vt"]) / s, f["wt"] / s], axis=-1)
-        density = surface.energy(m.membrane.material, a1, a2)  # (T, points)
-        return self._theta_weight @ density @ (s * b.weights)
+        return a1, a2
+
+    def gradient(self, q) -> np.ndarray:
+        """``d energy / dq`` by numpy (:func:`model.full.surface.gradient` on the grid, projected
+        on each block's variations): the reference of :meth:`compiled_gradient`."""
+        b = self.model.state.basis
+        p1, p2 = surface.gradient(self.model.membrane.material, *self._columns(q))
+        stress = np.concatenate([p1, p2], axis=-1)  # (T, points, 6)
+        # per block, point and kind of variation (per phi', per phi / s): the angular mean of P . g
+        along = np.einsum("t,tpi,btai->bpa", self._theta_weight, stress, self._variations)
+        return ((along[:, :, 0] * (b.s * b.weights)) @ b.dphi.T + (along[:, :, 1] * b.weights) @ b.phi.T).ravel()
+
+    def hessian(self, q) -> np.ndarray:
+        """``d^2 energy / dq^2`` by numpy (:func:`model.full.surface.hessian` on the grid): the
+        reference of :meth:`compiled_hessian`."""
+        b = self.model.state.basis
+        moduli = surface.hessian(self.model.membrane.material, *self._columns(q))  # (T, points, 6, 6)
+        pairs = np.einsum("t,btai,tpij,ctdj->pbcad", self._theta_weight, self._variations, moduli, self._variations)
+        radial = np.stack([b.dphi, b.phi / b.s])  # per phi' and per phi / s: (2, order, points)
+        H = np.einsum("ajp,pbcad,dmp,p->bjcm", radial, pairs, radial, b.s * b.weights)
+        return H.reshape(self.dof, self.dof)
+
+    def energy(self, q):
+        """``(1 / 2 pi) int int W / C1 s ds dtheta`` by numpy (:mod:`model.full.surface`; complex
+        for complex ``q``, the complex-step derivatives of the tests)."""
+        b = self.model.state.basis
+        density = surface.energy(self.model.membrane.material, *self._columns(q))  # (T, points)
+        return self._theta_weight @ density @ (b.s * b.weights)
 
     def kinetic(self, v) -> float:
         """The kinetic energy in the units of :meth:`energy` (``(1/2) v^T M v / omega_0^2``)."""
