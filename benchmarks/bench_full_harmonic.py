@@ -61,12 +61,12 @@ def _forces(Q, repeats, law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, 
 
 
 @nb.njit(cache=True)
-def _hessians(Q, repeats, law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, variations,
-              H):
+def _hessians(Q, repeats, law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, var_index,
+              var_value, H):
     for _ in range(repeats):
         for m in range(Q.shape[0]):
-            harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, variations,
-                             Q[m], H[m])
+            harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, var_index,
+                             var_value, Q[m], H[m])
 
 
 def _rel(x, ref) -> float:
@@ -111,12 +111,13 @@ def main(argv=None) -> None:
     G = np.empty_like(Q)
     H = np.empty((states, h.dof, h.dof))
     _forces(Q[:1], 1, *tables, G)  # compile
-    _hessians(Q[:1], 1, *tables, h._variations, H)
+    _hessians(Q[:1], 1, *tables, h._var_index, h._var_value, H)
     h.motion(y0, dt, 1)
     work = Path(tempfile.mkdtemp())
     exe = compile_reference("full_harmonic", work, ("-ffast-math",))
     np.concatenate([phi.ravel(), dphi.ravel(), s, sw, w, r0, dr0, model.inverse_mass.ravel(), h.inverse_scale,
-                    fields.astype(float), wave, cos_t.ravel(), sin_t.ravel(), theta_weight, h._variations.ravel(),
+                    fields.astype(float), wave, cos_t.ravel(), sin_t.ravel(), theta_weight,
+                    h._var_index.ravel().astype(float), h._var_value.ravel(),
                     [model.omega0_2, 0.0]]).tofile(work / "tables.bin")
     Q.tofile(work / "q.bin")
     names = ["numba force", "numpy force", "C force", "numba Hessian", "numpy Hessian", "C Hessian", "numba RK4",
@@ -139,7 +140,7 @@ def main(argv=None) -> None:
     for _ in range(rounds):
         timed("numba force", states * repeats, lambda: _forces(Q, repeats, *tables, G))
         numpy_g = timed("numpy force", states, lambda: np.array([h.gradient(q) for q in Q]))
-        timed("numba Hessian", states * repeats, lambda: _hessians(Q, repeats, *tables, h._variations, H))
+        timed("numba Hessian", states * repeats, lambda: _hessians(Q, repeats, *tables, h._var_index, h._var_value, H))
         numpy_h = timed("numpy Hessian", states, lambda: np.array([h.hessian(q) for q in Q]))
         t0 = time.perf_counter()
         end = h.motion(y0, dt, steps, every=steps)[-1]

@@ -180,7 +180,7 @@ class ForcedMap:
         (:func:`mixed_rom`), each of the family's modal coordinates perturbed alike and
         measured by the Euclidean norm."""
         mixed = self.with_rom(mixed_rom(self.rom, family))
-        asymmetric = mixed.with_rom(asymmetric_part(mixed.rom, self.rom.dof))
+        asymmetric = replace(mixed, rom=asymmetric_part(mixed.rom, self.rom.dof))  # only the probe differs
         return PerturbedFamily(mixed, asymmetric, tuple(range(self.rom.dof, mixed.dof)), asymmetric.rom.tables.probe,
                                np.ones(len(family.modes)), None)
 

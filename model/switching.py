@@ -2,16 +2,20 @@
 
 At a branch point of family ``n`` (:mod:`model.families`; a real multiplier of the family's
 block is 1) asymmetric periodic responses bifurcate from the axisymmetric branch.  They live
-in the ROM of the axisymmetric modes plus the family's cosine modes (the sine companions give
-their rotated copies, by the O(2) symmetry).  The new branch is followed in that mixed ROM
-(2-D quadrature, :func:`model.rom.build_rom`) by :func:`model.continuation.continue_orbits`,
-started at the branch point with a first step along the null vector of the family's block
-``Phi_n - I`` at fixed parameter (the standard switching at a pitchfork: the tangent of the
-bifurcating branch has no parameter component there).
+in the mixed model the map's ``perturbed_family`` gives (:class:`model.protocol.PerturbedFamily`):
+the ROM of the axisymmetric modes plus the family's cosine modes (2-D quadrature,
+:func:`model.rom.build_rom`), or the full model on the circumferential harmonics ``0, n, 2n``
+(:mod:`model.full.harmonic`); the sine companions give their rotated copies, by the O(2)
+symmetry.  The new branch is followed in that mixed model by
+:func:`model.continuation.continue_orbits`, started at the branch point with a first step
+along the null vector of the family's block ``Phi_n - I`` at fixed parameter (the standard
+switching at a pitchfork: the tangent of the bifurcating branch has no parameter component
+there).
 
-Its stability is that of the mixed ROM: within the reflection-symmetric subspace of the
-cosine modes.  The multiplier 1 of rotations along the orbit family and the instabilities
-toward travelling waves need the sine companions (``n < 0`` in :func:`model.rom.build_rom`).
+Its stability is that of the mixed model: within the reflection-symmetric subspace of the
+cosine modes (harmonics).  The multiplier 1 of rotations along the orbit family and the
+instabilities toward travelling waves need the sine companions (the ROM's ``n < 0`` in
+:func:`model.rom.build_rom`, :mod:`model.waves`).
 
 The axisymmetric block has branch points of its own: a response symmetric in time,
 ``q(t + T/2) = -q(t)`` (the transverse force is odd in ``w``), gives way to a pair of responses
@@ -23,13 +27,10 @@ with any map of the protocol (the ROM's or the full model's) and its families.
 
 from __future__ import annotations
 
-
 import numpy as np
 
 from .continuation import Branch, continue_orbits
 from .families import Family, embedded
-from .forced import ForcedMap
-from .rom import Rom
 
 
 def null_vector(phi) -> np.ndarray:
@@ -40,8 +41,9 @@ def null_vector(phi) -> np.ndarray:
     return v / np.linalg.norm(v)
 
 
-def null_direction(fmap: ForcedMap, state, family: Family) -> np.ndarray:
-    """The unit null vector ``(u, u')`` (2M) of ``Phi_n - I`` at the orbit ``state``."""
+def null_direction(fmap, state, family) -> np.ndarray:
+    """The unit null vector ``(u, u')`` of ``Phi_n - I`` at the orbit ``state`` (``fmap``: a map
+    with the capability ``family_monodromy``, :mod:`model.protocol`)."""
     return null_vector(fmap.family_monodromy(state, family))
 
 

@@ -1716,8 +1716,9 @@ def _family_check(results: Path) -> list[str]:
         return out + _missing("validation/family-check")
     b = _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
     rows, worst = _check_rows(b)
+    missed = f" ({worst[None]} checks have no growth: see the run's message)" if worst[None] else ""
     return out + rows + ["", "Where the family is unstable (Floquet modulus > 1) the integrated growth agrees to "
-                         f"{worst[True]:.1e};",
+                         f"{worst[True]:.1e}{missed};",
                          f"where it is stable, to {worst[False]:.1e}: there several multipliers share the modulus of "
                          "the",
                          f"damping alone, {_damping_moduli(b)} at these Omega, and the fitted rate",
@@ -1733,14 +1734,19 @@ def _check_rows(b, orbit: bool = False) -> tuple[list[str], dict]:
     rows = ["| Omega (rad/s) | amplitude (m) |" + (" orbit |" if orbit else "") + " n | Floquet | integrated | "
             "rel. diff. | max abs w_asym (m) | range width (m) | state reached |",
             "|---|---|" + ("---|" if orbit else "") + "---|---|---|---|---|---|---|"]
-    worst = {True: 0.0, False: 0.0}
+    worst = {True: 0.0, False: 0.0, None: 0}  # None: how many checks have no growth (see the run's message)
     for c, value in enumerate(b.check_Omega.values):
+        if not np.isfinite(value):
+            continue
         i = int(np.flatnonzero(omega == value)[0])
         own = (" stable |" if float(b.multiplier_modulus[i]) <= 1.0 else " unstable |") if orbit else ""
         for j, n in enumerate(b.family.values):
             mu, grown = float(b.check_floquet_modulus[c, j]), float(b.check_growth[c, j])
             peak, width = float(b.check_asymmetric_amplitude[c, j]), float(b.check_asymmetric_spread[c, j])
-            worst[mu > 1] = max(worst[mu > 1], abs(grown / mu - 1))
+            if np.isfinite(grown):
+                worst[mu > 1] = max(worst[mu > 1], abs(grown / mu - 1))
+            else:
+                worst[None] += 1
             state = ("still linear" if peak < LINEAR_LIMIT else "period one" if width <= PERIODIC_WIDTH * peak
                      else "not periodic")
             rows.append(f"| {value:.3f} | {float(b.amplitude[i]):.4f} |{own} {int(n)} | {mu:.5f} | {grown:.5f} | "
@@ -1792,7 +1798,9 @@ def section_full_family_check(results: Path) -> list[str]:
                          f"({float(b.amplitude[end - 1]):.4f} m; its first saddle-node or the continuation's stop).",
                          "Where the family is unstable (Floquet modulus > 1) the integrated growth agrees to "
                          + (f"{worst[True]:.1e}" if worst[True] else "- (no such point)") + "; where it is stable, to "
-                         f"{worst[False]:.1e} (the damping alone: {_damping_moduli(b)}). " + _check_states(), ""]
+                         f"{worst[False]:.1e} (the damping alone: {_damping_moduli(b)})"
+                         + (f"; {worst[None]} checks have no growth (the run's message says why)" if worst[None] else "")
+                         + ". " + _check_states(), ""]
 
 
 def section_full_switching(results: Path) -> list[str]:
@@ -1804,7 +1812,8 @@ def section_full_switching(results: Path) -> list[str]:
            "circumferential harmonics 0, 1 and 2 (`validation/fig14a-full-switching-order8`, `branch_switching`,",
            "model/full/harmonic.py: u, w on cos k theta, v on sin k theta, the exact energy integrated in",
            "theta), with their Floquet multipliers on these harmonics (the families n = 1 and 2 of the",
-           "orbit included, the sine companions not). Every twentieth point, the located ones and the last:",
+           "orbit included, the sine companions not). Every twentieth point, the saddle-nodes and branch points",
+           "and the last (the Neimark-Sacker points are counted below):",
            ""]
     ds = _open(results, "validation/fig14a-full-switching-order8")
     if ds is None or "switched_Omega" not in ds:
@@ -1812,19 +1821,22 @@ def section_full_switching(results: Path) -> list[str]:
     b = _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
     omega = b.switched_Omega.values.ravel()
     m = int(np.isfinite(omega).sum())
+    if m == 0:
+        return out + [f"*No standing waves in the result: {str(b.message.values) or 'no branch point of n = 1'}.*", ""]
     omega = omega[:m]
     amp, asym = b.switched_amplitude.values.ravel()[:m], b.switched_asymmetric_amplitude.values.ravel()[:m]
     stable, mod = b.switched_stable.values.ravel()[:m], b.switched_multiplier_modulus.values.ravel()[:m]
     kind = b.switched_point_type.values.ravel()[:m]
     out += ["| point | Omega (rad/s) | amplitude (m) | asymmetric amplitude (m) | stable | largest multiplier "
             "modulus | kind |", "|---|---|---|---|---|---|---|"]
-    rows = sorted(set(range(0, m, 20)) | set(np.flatnonzero(kind > 0).tolist()) | {m - 1})
+    rows = sorted(set(range(0, m, 20)) | set(np.flatnonzero((kind == FOLD) | (kind == BRANCH_POINT)).tolist())
+                  | {m - 1})
     for i in rows:
         out.append(f"| {i} | {omega[i]:.4f} | {amp[i]:.4f} | {asym[i]:.4f} | {'yes' if stable[i] == 1 else 'no'} "
                    f"| {mod[i]:.5f} | {KIND_LABELS[int(kind[i])]} |")
     n = int(b.n_points)
     bp = omega[0]
-    toward = "down" if omega[min(5, m - 1)] < bp else "up"
+    toward = "lower" if omega[min(5, m - 1)] < bp else "higher"
     runs = _runs(np.flatnonzero(stable[1:] == 1) + 1)
     stable_text = ("none of its points" if not runs else
                    ", ".join(f"{omega[i]:.4f}-{omega[j]:.4f} rad/s (asymmetric amplitude {asym[i]:.4f}-{asym[j]:.4f} "
@@ -1832,10 +1844,11 @@ def section_full_switching(results: Path) -> list[str]:
     folds = [omega[i] for i in np.flatnonzero(kind == FOLD)]
     message = str(b.message.values) if "message" in b else ""
     return out + ["", f"The branch point: Omega = {bp:.4f} rad/s, {amp[0]:.4f} m on a response of the axisymmetric "
-                  f"branch ({n} points from 25 rad/s). The standing waves leave it {toward}ward in Omega "
-                  f"({'a subcritical' if toward == 'down' else 'a supercritical'} pitchfork in the harmonics' "
-                  f"coordinates) and cover {omega.min():.4f}-{omega.max():.4f} rad/s in {m} points, the asymmetric "
-                  f"amplitude up to {asym.max():.4f} m, with {len(folds)} saddle-nodes"
+                  f"branch ({n} points from {float(b.Omega[0]):g} rad/s), where the largest multiplier on the "
+                  f"harmonics 0, 1, 2 is {mod[0]:.5f}. The standing waves leave it toward {toward} Omega "
+                  f"and cover {omega.min():.4f}-{omega.max():.4f} rad/s in {m} points, the asymmetric "
+                  f"amplitude up to {asym.max():.4f} m, with {int((kind == NEIMARK_SACKER).sum())} Neimark-Sacker "
+                  f"points and {len(folds)} saddle-nodes"
                   + (f" ({', '.join(f'{f:.4f}' for f in folds)} rad/s)" if folds else "")
                   + f". Stable on the harmonics 0, 1, 2: {stable_text}."
                   + (f" The run's message: {message}." if message else ""), ""]

@@ -14,7 +14,7 @@ from model.families import embedded, floquet_start, perturbation_growth
 from model.full.axisymmetric import AxisymmetricFull
 from model.full.families import FullFamily
 from model.full.forced import ForcedFull, steps_per_period
-from model.full.harmonic import HarmonicFull
+from model.full.harmonic import HarmonicForced, HarmonicFull
 from model.full.static import solve_full_prestretch
 from model.params import Membrane
 from model.protocol import sorted_multipliers
@@ -51,7 +51,7 @@ def test_gradient_is_the_derivative_of_the_energy(model):
 def test_harmonic_zero_is_the_axisymmetric_model(model):
     h = HarmonicFull(model, (0, 2))
     q = _state(HarmonicFull(model, (0,)))  # (U_0, W_0)
-    y = h.embedded(np.concatenate([q, np.zeros_like(q)]))
+    y = embedded(np.concatenate([q, np.zeros_like(q)]), h.dof)
     g = h.compiled_gradient(y[:h.dof])
     ga = model.compiled_gradient(q)
     np.testing.assert_allclose(np.concatenate([g[h.block(0, "U")], g[h.block(0, "W")]]), ga,
@@ -69,7 +69,7 @@ def test_block_of_a_harmonic_is_half_the_family_stiffness(model, n):
     # (step 1e-6 on coefficients of 1e-2) is about 1e-10 of the block
     h = HarmonicFull(model, (0, n))
     q = _state(HarmonicFull(model, (0,)))
-    y0 = h.embedded(np.concatenate([q, np.zeros_like(q)]))[:h.dof]
+    y0 = embedded(np.concatenate([q, np.zeros_like(q)]), h.dof)[:h.dof]
     idx = np.r_[h.block(n, "U"), h.block(n, "V"), h.block(n, "W")]
     H = np.empty((idx.size, idx.size))
     for a, i in enumerate(idx):
@@ -78,6 +78,52 @@ def test_block_of_a_harmonic_is_half_the_family_stiffness(model, n):
         H[:, a] = (h.compiled_gradient(y0 + e)[idx] - h.compiled_gradient(y0 - e)[idx]) / 2e-6
     K = FullFamily.build(model, n).stiffness(q)
     np.testing.assert_allclose(H, 0.5 * K, atol=1e-8 * np.abs(K).max())
+
+
+def test_hessian_and_variational_equations_at_a_general_state(model):
+    # away from the axisymmetric states: the compiled Hessian against central differences of the
+    # compiled force, and the map's monodromy and parameter columns (a damping matrix on top of
+    # the rate) against central differences of the map; the differences' errors fall as the
+    # square of their steps, far below the bounds
+    h = HarmonicFull(model, (0, 1, 2))
+    q = _state(h, scale=0.01)
+    H = h.compiled_hessian(q)
+    fd = np.column_stack([(h.compiled_gradient(q + 1e-6 * e) - h.compiled_gradient(q - 1e-6 * e)) / 2e-6
+                          for e in np.eye(h.dof)])
+    np.testing.assert_allclose(H, fd, atol=1e-7 * np.abs(H).max())
+    np.testing.assert_allclose(H, h.hessian(q), atol=1e-13 * np.abs(H).max())  # numpy's moduli on the grid
+    rng = np.random.default_rng(5)
+    matrix = 0.05 * rng.standard_normal((h.dof, h.dof))
+    fmap = HarmonicForced(h, 1.0, 36.0, 128, 0.02, matrix)
+    y = np.concatenate([q, 30 * _state(h, scale=0.01, seed=2)]) * model.membrane.Re
+    yT, phi, d_omega = fmap.monodromy_parameter(y, "Omega")
+    steps = np.r_[np.full(h.dof, 1e-7), np.full(h.dof, 3e-6)]
+    J = np.column_stack([(fmap.advance(y + d) - fmap.advance(y - d)) / (2 * d.max())
+                         for d in np.diag(steps)])
+    np.testing.assert_allclose(yT, fmap.advance(y), atol=1e-14 * np.abs(y).max())
+    np.testing.assert_allclose(phi, J, atol=1e-6 * np.abs(phi).max())
+    for parameter, column, step in (("Omega", d_omega, 1e-5), ("P0", fmap.monodromy_parameter(y, "P0")[2], 1e-5)):
+        at = fmap.value(parameter)
+        fd = (fmap.varied(parameter, at + step).advance(y) - fmap.varied(parameter, at - step).advance(y)) / (2 * step)
+        np.testing.assert_allclose(column, fd, atol=1e-6 * np.abs(column).max())
+
+
+def test_harmonic_map_on_an_axisymmetric_orbit_is_the_axisymmetric_map(model, orbit):
+    # the harmonics 0, 1, 2 started on the axisymmetric map's orbit: the same next state, and the
+    # harmonic 0's block of the monodromy with its parameter columns equal to the axisymmetric
+    # map's (two kernels: the harmonics' general force and Hessian, the axisymmetric ones)
+    fmap, y = orbit
+    mixed = fmap.perturbed_family(FullFamily.build(model, 1)).fmap
+    z = embedded(y, mixed.dof)
+    idx = np.r_[np.arange(2 * ORDER), mixed.dof + np.arange(2 * ORDER)]
+    for parameter in ("Omega", "P0"):
+        zT, phi, column = mixed.monodromy_parameter(z, parameter)
+        yT, ref, ref_column = fmap.monodromy_parameter(y, parameter)
+        # rounding: the two kernels sum in different orders over 175 steps
+        np.testing.assert_allclose(zT[idx], yT, atol=1e-11 * np.abs(y).max())
+        assert np.abs(np.delete(zT, idx)).max() <= 1e-12 * np.abs(y).max()
+        np.testing.assert_allclose(phi[np.ix_(idx, idx)], ref, atol=1e-11 * np.abs(ref).max())
+        np.testing.assert_allclose(column[idx], ref_column, atol=1e-11 * np.abs(ref_column).max())
 
 
 def test_angular_rule_converges(model):
@@ -234,20 +280,6 @@ def test_switched_branch_leaves_the_branch_point_with_the_family_shape(switched)
     for lam, y in zip(sw.value[1:], sw.state[1:]):
         y1 = mixed.varied("Omega", lam).advance(y)
         assert np.abs(y1 - y).max() <= 1e-7 * np.abs(y).max()
-
-
-def test_switched_branch_has_the_reflection_through_a_half_turn(switched):
-    # theta -> theta + pi turns cos n theta into (-1)^n cos n theta: the negated n = 1
-    # harmonic (the harmonic 2 kept) is another periodic orbit, the other side of the pitchfork
-    fmap, fam, br, i, sw, mixed, asym = switched
-    h = mixed.model
-    sign = np.ones(h.dof)
-    for field in "UVW":
-        sign[h.block(1, field)] = -1.0
-    flip = np.concatenate([sign, sign])
-    y, lam = sw.state[-1], sw.value[-1]
-    at = mixed.varied("Omega", lam)
-    np.testing.assert_allclose(at.advance(flip * y), flip * at.advance(y), atol=1e-13 * np.abs(y).max())
 
 
 def test_stability_of_a_standing_wave_is_that_of_the_time_integration(switched):

@@ -9,15 +9,18 @@
  *   a1 = (dr0 + u_s, v_s, w_s),  a2 = ((u_t - v) / s, (r0 + u + v_t) / s, w_t / s),
  * the neo-Hookean law in the trace T and determinant D of the metric (W_T = 1, W_D = -1/D^2,
  * W_DD = 2/D^3), the first Piola stress P1 = 2 (W_T + W_D n2) a1 - 2 W_D c a2,
- * P2 = 2 (W_T + W_D n1) a2 - 2 W_D c a1, and its projection on each block's variations
- * (the same vectors as the Hessian's: per phi' and per phi / s at each angle).
+ * P2 = 2 (W_T + W_D n1) a2 - 2 W_D c a1, and its projection on each block's variations field by
+ * field (U: P1_r cos per phi', P2_theta cos - k P2_r sin per phi / s; V: P1_theta sin,
+ * k P2_theta cos - P2_r sin; W: P1_z cos, -k P2_z sin).
  * Hessian: the moduli A = W_DD dD dD' + 2 W_T I + W_D d2Delta at each (p, t), the angular sums
- * C_bc = sum_t w_t g_b' A g_c (2 x 2 per block pair), then [phi', phi/s] C_bc [phi', phi/s]' s ds.
- * RK4: y = (q, v), q'' = -omega0^2 scale_b Minv g_b(q) - damping v.
+ * C_bc = sum_t w_t g_b' A g_c (2 x 2 per block pair; each g has at most two components, given
+ * by their indices and values), then [phi', phi/s] C_bc [phi', phi/s]' s ds.
+ * RK4: y = (q, v), q'' = -omega0^2 scale_b Minv g_b(q) - damping v (without the numba motion's
+ * bias, the pre-stretch's rounding of about 1e-13 s^-2 in units of Re).
  * Usage: full_harmonic TABLES_FILE N P T B Q_FILE REPEATS STEPS DT OUT_FILE
  * TABLES_FILE: phi (P x N), dphi (P x N), s, sw, w, r0, dr0 (P each), Minv (N x N), scale (B),
- * field (B), wave (B), cos (B x T), sin (B x T), theta weights (T), variations (B x T x 2 x 6),
- * omega0^2, damping.  Q_FILE: (M, B N) float64 states q.  OUT_FILE receives g (M, B N), the state
+ * field (B), wave (B), cos (B x T), sin (B x T), theta weights (T), the variations' component
+ * indices (B x 2 x 2) and values (B x T x 2 x 2), omega0^2, damping.  Q_FILE: (M, B N) float64 states q.  OUT_FILE receives g (M, B N), the state
  * (2 B N) after STEPS RK4 steps of DT from (q_0, 0), then the Hessians (M, B N, B N).  Prints the
  * time per call in ns of the force, per RK4 step and per call of the Hessian.
  */
@@ -30,7 +33,9 @@
 
 typedef struct {
     int N, P, T, B;
-    const double *phi, *dphi, *s, *sw, *w, *r0, *dr0, *minv, *scale, *field, *wave, *cs, *sn, *tw, *var;
+    const double *phi, *dphi, *s, *sw, *w, *r0, *dr0, *minv, *scale, *wave, *cs, *sn, *tw, *vv;
+    int *field;
+    long *vi;
     double omega0_2, damping;
 } Tables;
 
@@ -59,7 +64,7 @@ static void columns(const Tables *t, const double *restrict value, const double 
     double u = 0, us = 0, ut = 0, v = 0, vs = 0, vt = 0, ws = 0, wt = 0, inv_s = 1.0 / t->s[p];
     for (int b = 0; b < t->B; b++) {
         double c = t->cs[(long)b * t->T + k], sn = t->sn[(long)b * t->T + k], kk = t->wave[b];
-        int field = (int)t->field[b];
+        int field = t->field[b];
         if (field == 0) {
             u += value[b] * c;
             us += slope[b] * c;
@@ -99,14 +104,18 @@ static void gradient(const Tables *t, const double *restrict q, double *restrict
                 P[3 + i] = (f2 * a[3 + i] + cross * a[i]) * tw;
             }
             for (int b = 0; b < B; b++) {
-                const double *g1 = t->var + (((long)b * t->T + k) * 2) * 6, *g2 = g1 + 6;
-                double s1 = 0.0, s2 = 0.0;
-                for (int i = 0; i < 6; i++) {
-                    s1 += P[i] * g1[i];
-                    s2 += P[i] * g2[i];
+                double c = t->cs[(long)b * t->T + k], sn = t->sn[(long)b * t->T + k], kk = t->wave[b];
+                int field = t->field[b];
+                if (field == 0) {
+                    along1[b] += P[0] * c;
+                    along2[b] += P[4] * c - kk * P[3] * sn;
+                } else if (field == 1) {
+                    along1[b] += P[1] * sn;
+                    along2[b] += kk * P[4] * c - P[3] * sn;
+                } else {
+                    along1[b] += P[2] * c;
+                    along2[b] -= kk * P[5] * sn;
                 }
-                along1[b] += s1;
-                along2[b] += s2;
             }
         }
         const double *f = t->phi + (long)p * N, *df = t->dphi + (long)p * N;
@@ -146,7 +155,7 @@ static void moduli(const double *restrict a, double A[6][6]) {
 
 static void hessian(const Tables *t, const double *restrict q, double *restrict H, double *restrict work) {
     int B = t->B, N = t->N, dof = B * N;
-    double *value = work, *slope = work + B, *Ag = work + 2 * B, *C = Ag + 12L * B, a[6], A[6][6];
+    double *value = work, *slope = work + B, *C = work + 2 * B, a[6], A[6][6];
     memset(H, 0, sizeof(double) * (size_t)dof * dof);
     for (int p = 0; p < t->P; p++) {
         radial_values(t, q, p, value, slope);
@@ -154,24 +163,18 @@ static void hessian(const Tables *t, const double *restrict q, double *restrict 
         for (int k = 0; k < t->T; k++) {
             columns(t, value, slope, p, k, a);
             moduli(a, A);
-            for (int c = 0; c < B; c++)
-                for (int beta = 0; beta < 2; beta++) {
-                    const double *g = t->var + (((long)c * t->T + k) * 2 + beta) * 6;
-                    for (int i = 0; i < 6; i++) {
-                        double acc = 0.0;
-                        for (int j = 0; j < 6; j++) acc += A[i][j] * g[j];
-                        Ag[((long)c * 2 + beta) * 6 + i] = acc * t->tw[k];
-                    }
-                }
             for (int b = 0; b < B; b++)
                 for (int alpha = 0; alpha < 2; alpha++) {
-                    const double *g = t->var + (((long)b * t->T + k) * 2 + alpha) * 6;
+                    const long *ib = t->vi + ((long)b * 2 + alpha) * 2;
+                    const double *vb = t->vv + (((long)b * t->T + k) * 2 + alpha) * 2;
+                    double v0 = vb[0] * t->tw[k], v1 = vb[1] * t->tw[k];
                     for (int c = b; c < B; c++)
                         for (int beta = 0; beta < 2; beta++) {
-                            const double *ag = Ag + ((long)c * 2 + beta) * 6;
-                            double acc = 0.0;
-                            for (int i = 0; i < 6; i++) acc += g[i] * ag[i];
-                            C[(((long)b * B + c) * 2 + alpha) * 2 + beta] += acc;
+                            const long *ic = t->vi + ((long)c * 2 + beta) * 2;
+                            const double *vc = t->vv + (((long)c * t->T + k) * 2 + beta) * 2;
+                            C[(((long)b * B + c) * 2 + alpha) * 2 + beta] +=
+                                v0 * (A[ib[0]][ic[0]] * vc[0] + A[ib[0]][ic[1]] * vc[1]) +
+                                v1 * (A[ib[1]][ic[0]] * vc[0] + A[ib[1]][ic[1]] * vc[1]);
                         }
                 }
         }
@@ -235,17 +238,22 @@ int main(int argc, char **argv) {
     t.dr0 = t.r0 + P;
     t.minv = t.dr0 + P;
     t.scale = t.minv + (long)N * N;
-    t.field = t.scale + B;
-    t.wave = t.field + B;
+    const double *field = t.scale + B;
+    t.wave = field + B;
     t.cs = t.wave + B;
     t.sn = t.cs + (long)B * T;
     t.tw = t.sn + (long)B * T;
-    t.var = t.tw + T;
-    t.omega0_2 = t.var[12L * B * T];
-    t.damping = t.var[12L * B * T + 1];
+    const double *index = t.tw + T;
+    t.vv = index + 4L * B;
+    t.omega0_2 = t.vv[4L * B * T];
+    t.damping = t.vv[4L * B * T + 1];
+    t.field = malloc(sizeof(int) * B);
+    t.vi = malloc(sizeof(long) * 4 * B);
+    for (int b = 0; b < B; b++) t.field[b] = (int)field[b];
+    for (int i = 0; i < 4 * B; i++) t.vi[i] = (long)index[i];
     int dof = B * N;
     long M = nq / dof;
-    double *G = aligned_doubles(M * dof), *g = aligned_doubles(dof), *work = aligned_doubles(14L * B + 4L * B * B);
+    double *G = aligned_doubles(M * dof), *g = aligned_doubles(dof), *work = aligned_doubles(4L * B + 4L * B * B);
     double start = now();
     for (int r = 0; r < repeats; r++)
         for (long m = 0; m < M; m++) gradient(&t, Q + m * dof, G + m * dof, work);

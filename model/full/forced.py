@@ -317,21 +317,26 @@ class ForcedFull:
         modulus, perturbation_growth); the asymmetric displacement is
         ``w(probe_rho, 0) - w_0(probe_rho)``.  The family must carry ``U, V, W`` on all the
         model's radial functions (the harmonics' blocks); ValueError where RK4's step is
-        beyond the stability of a harmonic's damped linear motion."""
+        beyond the stability of the axisymmetric or a harmonic's damped linear motion (the map
+        returns NaN states where a changed ``Omega`` takes it there)."""
         m = self.model
         if fam.model is not m:
             raise ValueError("fam is invalid here: a family of another model (build it on this map's model)")
         if fam.fields != "UVW" or fam.radial != m.order:
             raise ValueError(f"fam is invalid here: the nonlinear check needs the family in U, V, W on all "
                              f"{m.order} radial functions; it has {fam.fields} on {fam.radial}")
+        if not self.stable_step:
+            raise ValueError(f"steps = {self.steps} is invalid here: RK4's step leaves the stability region of the "
+                             "axisymmetric damped linear motion")
         harmonic = HarmonicFull(m, (0, fam.n, 2 * fam.n))
         dt = self.period / self.steps
         blocks = [self.matrix if self.matrix.shape[0] else np.zeros((2 * m.order, 2 * m.order))]
+        spectra = [self.eigenvalues]
         for k in (fam.n, 2 * fam.n):
             family = fam if k == fam.n else FullFamily.build(m, k)
             rate, matrix = family_damping(family, m.membrane, self.damping)
-            eigenvalues = damped_eigenvalues(*family.linear_system(), rate, matrix)
-            if not (self.stable_step and stable(eigenvalues, dt)):
+            spectra.append(damped_eigenvalues(*family.linear_system(), rate, matrix))
+            if not stable(spectra[-1], dt):
                 raise ValueError(f"steps = {self.steps} is invalid for the harmonic {k}: RK4's step leaves the "
                                  "stability region of its damped linear motion")
             blocks.append((matrix if matrix.shape[0] else 0.0) + (rate - self.rate) * np.eye(family.size // 2))
@@ -341,7 +346,7 @@ class ForcedFull:
             matrix[start:start + block.shape[0], start:start + block.shape[0]] = block
             start += block.shape[0]
         forced = HarmonicForced(harmonic, self.P0, self.Omega, self.steps, self.rate,
-                                matrix if np.any(matrix) else np.zeros((0, 0)))
+                                matrix if np.any(matrix) else np.zeros((0, 0)), eigenvalues=np.concatenate(spectra))
         forced = replace(forced, probe=forced.probe_vector(self.probe_rho))
         n = harmonic.block(fam.n, "U").start, harmonic.block(fam.n, "W").stop
         mass, stiffness = fam.linear_system()

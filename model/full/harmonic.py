@@ -28,12 +28,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from dataclasses import field as default_field
 
 import numpy as np
 
 from model.damping_kernels import matrix_or_none
 from model.forced import periodic_peak
 from model.protocol import PARAMETERS, sorted_multipliers, state_scale
+from model.rk4 import stable
 
 from . import surface
 from .axisymmetric import AxisymmetricFull
@@ -91,6 +93,16 @@ class HarmonicFull:
             variation_vectors(k, np.array([code]))[0][None] * np.where(even, np.cos(k * theta)[:, None, None],
                                                                        np.sin(k * theta)[:, None, None])
             for k, code in zip(self._wave, self._fields)]))
+        # the same as at most two components per block and kind: their indices and values (the
+        # compiled Hessian's sparse form; an unused component has index 0 and value 0)
+        B = len(self.blocks)
+        self._var_index = np.zeros((B, 2, 2), dtype=np.int64)
+        self._var_value = np.zeros((B, points, 2, 2))
+        for b, (k, code) in enumerate(zip(self._wave, self._fields)):
+            for alpha, g in enumerate(variation_vectors(k, np.array([code]))[0]):
+                nz = np.flatnonzero(g)
+                self._var_index[b, alpha, :nz.size] = nz
+                self._var_value[b, :, alpha, :nz.size] = self._variations[b, :, alpha][:, nz]
         #: each block's inverse angular mean of ``cos^2`` or ``sin^2``: 1 for ``k = 0``, else 2
         self.inverse_scale = np.where(self._wave == 0.0, 1.0, 2.0)
         g0 = self.compiled_gradient(np.zeros(self.dof))
@@ -122,7 +134,7 @@ class HarmonicFull:
     def compiled_hessian(self, q) -> np.ndarray:
         """``d^2 energy / dq^2`` (``(dof, dof)``) by the compiled loop (:func:`harmonic_hessian`)."""
         out = np.empty((self.dof, self.dof))
-        harmonic_hessian(*self._tables(), self._variations, np.ascontiguousarray(q, dtype=float), out)
+        harmonic_hessian(*self._tables(), self._var_index, self._var_value, np.ascontiguousarray(q, dtype=float), out)
         return out
 
     def _fields_on_grid(self, q):
@@ -189,17 +201,6 @@ class HarmonicFull:
         return 0.5 * sum(float(v[b * o:(b + 1) * o] @ mass @ v[b * o:(b + 1) * o]) / self.inverse_scale[b]
                          for b in range(len(self.blocks))) / self.model.omega0_2
 
-    def embedded(self, y_axisymmetric) -> np.ndarray:
-        """The state ``(q, q')`` of this model for an axisymmetric state ``(U, W, U', W')`` of
-        :attr:`model` (the other harmonics at rest and zero)."""
-        y_axisymmetric = np.asarray(y_axisymmetric, float)
-        o, n = self.order, self.model.dof
-        y = np.zeros(2 * self.dof)
-        for shift, part in ((0, y_axisymmetric[:n]), (self.dof, y_axisymmetric[n:])):
-            y[shift:][self.block(0, "U")] = part[:o]
-            y[shift:][self.block(0, "W")] = part[o:]
-        return y
-
     def motion(self, y0, dt: float, steps: int, every: int = 1, P0: float = 0.0, Omega: float = 0.0,
                rate: float = 0.0, matrix=None) -> np.ndarray:
         """``steps`` RK4 steps of ``dt`` (s) from ``y0`` (over ``Re``) under ``P0 cos(Omega t)``
@@ -217,8 +218,8 @@ class HarmonicFull:
         """:meth:`motion` to the last step with the flow's derivative ``(2 dof, 2 dof + 1)`` in
         ``y0`` and, in the last column, in ``parameter`` (:func:`harmonic_variational`)."""
         m = self.model
-        return harmonic_variational(*self._tables(), self._variations, m.inverse_mass, self.inverse_scale,
-                                    m.omega0_2, self.bias, float(rate), matrix, m.load, self.load_block, float(P0),
+        return harmonic_variational(*self._tables(), self._var_index, self._var_value, m.inverse_mass,
+                                    self.inverse_scale, m.omega0_2, self.bias, float(rate), matrix, m.load, self.load_block, float(P0),
                                     float(Omega), int(parameter), np.asarray(y0, float), float(dt), int(steps))
 
 
@@ -229,7 +230,9 @@ class HarmonicForced:
     or ``(0, 0)`` for none) (:class:`model.protocol.StroboscopicMap`).  States
     ``(Re q, Re q')`` (m, m s-1), as the axisymmetric map's (:class:`model.full.forced.ForcedFull`);
     :meth:`amplitude` measures ``probe @ q`` (m; default: ``w(0.5 Re, 0)`` of every harmonic,
-    :meth:`probe_vector`)."""
+    :meth:`probe_vector`).  ``eigenvalues`` (s-1): of the damped linear motion of every harmonic
+    about the pre-stretch; where RK4's step leaves their stability region (at another
+    ``Omega``, :meth:`varied`) the map returns NaN states, as the axisymmetric map does."""
 
     model: HarmonicFull
     P0: float
@@ -238,6 +241,7 @@ class HarmonicForced:
     rate: float
     matrix: np.ndarray
     probe: np.ndarray | None = None
+    eigenvalues: np.ndarray = default_field(default_factory=lambda: np.zeros(0))
 
     @property
     def dof(self) -> int:
@@ -269,8 +273,15 @@ class HarmonicForced:
         """:func:`model.protocol.state_scale` at this map's ``Omega`` or at ``Omega``."""
         return state_scale(self.dof, self.Omega if Omega is None else Omega)
 
+    @property
+    def stable_step(self) -> bool:
+        """Whether RK4's step keeps every mode of :attr:`eigenvalues` within its stability region."""
+        return stable(self.eigenvalues, self.period / self.steps)
+
     def _motion(self, y, steps: int, every: int) -> np.ndarray:
         re = self.model.model.membrane.Re
+        if not self.stable_step:
+            return np.full((steps // every + 1, 2 * self.dof), np.nan)
         return self.model.motion(np.asarray(y, float) / re, self.period / self.steps, steps, every, self.P0,
                                  self.Omega, self.rate, matrix_or_none(self.matrix)) * re
 
@@ -286,6 +297,9 @@ class HarmonicForced:
 
     def _variational(self, y, parameter: int):
         re = self.model.model.membrane.Re
+        if not self.stable_step:
+            n = 2 * self.dof
+            return np.full(n, np.nan), np.full((n, n), np.nan), np.full(n, np.nan)
         yT, big = self.model.variational(np.asarray(y, float) / re, self.period / self.steps, self.steps, self.P0,
                                          self.Omega, self.rate, matrix_or_none(self.matrix), parameter)
         return yT * re, big[:, :-1], big[:, -1] * re

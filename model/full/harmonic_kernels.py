@@ -210,24 +210,23 @@ def harmonic_motion(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy", inline="always")
-def _moduli(law, a, A):
+def _moduli(law, a, dD, A):
     """``A[:, :] = d^2(W/C1)/dF^2`` at the columns ``a = (a1, a2)`` (6 components, any state:
-    :func:`model.full.surface.hessian` written out)."""
+    :func:`model.full.surface.hessian` written out); ``dD`` (6) a work array, left holding
+    ``dDelta/dF`` (``dT/dF = 2 a``)."""
     n1 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2]
     n2 = a[3] * a[3] + a[4] * a[4] + a[5] * a[5]
     c = a[0] * a[3] + a[1] * a[4] + a[2] * a[5]
     delta = n1 * n2 - c * c
     w_t, w_d, w_tt, w_td, w_dd = metric_derivatives(law, n1 + n2, delta, 1.0 / delta)
-    dT = np.empty(6)
-    dD = np.empty(6)
     for i in range(3):
-        dT[i] = 2.0 * a[i]
-        dT[3 + i] = 2.0 * a[3 + i]
         dD[i] = 2.0 * n2 * a[i] - 2.0 * c * a[3 + i]
         dD[3 + i] = 2.0 * n1 * a[3 + i] - 2.0 * c * a[i]
     for i in range(6):
+        ti = 2.0 * a[i]
         for j in range(6):
-            A[i, j] = w_tt * dT[i] * dT[j] + w_td * (dT[i] * dD[j] + dD[i] * dT[j]) + w_dd * dD[i] * dD[j]
+            tj = 2.0 * a[j]
+            A[i, j] = w_tt * ti * tj + w_td * (ti * dD[j] + dD[i] * tj) + w_dd * dD[i] * dD[j]
         A[i, i] += 2.0 * w_t
     # W_D times the Hessian of Delta
     for i in range(3):
@@ -244,25 +243,31 @@ def _moduli(law, a, A):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, variations, q,
-                     out):
+def harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, var_index,
+                     var_value, q, out):
     """``out[:, :] = d^2((1 / 2 pi) int int W/C1 s ds dtheta)/dq^2`` for the block coordinates
-    ``q``; ``variations`` (``(B, T, 2, 6)``): what a coefficient of block ``b`` moves in ``F``
-    at the angular point ``t`` per ``phi'`` and per ``phi / s`` (the family's variation vectors
-    of :mod:`model.full.family_kernels` times ``cos k theta_t`` or ``sin k theta_t``); the other
-    arguments as :func:`harmonic_gradient`.
+    ``q``.  What a coefficient of block ``b`` moves in ``F`` at the angular point ``t`` per
+    ``phi'`` (``alpha = 0``) and per ``phi / s`` (``alpha = 1``) -- the family's variation
+    vectors of :mod:`model.full.family_kernels` times ``cos k theta_t`` or ``sin k theta_t`` --
+    has at most two components: ``var_index`` (``(B, 2, 2)``) names them, ``var_value``
+    (``(B, T, 2, 2)``) gives their values (zero for an unused second one); the other arguments
+    as :func:`harmonic_gradient`.
 
-    Per radius the angular sum ``C_bc = sum_t w_t g_b^T A g_c`` (``2 x 2`` per block pair) is
-    formed first, then the radial products ``[phi', phi/s] C_bc [phi', phi/s]^T s ds``."""
+    Per radius the angular sum ``C_bc = sum_t w_t g_b^T A g_c`` (``2 x 2`` per block pair, four
+    products of the moduli ``A`` each) is formed first, then the radial products
+    ``[phi', phi/s] C_bc [phi', phi/s]^T s ds``."""
     points, order = phi.shape
     blocks = fields.size
     angles = theta_weight.size
     out[:, :] = 0.0
+    # the blocks' rows and columns as axes: offset indices (b order + j) would carry numba's
+    # test for negative indices in the innermost loop
+    blocks4 = out.reshape((blocks, order, blocks, order))
     value = np.empty(blocks)
     slope = np.empty(blocks)
     a = np.empty(6)
+    dD = np.empty(6)
     A = np.empty((6, 6))
-    Ag = np.empty((blocks, 2, 6))
     C = np.empty((blocks, blocks, 2, 2))
     for p in range(points):
         _radial_values(phi, dphi, q, p, value, slope)
@@ -271,22 +276,23 @@ def harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin
         for t in range(angles):
             a[0], a[1], a[2], a[3], a[4], a[5] = _columns_at(fields, wave, cos_t, sin_t, value, slope, r0[p], dr0[p],
                                                              inv_s, t)
-            _moduli(law, a, A)
-            for c in range(blocks):
-                for beta in range(2):
-                    for i in range(6):
-                        acc = 0.0
-                        for j in range(6):
-                            acc += A[i, j] * variations[c, t, beta, j]
-                        Ag[c, beta, i] = acc * theta_weight[t]
+            _moduli(law, a, dD, A)
             for b in range(blocks):
                 for alpha in range(2):
+                    i0 = var_index[b, alpha, 0]
+                    i1 = var_index[b, alpha, 1]
+                    v0 = var_value[b, t, alpha, 0] * theta_weight[t]
+                    v1 = var_value[b, t, alpha, 1] * theta_weight[t]
                     for c in range(b, blocks):
                         for beta in range(2):
-                            acc = 0.0
-                            for i in range(6):
-                                acc += variations[b, t, alpha, i] * Ag[c, beta, i]
-                            C[b, c, alpha, beta] += acc
+                            j0 = var_index[c, beta, 0]
+                            j1 = var_index[c, beta, 1]
+                            u0 = var_value[c, t, beta, 0]
+                            u1 = var_value[c, t, beta, 1]
+                            C[b, c, alpha, beta] += (v0 * (A[i0, j0] * u0 + A[i0, j1] * u1)
+                                                     + v1 * (A[i1, j0] * u0 + A[i1, j1] * u1))
+        f = phi[p]
+        df = dphi[p]
         for b in range(blocks):
             for c in range(b, blocks):
                 c11 = C[b, c, 0, 0] * sw[p]
@@ -294,11 +300,10 @@ def harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin
                 c21 = C[b, c, 1, 0] * w[p]
                 c22 = C[b, c, 1, 1] * w[p] * inv_s
                 for j in range(order):
-                    left1 = c11 * dphi[p, j] + c21 * phi[p, j]
-                    left2 = c12 * dphi[p, j] + c22 * phi[p, j]
-                    row = out[b * order + j, c * order:(c + 1) * order]
+                    left1 = c11 * df[j] + c21 * f[j]
+                    left2 = c12 * df[j] + c22 * f[j]
                     for m in range(order):
-                        row[m] += left1 * dphi[p, m] + left2 * phi[p, m]
+                        blocks4[b, j, c, m] += left1 * df[m] + left2 * f[m]
     for b in range(blocks):
         for c in range(b + 1, blocks):
             for j in range(order):
@@ -307,9 +312,9 @@ def harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin
 
 
 @nb.njit(cache=True, error_model="numpy")
-def harmonic_variational(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, variations,
-                         inv_mass, inv_scale, omega0_2, bias, rate, damping_matrix, load, load_block, P0, Omega,
-                         parameter, y0, dt, steps):
+def harmonic_variational(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, var_index,
+                         var_value, inv_mass, inv_scale, omega0_2, bias, rate, damping_matrix, load, load_block, P0,
+                         Omega, parameter, y0, dt, steps):
     """``steps`` RK4 steps of ``dt`` (s) of the motion of :func:`harmonic_motion` from ``y0`` at
     ``t = 0`` with its variational equations: the final state and ``(2 dof, 2 dof + 1)``, the
     flow's derivative in ``y0`` and, in the last column, in ``parameter`` (:data:`OMEGA`,
@@ -349,8 +354,8 @@ def harmonic_variational(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t,
             _acceleration(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, inv_mass,
                           inv_scale, omega0_2, bias, rate, damping_matrix, load, load_block, P0 * cosine, stage,
                           k[i], g, value, slope, along1, along2)
-            harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, variations,
-                             stage[:dof], hess)
+            harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, var_index,
+                             var_value, stage[:dof], hess)
             for b in range(blocks):
                 stiff[b * order:(b + 1) * order, :] = (-omega0_2 * inv_scale[b]) * (inv_mass @ hess_blocks[b])
             kp[i, :dof, :] = pstage[dof:]

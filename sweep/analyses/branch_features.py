@@ -382,7 +382,11 @@ class FamilyCheck(BranchFeature):
         end = resonant_end(br.kind)
         problems = []
         for j, fam in enumerate(ctx.families):
-            mixed = fmap.perturbed_family(fam)
+            try:
+                mixed = fmap.perturbed_family(fam)
+            except ValueError as exc:
+                problems.append(f"family_check n = {fam.n}: {exc}")
+                continue
             for c, v in enumerate(values):
                 i = int(np.argmin(np.abs(br.value[:end] - v)))
                 out[f"check_{p}"][c] = br.value[i]

@@ -189,7 +189,7 @@ class ContinuationOptions:
     broken_points: int = 0
     #: whether the job's model is the ROM (:attr:`sweep.models.base.Model.rom_features`): the
     #: switched branch's modal coordinates and its standing waves in O(2)
-    rom_features: bool = True
+    rom_features: bool = False
 
 
 #: Arclength (scaled unknowns: the parameter range is 1, 0.05 m of displacement is 1) that

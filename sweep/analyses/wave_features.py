@@ -175,7 +175,7 @@ class BranchSwitching(BranchFeature):
             sw, fmap_mixed, asym = follow_bifurcated_branch(fmap, family, p, options.start, options.stop,
                                                             br.state[i], br.value[i], ds_max=options.ds_max,
                                                             max_points=n)
-        except (RuntimeError, ArithmeticError, np.linalg.LinAlgError) as exc:
+        except (RuntimeError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
             return out, f"branch switching at {p} = {br.value[i]:.9g}: {type(exc).__name__}: {exc}"
         m = sw.value.size
         out[f"switched_{p}"][:m], out["switched_amplitude"][:m] = sw.value, sw.amplitude
