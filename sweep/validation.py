@@ -1803,55 +1803,84 @@ def section_full_family_check(results: Path) -> list[str]:
                          + ". " + _check_states(), ""]
 
 
+#: The standing-wave runs of the full model: (job, radial functions per field).
+FULL_SWITCHING = (("validation/fig14a-full-switching-order8", 8), ("validation/fig14a-full-switching-order12", 12))
+
+
 def section_full_switching(results: Path) -> list[str]:
-    """The standing waves of the full model at its first n = 1 branch point (Fig. 14a)."""
+    """The standing waves of the full model at its first n = 1 branch point (Fig. 14a), at two
+    radial resolutions."""
     out = ["## Standing waves on the full model (Fig. 14a)", "",
            "At the first branch point of the family n = 1 on the full model's Fig. 14a resonance (delta = 1.1,",
-           "delta_o = 0.2, P0 = 1 Pa, c = 0.05 N s/m^3, 8 radial functions per field; the same branch as",
+           "delta_o = 0.2, P0 = 1 Pa, c = 0.05 N s/m^3, from 25 rad/s; the branch of",
            "`validation/family-check-full`), the standing waves are followed on the full model's",
-           "circumferential harmonics 0, 1 and 2 (`validation/fig14a-full-switching-order8`, `branch_switching`,",
-           "model/full/harmonic.py: u, w on cos k theta, v on sin k theta, the exact energy integrated in",
-           "theta), with their Floquet multipliers on these harmonics (the families n = 1 and 2 of the",
-           "orbit included, the sine companions not). Every twentieth point, the saddle-nodes and branch points",
-           "and the last (the Neimark-Sacker points are counted below):",
-           ""]
-    ds = _open(results, "validation/fig14a-full-switching-order8")
-    if ds is None or "switched_Omega" not in ds:
-        return out + _missing("validation/fig14a-full-switching-order8")
-    b = _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
+           "circumferential harmonics 0, 1 and 2 (`branch_switching`, model/full/harmonic.py: u, w on",
+           "cos k theta, v on sin k theta, the exact energy integrated in theta), with their Floquet",
+           "multipliers on these harmonics (the sine companions not), at 8 and 12 radial functions per field",
+           "(`validation/fig14a-full-switching-order<N>`; the families n = 1 and 2 along the axisymmetric",
+           "branch). At 8 functions, every twentieth point, the saddle-nodes and branch points and the last",
+           "(the Neimark-Sacker points are counted below):", ""]
+    runs = [(_open(results, name), order) for name, order in FULL_SWITCHING]
+    if any(ds is None or "switched_Omega" not in ds for ds, _ in runs):
+        return out + _missing(*(name for name, _ in FULL_SWITCHING))
+    points = [_point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05) for ds, _ in runs]
+    b = points[0]
+    m = int(np.isfinite(b.switched_Omega.values).sum())
+    if m:
+        omega, kind = b.switched_Omega.values.ravel()[:m], b.switched_point_type.values.ravel()[:m]
+        out += ["| point | Omega (rad/s) | amplitude (m) | asymmetric amplitude (m) | stable | largest multiplier "
+                "modulus | kind |", "|---|---|---|---|---|---|---|"]
+        for i in sorted(set(range(0, m, 20)) | set(np.flatnonzero((kind == FOLD) | (kind == BRANCH_POINT)).tolist())
+                        | {m - 1}):
+            out.append(f"| {i} | {omega[i]:.4f} | {float(b.switched_amplitude[i]):.4f} | "
+                       f"{float(b.switched_asymmetric_amplitude[i]):.4f} | "
+                       f"{'yes' if int(b.switched_stable[i]) == 1 else 'no'} | "
+                       f"{float(b.switched_multiplier_modulus[i]):.5f} | {KIND_LABELS[int(kind[i])]} |")
+        out.append("")
+    out += [f"* {order} radial functions per field: {_switching_summary(p)}" for p, (_, order) in zip(points, runs)]
+    bps = [float(p.switched_Omega[0]) for p in points]
+    if all(np.isfinite(bps)):
+        move = abs(bps[1] - bps[0])
+        out += ["", f"The branch point moves by {move:.3f} rad/s from 8 to 12 functions: "
+                + (f"converged to {SETTLED} rad/s (the criterion of the families' tables)." if move < SETTLED else
+                   "like the internal-resonance band it lies in (\"Fig. 14a on the full model at the paper's "
+                   f"damping\"), it is not converged in the radial resolution (criterion: {SETTLED} rad/s).")]
+    return out + [""]
+
+
+def _switching_summary(b) -> str:
+    """Where the standing waves of one run start, where they go and where they are stable."""
     omega = b.switched_Omega.values.ravel()
     m = int(np.isfinite(omega).sum())
     if m == 0:
-        return out + [f"*No standing waves in the result: {str(b.message.values) or 'no branch point of n = 1'}.*", ""]
+        return f"no standing waves ({str(b.message.values) or 'no branch point of n = 1'})."
     omega = omega[:m]
     amp, asym = b.switched_amplitude.values.ravel()[:m], b.switched_asymmetric_amplitude.values.ravel()[:m]
     stable, mod = b.switched_stable.values.ravel()[:m], b.switched_multiplier_modulus.values.ravel()[:m]
     kind = b.switched_point_type.values.ravel()[:m]
-    out += ["| point | Omega (rad/s) | amplitude (m) | asymmetric amplitude (m) | stable | largest multiplier "
-            "modulus | kind |", "|---|---|---|---|---|---|---|"]
-    rows = sorted(set(range(0, m, 20)) | set(np.flatnonzero((kind == FOLD) | (kind == BRANCH_POINT)).tolist())
-                  | {m - 1})
-    for i in rows:
-        out.append(f"| {i} | {omega[i]:.4f} | {amp[i]:.4f} | {asym[i]:.4f} | {'yes' if stable[i] == 1 else 'no'} "
-                   f"| {mod[i]:.5f} | {KIND_LABELS[int(kind[i])]} |")
     n = int(b.n_points)
-    bp = omega[0]
-    toward = "lower" if omega[min(5, m - 1)] < bp else "higher"
+    main = b.Omega.values.ravel()[:n]
+    at = int(np.flatnonzero(main == omega[0])[0])
+    families = list(b.family.values)
+    n2 = ""
+    if 2 in families:
+        mu2 = float(b.family_multiplier_modulus[at, families.index(2)])
+        n2 = (f"; the axisymmetric response there has the family multipliers n = 1: "
+              f"{float(b.family_multiplier_modulus[at, families.index(1)]):.5f}, n = 2: {mu2:.5f}"
+              + (": already unstable to n = 2, which the standing waves inherit" if mu2 > 1 else ""))
+    toward = "lower" if omega[min(5, m - 1)] < omega[0] else "higher"
     runs = _runs(np.flatnonzero(stable[1:] == 1) + 1)
-    stable_text = ("none of its points" if not runs else
+    stable_text = ("at none of its points" if not runs else
                    ", ".join(f"{omega[i]:.4f}-{omega[j]:.4f} rad/s (asymmetric amplitude {asym[i]:.4f}-{asym[j]:.4f} "
                              "m)" for i, j in runs))
     folds = [omega[i] for i in np.flatnonzero(kind == FOLD)]
-    message = str(b.message.values) if "message" in b else ""
-    return out + ["", f"The branch point: Omega = {bp:.4f} rad/s, {amp[0]:.4f} m on a response of the axisymmetric "
-                  f"branch ({n} points from {float(b.Omega[0]):g} rad/s), where the largest multiplier on the "
-                  f"harmonics 0, 1, 2 is {mod[0]:.5f}. The standing waves leave it toward {toward} Omega "
-                  f"and cover {omega.min():.4f}-{omega.max():.4f} rad/s in {m} points, the asymmetric "
-                  f"amplitude up to {asym.max():.4f} m, with {int((kind == NEIMARK_SACKER).sum())} Neimark-Sacker "
-                  f"points and {len(folds)} saddle-nodes"
-                  + (f" ({', '.join(f'{f:.4f}' for f in folds)} rad/s)" if folds else "")
-                  + f". Stable on the harmonics 0, 1, 2: {stable_text}."
-                  + (f" The run's message: {message}." if message else ""), ""]
+    return (f"the branch point at Omega = {omega[0]:.4f} rad/s, {amp[0]:.4f} m (point {at} of the axisymmetric "
+            f"branch{n2}; the largest multiplier on the harmonics 0, 1, 2 {mod[0]:.5f}). The standing waves leave it "
+            f"toward {toward} Omega and cover {omega.min():.4f}-{omega.max():.4f} rad/s in {m} points, the "
+            f"asymmetric amplitude up to {asym.max():.4f} m, with {int((kind == NEIMARK_SACKER).sum())} "
+            f"Neimark-Sacker points and {len(folds)} saddle-nodes"
+            + (f" ({', '.join(f'{f:.4f}' for f in folds)} rad/s)" if folds else "")
+            + f"; stable on the harmonics 0, 1, 2 {stable_text}.")
 
 
 def _runs(indices) -> list[tuple[int, int]]:
