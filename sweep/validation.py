@@ -1747,8 +1747,8 @@ def _check_rows(b, orbit: bool = False) -> tuple[list[str], dict]:
                 worst[mu > 1] = max(worst[mu > 1], abs(grown / mu - 1))
             else:
                 worst[None] += 1
-            state = ("still linear" if peak < LINEAR_LIMIT else "period one" if width <= PERIODIC_WIDTH * peak
-                     else "not periodic")
+            state = ("- (no saturate periods)" if not np.isfinite(peak) else "still linear" if peak < LINEAR_LIMIT
+                     else "period one" if width <= PERIODIC_WIDTH * peak else "not periodic")
             rows.append(f"| {value:.3f} | {float(b.amplitude[i]):.4f} |{own} {int(n)} | {mu:.5f} | {grown:.5f} | "
                         f"{_rel(grown, mu)} | {peak:.2e} | {width:.2e} | {state} |")
     return rows, worst
@@ -1771,13 +1771,22 @@ def _check_states() -> str:
             "response, or a transient slower than the light damping lets settle in these periods.")
 
 
+#: The full model's family checks: (job, the case, its grid point).
+FULL_CHECKS = (
+    ("validation/family-check-full", "the paper's damping and load (P0 = 1 Pa, c = 0.05 N s/m^3), 8 radial functions "
+     "per field, the families n = 1 and 4", {"P0": 1.0, "c": 0.05}),
+    ("validation/family-check-full-1pct-modal", "one modal damping ratio of 1 % for every mode (the law under which "
+     "the ROM's families converge), P0 = 10 Pa, 12 radial functions per field, the families n = 1 and 3",
+     {"P0": 10.0}),
+)
+
+
 def section_full_family_check(results: Path) -> list[str]:
     """The full model's family_check: growth against Floquet on the harmonics 0, n, 2n."""
     out = ["## Time integration against the Floquet prediction on the full model", "",
-           "The Fig. 14a resonance at the paper's damping and load (delta = 1.1, delta_o = 0.2, P0 = 1 Pa,",
-           "c = 0.05 N s/m^3) on the full model with 8 radial functions per field, the families n = 1 and 4 in",
-           "(U, V, W) on all 8 (`validation/family-check-full`). At the responses of the stretch up to the",
-           "branch's first saddle-node nearest the asked Omega, the full model on the circumferential",
+           "The Fig. 14a resonance (delta = 1.1, delta_o = 0.2) on the full model, the families in (U, V, W) on",
+           "all its radial functions (`validation/family-check-full*`). At the responses of the stretch up",
+           "to the branch's first saddle-node nearest the asked Omega, the full model on the circumferential",
            "harmonics 0, n and 2n (`model/full/harmonic.py`: u, w on cos k theta, v on sin k theta, the exact",
            "energy integrated in theta) is started on the axisymmetric orbit plus 1e-9 m along the family's",
            "dominant Floquet mode; its growth per period (least-squares slope of the log of the",
@@ -1788,19 +1797,21 @@ def section_full_family_check(results: Path) -> list[str]:
            "the block, tests/test_full_harmonic.py). Then the `saturate` periods: w(0.5 Re, 0) - w_0(0.5 Re)",
            "(harmonics n and 2n) over the stroboscopic samples of their last tenth. \"Orbit\": the",
            "axisymmetric response's own stability (its multipliers, the families' aside).", ""]
-    ds = _open(results, "validation/family-check-full")
-    if ds is None or "check_growth" not in ds:
-        return out + _missing("validation/family-check-full")
-    b = _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
-    rows, worst = _check_rows(b, orbit=True)
-    end = resonant_end(b.point_type.values[:int(b.n_points)])
-    return out + rows + ["", f"The stretch ends at Omega = {float(b.Omega[end - 1]):.3f} rad/s "
-                         f"({float(b.amplitude[end - 1]):.4f} m; its first saddle-node or the continuation's stop).",
-                         "Where the family is unstable (Floquet modulus > 1) the integrated growth agrees to "
-                         + (f"{worst[True]:.1e}" if worst[True] else "- (no such point)") + "; where it is stable, to "
-                         f"{worst[False]:.1e} (the damping alone: {_damping_moduli(b)})"
-                         + (f"; {worst[None]} checks have no growth (the run's message says why)" if worst[None] else "")
-                         + ". " + _check_states(), ""]
+    runs = {name: _open(results, name) for name, _, _ in FULL_CHECKS}
+    if any(ds is None or "check_growth" not in ds for ds in runs.values()):
+        return out + _missing(*runs)
+    for name, case, grid in FULL_CHECKS:
+        b = _point(runs[name], delta=1.1, delta_o=0.2, **grid)
+        rows, worst = _check_rows(b, orbit=True)
+        end = resonant_end(b.point_type.values[:int(b.n_points)])
+        damping = f" (the viscous damping alone: {_damping_moduli(b)})" if "c" in grid else ""
+        out += [f"**`{name}`**: {case}.", ""] + rows + [
+            "", f"The stretch ends at Omega = {float(b.Omega[end - 1]):.3f} rad/s ({float(b.amplitude[end - 1]):.4f} "
+            "m; its first saddle-node or the continuation's stop). Where the family is unstable (Floquet modulus > 1) "
+            "the integrated growth agrees to " + (f"{worst[True]:.1e}" if worst[True] else "- (no such point)")
+            + f"; where it is stable, to {worst[False]:.1e}{damping}"
+            + (f"; {worst[None]} checks have no growth (the run's message says why)" if worst[None] else "") + ".", ""]
+    return out + [_check_states(), ""]
 
 
 #: The standing-wave runs of the full model: (job, radial functions per field).
