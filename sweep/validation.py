@@ -1747,10 +1747,11 @@ def _check_rows(b, orbit: bool = False) -> tuple[list[str], dict]:
                 worst[mu > 1] = max(worst[mu > 1], abs(grown / mu - 1))
             else:
                 worst[None] += 1
-            state = ("- (no saturate periods)" if not np.isfinite(peak) else "still linear" if peak < LINEAR_LIMIT
+            state = ("no saturate periods" if not np.isfinite(peak) else "still linear" if peak < LINEAR_LIMIT
                      else "period one" if width <= PERIODIC_WIDTH * peak else "not periodic")
+            sizes = f"{peak:.2e} | {width:.2e}" if np.isfinite(peak) else "- | -"
             rows.append(f"| {value:.3f} | {float(b.amplitude[i]):.4f} |{own} {int(n)} | {mu:.5f} | {grown:.5f} | "
-                        f"{_rel(grown, mu)} | {peak:.2e} | {width:.2e} | {state} |")
+                        f"{_rel(grown, mu)} | {sizes} | {state} |")
     return rows, worst
 
 
@@ -1759,7 +1760,7 @@ def _damping_moduli(b) -> str:
     modulus of the viscous damping alone."""
     gh = float(b.attrs["membrane_Gamma"]) * float(b.attrs["membrane_h"])
     damping = np.exp(-float(b.c) * 2 * np.pi / b.check_Omega.values / (2 * gh))
-    return f"exp(-c T / (2 Gamma h)) = {damping.min():.4f} .. {damping.max():.4f}"
+    return f"exp(-c T / (2 Gamma h)) = {np.nanmin(damping):.4f} .. {np.nanmax(damping):.4f}"
 
 
 def _check_states() -> str:
@@ -1798,16 +1799,18 @@ def section_full_family_check(results: Path) -> list[str]:
            "(harmonics n and 2n) over the stroboscopic samples of their last tenth. \"Orbit\": the",
            "axisymmetric response's own stability (its multipliers, the families' aside).", ""]
     runs = {name: _open(results, name) for name, _, _ in FULL_CHECKS}
-    if any(ds is None or "check_growth" not in ds for ds in runs.values()):
-        return out + _missing(*runs)
     for name, case, grid in FULL_CHECKS:
+        if runs[name] is None or "check_growth" not in runs[name]:
+            out += [f"**`{name}`**: {case}.", ""] + _missing(name)
+            continue
         b = _point(runs[name], delta=1.1, delta_o=0.2, **grid)
         rows, worst = _check_rows(b, orbit=True)
         end = resonant_end(b.point_type.values[:int(b.n_points)])
         damping = f" (the viscous damping alone: {_damping_moduli(b)})" if "c" in grid else ""
         out += [f"**`{name}`**: {case}.", ""] + rows + [
             "", f"The stretch ends at Omega = {float(b.Omega[end - 1]):.3f} rad/s ({float(b.amplitude[end - 1]):.4f} "
-            "m; its first saddle-node or the continuation's stop). Where the family is unstable (Floquet modulus > 1) "
+            "m; " + ("its first saddle-node" if int(b.point_type[end - 1]) == FOLD else "the continuation's stop")
+            + "). Where the family is unstable (Floquet modulus > 1) "
             "the integrated growth agrees to " + (f"{worst[True]:.1e}" if worst[True] else "- (no such point)")
             + f"; where it is stable, to {worst[False]:.1e}{damping}"
             + (f"; {worst[None]} checks have no growth (the run's message says why)" if worst[None] else "") + ".", ""]
@@ -1832,9 +1835,10 @@ def section_full_switching(results: Path) -> list[str]:
            "branch). At 8 functions, every twentieth point, the saddle-nodes and branch points and the last",
            "(the Neimark-Sacker points are counted below):", ""]
     runs = [(_open(results, name), order) for name, order in FULL_SWITCHING]
-    if any(ds is None or "switched_Omega" not in ds for ds, _ in runs):
-        return out + _missing(*(name for name, _ in FULL_SWITCHING))
-    points = [_point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05) for ds, _ in runs]
+    runs = [(ds, order) if ds is not None and "switched_Omega" in ds else (None, order) for ds, order in runs]
+    if runs[0][0] is None:
+        return out + _missing(FULL_SWITCHING[0][0])
+    points = [None if ds is None else _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05) for ds, _ in runs]
     b = points[0]
     m = int(np.isfinite(b.switched_Omega.values).sum())
     if m:
@@ -1848,8 +1852,10 @@ def section_full_switching(results: Path) -> list[str]:
                        f"{'yes' if int(b.switched_stable[i]) == 1 else 'no'} | "
                        f"{float(b.switched_multiplier_modulus[i]):.5f} | {KIND_LABELS[int(kind[i])]} |")
         out.append("")
-    out += [f"* {order} radial functions per field: {_switching_summary(p)}" for p, (_, order) in zip(points, runs)]
-    bps = [float(p.switched_Omega[0]) for p in points]
+    out += [f"* {order} radial functions per field: " + (_switching_summary(p) if p is not None else
+                                                           " ".join(_missing(name)).strip())
+            for p, (_, order), (name, _) in zip(points, runs, FULL_SWITCHING)]
+    bps = [np.nan if p is None else float(p.switched_Omega[0]) for p in points]
     if all(np.isfinite(bps)):
         move = abs(bps[1] - bps[0])
         out += ["", f"The branch point moves by {move:.3f} rad/s from 8 to 12 functions: "
@@ -1885,9 +1891,10 @@ def _switching_summary(b) -> str:
                    ", ".join(f"{omega[i]:.4f}-{omega[j]:.4f} rad/s (asymmetric amplitude {asym[i]:.4f}-{asym[j]:.4f} "
                              "m)" for i, j in runs))
     folds = [omega[i] for i in np.flatnonzero(kind == FOLD)]
+    cap = " (the job's max_points: the branch goes on)" if m == b.sizes["switched_point"] else ""
     return (f"the branch point at Omega = {omega[0]:.4f} rad/s, {amp[0]:.4f} m (point {at} of the axisymmetric "
             f"branch{n2}; the largest multiplier on the harmonics 0, 1, 2 {mod[0]:.5f}). The standing waves leave it "
-            f"toward {toward} Omega and cover {omega.min():.4f}-{omega.max():.4f} rad/s in {m} points, the "
+            f"toward {toward} Omega and cover {omega.min():.4f}-{omega.max():.4f} rad/s in {m} points{cap}, the "
             f"asymmetric amplitude up to {asym.max():.4f} m, with {int((kind == NEIMARK_SACKER).sum())} "
             f"Neimark-Sacker points and {len(folds)} saddle-nodes"
             + (f" ({', '.join(f'{f:.4f}' for f in folds)} rad/s)" if folds else "")

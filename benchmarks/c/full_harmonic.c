@@ -15,8 +15,8 @@
  * Hessian: the moduli A = W_DD dD dD' + 2 W_T I + W_D d2Delta at each (p, t), the angular sums
  * C_bc = sum_t w_t g_b' A g_c (2 x 2 per block pair; each g has at most two components, given
  * by their indices and values), then [phi', phi/s] C_bc [phi', phi/s]' s ds.
- * RK4: y = (q, v), q'' = -omega0^2 scale_b Minv g_b(q) - damping v (without the numba motion's
- * bias, the pre-stretch's rounding of about 1e-13 s^-2 in units of Re).
+ * RK4: y = (q, v), q'' = -omega0^2 scale_b Minv g_b(q) - damping v, without the numba motion's
+ * bias (the pre-stretch's rounding, 8e-13 s^-2 in units of Re at order 8).
  * Usage: full_harmonic TABLES_FILE N P T B Q_FILE REPEATS STEPS DT OUT_FILE
  * TABLES_FILE: phi (P x N), dphi (P x N), s, sw, w, r0, dr0 (P each), Minv (N x N), scale (B),
  * field (B), wave (B), cos (B x T), sin (B x T), theta weights (T), the variations' component

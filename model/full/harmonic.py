@@ -232,7 +232,8 @@ class HarmonicForced:
     :meth:`amplitude` measures ``probe @ q`` (m; default: ``w(0.5 Re, 0)`` of every harmonic,
     :meth:`probe_vector`).  ``eigenvalues`` (s-1): of the damped linear motion of every harmonic
     about the pre-stretch; where RK4's step leaves their stability region (at another
-    ``Omega``, :meth:`varied`) the map returns NaN states, as the axisymmetric map does."""
+    ``Omega``, :meth:`varied`) the map returns NaN states, as the axisymmetric map does (empty,
+    the default: no guard; :meth:`model.full.forced.ForcedFull.perturbed_family` gives them)."""
 
     model: HarmonicFull
     P0: float
