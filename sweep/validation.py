@@ -1837,7 +1837,7 @@ def section_full_switching(results: Path) -> list[str]:
     runs = [(_open(results, name), order) for name, order in FULL_SWITCHING]
     runs = [(ds, order) if ds is not None and "switched_Omega" in ds else (None, order) for ds, order in runs]
     if runs[0][0] is None:
-        return out + _missing(FULL_SWITCHING[0][0])
+        return out + _missing(*(name for name, _ in FULL_SWITCHING))
     points = [None if ds is None else _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05) for ds, _ in runs]
     b = points[0]
     m = int(np.isfinite(b.switched_Omega.values).sum())
