@@ -25,6 +25,7 @@ from model.switching import follow_bifurcated_branch
 from sweep import cli
 from sweep.analyses.base import JobError
 from sweep.jobspec import parse_job
+from tests.test_full_families import JOB as FAMILIES_JOB
 
 ORDER = 6
 MEMBRANE = Membrane(delta=1.1, delta_o=0.2)
@@ -212,31 +213,9 @@ def test_perturbed_family_needs_the_whole_family(model, orbit):
         HarmonicFull(model, [1, 2])
 
 
-JOB = """
-[job]
-name = "full-check"
-analysis = "continuation"
-
-[model]
-kind = "full"
-order = 6
-
-[grid]
-delta = 1.1
-delta_o = 0.2
-Omega = 36.0
-c = 0.05
-
-[continuation]
-parameter = "P0"
-start = 0.0
-stop = 0.5
-modes = [[1, 0]]
-ds_max = 0.5
-max_points = 100
-families = {n = [1, 3], radial = RADIAL}
-family_check = {values = [0.5], periods = 60}
-"""
+# the continuation of tests/test_full_families.py (order 6, P0 from 0 to 0.5 Pa at 36 rad/s) with
+# the families on RADIAL functions and the check at its end
+JOB = FAMILIES_JOB.replace("radial = 4INPLANE}", "radial = RADIAL}\nfamily_check = {values = [0.5], periods = 60}")
 
 
 def test_family_check_job_on_the_full_model(tmp_path):

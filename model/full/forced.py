@@ -340,11 +340,7 @@ class ForcedFull:
                 raise ValueError(f"steps = {self.steps} is invalid for the harmonic {k}: RK4's step leaves the "
                                  "stability region of its damped linear motion")
             blocks.append((matrix if matrix.shape[0] else 0.0) + (rate - self.rate) * np.eye(family.size // 2))
-        matrix = np.zeros((harmonic.dof, harmonic.dof))
-        start = 0
-        for block in blocks:
-            matrix[start:start + block.shape[0], start:start + block.shape[0]] = block
-            start += block.shape[0]
+        matrix = block_diag(*blocks)  # the blocks in the harmonics' order: 0 (U, W), n, 2n (U, V, W)
         forced = HarmonicForced(harmonic, self.P0, self.Omega, self.steps, self.rate,
                                 matrix if np.any(matrix) else np.zeros((0, 0)), eigenvalues=np.concatenate(spectra))
         forced = replace(forced, probe=forced.probe_vector(self.probe_rho))
