@@ -75,7 +75,7 @@ def _rel(x, ref) -> float:
 
 def _states(h: HarmonicFull, count: int, rng) -> np.ndarray:
     size = {"U": 0.005, "V": 0.005, "W": 0.05}
-    scale = np.concatenate([np.full(h.order, size[f] * (0.1 if k == 2 else 1.0)) for k, f in h.blocks])
+    scale = np.concatenate([np.full(h.order, size[f] * (0.1 if k == 2 else 1.0)) for k, f, _ in h.blocks])
     return rng.uniform(-1.0, 1.0, (count, h.dof)) * scale
 
 

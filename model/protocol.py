@@ -36,6 +36,11 @@ back without them:
     :class:`PerturbedFamily`: the nonlinear model in which a family's perturbations grow
     from an axisymmetric orbit, to check the family's multipliers by time integration
     (continuation ``family_check``, :func:`model.families.perturbation_growth`).
+``standing_waves(family)``
+    :class:`StandingWaves`: the model of ``perturbed_family`` with the family's sine
+    companions (the group O(2)), where a standing wave of the family has its stability
+    against turning (branch switching's ``switched_stable_o2``,
+    :func:`model.waves.standing_wave_stability`).
 ``lean(sample, rtol)`` with ``acceleration_mismatch(reference, states)``
     A cheaper map that is the same to ``rtol`` on the states ``sample()`` (the ROM's
     fewest radial quadrature points), and how far it is from the original on other
@@ -51,6 +56,7 @@ frequency (the ROM's Eq. 29; NaN without it).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
@@ -178,6 +184,21 @@ class PerturbedFamily(NamedTuple):
     #: ``(2 A, 2 A)`` for ``A = len(asymmetric)``: the quadratic form whose root measures the
     #: perturbation ``(x, x')`` (None: the Euclidean norm)
     metric: np.ndarray | None
+
+
+class StandingWaves(NamedTuple):
+    """A model with a family's sine companions, in which the standing waves of the family's
+    mixed model (:attr:`PerturbedFamily.fmap`) are the states whose companion coordinates
+    vanish (the optional capability ``standing_waves`` of the maps)."""
+
+    #: the map of the model with the companions
+    fmap: Any
+    #: a state of the mixed model as a state of :attr:`fmap` (the companions at zero)
+    embed: Callable[[np.ndarray], np.ndarray]
+    #: ``(2 dof,)`` bool: the companions' coordinates and velocities (odd under the reflection)
+    odd: np.ndarray
+    #: ``(2 dof, 2 dof)`` (rad-1): the generator of the rotations acting on a state
+    generator: np.ndarray
 
 
 class KernelArguments(NamedTuple):

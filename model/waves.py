@@ -35,14 +35,17 @@ and Groups in Bifurcation Theory II*, ch. XVII):
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .continuation import LENGTH, bordered_newton, step, unit_tangent
 from .families import Family, embedded
-from .forced import ForcedMap
-from .protocol import sorted_multipliers
+from .protocol import StandingWaves, sorted_multipliers
 from .rom import Rom, build_rom
+
+if TYPE_CHECKING:  # the ROM's map offers its standing waves from here (model.forced imports this module)
+    from .forced import ForcedMap
 
 
 def o2_rom(rom: Rom, family: Family) -> Rom:
@@ -143,21 +146,22 @@ class StandingWaveStability:
         return bool(max(np.abs(self.even).max(), np.abs(self.odd).max(initial=0.0)) < 1.0)
 
 
-def standing_wave_stability(fmap_o2: ForcedMap, y) -> StandingWaveStability:
-    """:class:`StandingWaveStability` of the standing wave ``y`` (``(2K,)``, sine coordinates
-    zero) of the O(2) ROM's map ``fmap_o2``."""
-    modes = fmap_o2.rom.modes
-    odd = np.array([n < 0 for _, n in modes] * 2)
+def standing_wave_stability(waves: StandingWaves, y) -> StandingWaveStability:
+    """:class:`StandingWaveStability` of the standing wave ``y`` (a state of ``waves.fmap``
+    whose companion coordinates ``waves.odd`` vanish) of a model with sine companions (the
+    maps' ``standing_waves`` capability, :class:`model.protocol.StandingWaves`: the O(2) ROM of
+    :func:`o2_rom`, or the full model's harmonics with their companions)."""
+    odd = np.asarray(waves.odd, dtype=bool)
     y = np.asarray(y, dtype=float)
     if np.any(y[odd] != 0.0):
         raise ValueError("y is not a standing wave: its sine coordinates must be zero")
-    _, phi = fmap_o2.monodromy(y)
+    tangent = (waves.generator @ y)[odd]
+    if np.linalg.norm(tangent) == 0.0:
+        raise ValueError("y is axisymmetric: its group orbit is a point (no standing wave)")
+    _, phi = waves.fmap.monodromy(y)
     even_idx, odd_idx = np.flatnonzero(~odd), np.flatnonzero(odd)
     scale = np.abs(phi).max()
     coupling = max(np.abs(phi[np.ix_(even_idx, odd_idx)]).max(), np.abs(phi[np.ix_(odd_idx, even_idx)]).max())
-    tangent = (rotation_generator(modes) @ y)[odd_idx]
-    if np.linalg.norm(tangent) == 0.0:
-        raise ValueError("y is axisymmetric: its group orbit is a point (no standing wave)")
     rest, neutral = deflated_multipliers(phi[np.ix_(odd_idx, odd_idx)], tangent)
     return StandingWaveStability(sorted_multipliers(phi[np.ix_(even_idx, even_idx)]), rest, neutral,
                                  float(coupling / scale))

@@ -1830,7 +1830,9 @@ def section_full_switching(results: Path) -> list[str]:
            "`validation/family-check-full`), the standing waves are followed on the full model's",
            "circumferential harmonics 0, 1 and 2 (`branch_switching`, model/full/harmonic.py: u, w on",
            "cos k theta, v on sin k theta, the exact energy integrated in theta), with their Floquet",
-           "multipliers on these harmonics (the sine companions not), at 8 and 12 radial functions per field",
+           "multipliers on these harmonics and with their sine companions (the same harmonics turned by a",
+           "quarter period: the group O(2), the group orbit's multiplier 1 removed; docs/model.md,",
+           "\"Circumferential harmonics\"), at 8 and 12 radial functions per field",
            "(`validation/fig14a-full-switching-order<N>`; the families n = 1 and 2 along the axisymmetric",
            "branch). At 8 functions, every twentieth point, the saddle-nodes and branch points and the last",
            "(the Neimark-Sacker points are counted below):", ""]
@@ -1843,14 +1845,22 @@ def section_full_switching(results: Path) -> list[str]:
     m = int(np.isfinite(b.switched_Omega.values).sum())
     if m:
         omega, kind = b.switched_Omega.values.ravel()[:m], b.switched_point_type.values.ravel()[:m]
+        o2 = "switched_odd_multiplier_modulus" in b
         out += ["| point | Omega (rad/s) | amplitude (m) | asymmetric amplitude (m) | stable | largest multiplier "
-                "modulus | kind |", "|---|---|---|---|---|---|---|"]
+                "modulus | kind |" + (" companions' largest multiplier | group orbit's multiplier - 1 | stable (O(2)) |"
+                                      if o2 else ""),
+                "|---|---|---|---|---|---|---|" + ("---|---|---|" if o2 else "")]
         for i in sorted(set(range(0, m, 20)) | set(np.flatnonzero((kind == FOLD) | (kind == BRANCH_POINT)).tolist())
                         | {m - 1}):
-            out.append(f"| {i} | {omega[i]:.4f} | {float(b.switched_amplitude[i]):.4f} | "
-                       f"{float(b.switched_asymmetric_amplitude[i]):.4f} | "
-                       f"{'yes' if int(b.switched_stable[i]) == 1 else 'no'} | "
-                       f"{float(b.switched_multiplier_modulus[i]):.5f} | {KIND_LABELS[int(kind[i])]} |")
+            row = (f"| {i} | {omega[i]:.4f} | {float(b.switched_amplitude[i]):.4f} | "
+                   f"{float(b.switched_asymmetric_amplitude[i]):.4f} | "
+                   f"{'yes' if int(b.switched_stable[i]) == 1 else 'no'} | "
+                   f"{float(b.switched_multiplier_modulus[i]):.5f} | {KIND_LABELS[int(kind[i])]} |")
+            if o2:
+                row += (f" {float(b.switched_odd_multiplier_modulus[i]):.5f} | "
+                        f"{float(b.switched_neutral_multiplier[i]) - 1:+.1e} | "
+                        f"{'yes' if int(b.switched_stable_o2[i]) == 1 else 'no'} |")
+            out.append(row)
         out.append("")
     out += [f"* {order} radial functions per field: " + (_switching_summary(p) if p is not None else
                                                            " ".join(_missing(name)).strip())
@@ -1898,7 +1908,23 @@ def _switching_summary(b) -> str:
             f"asymmetric amplitude up to {asym.max():.4f} m, with {int((kind == NEIMARK_SACKER).sum())} "
             f"Neimark-Sacker points and {len(folds)} saddle-nodes"
             + (f" ({', '.join(f'{f:.4f}' for f in folds)} rad/s)" if folds else "")
-            + f"; stable on the harmonics 0, 1, 2 {stable_text}.")
+            + f"; stable on the harmonics 0, 1, 2 {stable_text}." + _o2_summary(b, omega, m))
+
+
+def _o2_summary(b, omega, m) -> str:
+    """The standing waves' stability with the harmonics' sine companions, when computed."""
+    if "switched_odd_multiplier_modulus" not in b:
+        return " (The companions were not computed in this result file.)"
+    odd = b.switched_odd_multiplier_modulus.values.ravel()[1:m]
+    neutral = b.switched_neutral_multiplier.values.ravel()[1:m]
+    o2 = b.switched_stable_o2.values.ravel()[1:m]
+    runs = _runs(np.flatnonzero(o2 == 1) + 1)
+    where = ("at none of its points" if not runs else
+             ", ".join(f"{omega[i]:.4f}-{omega[j]:.4f} rad/s" for i, j in runs))
+    return (f" With the sine companions: their largest multiplier (the group orbit's removed) "
+            f"{np.nanmin(odd):.5f}-{np.nanmax(odd):.5f}, above 1 at {int((odd > 1).sum())} of the {m - 1} points past "
+            f"the branch point; the group orbit's multiplier is 1 within {np.nanmax(np.abs(neutral - 1)):.1e}; "
+            f"stable in O(2) {where}.")
 
 
 def _runs(indices) -> list[tuple[int, int]]:

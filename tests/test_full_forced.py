@@ -257,6 +257,9 @@ def test_continuation_job_on_the_full_model_reports_rom_coordinates_and_folds(tm
         assert orbit.converged
         np.testing.assert_allclose(orbit.amplitude, float(ds.amplitude[i]), rtol=1e-8)
         np.testing.assert_allclose(fmap.modal_section(orbit.state)[:2], ds.modal_coordinate[i], rtol=1e-7)
+        # the stored state is that orbit's (the corrector's tolerance, 1e-10 of 0.05 m)
+        assert ds.state.sizes["state"] == 2 * fmap.dof
+        np.testing.assert_allclose(ds.state[i], orbit.state, atol=1e-9 * np.abs(orbit.state).max(), rtol=0)
     # the reported coordinate of (1, 0) carries the probe's deflection: psi_1(0.5 Re) q_1 ~ w
     m = Membrane(delta=1.1, delta_o=0.2)
     psi = mode_shape(np.array([0.5 * m.Re]), bessel_roots(0, m.delta_o, 1), 0, m.Re, m.delta_o)[0][0, 0]
@@ -352,19 +355,20 @@ def test_basins_job_on_the_full_model_labels_what_plain_integration_reaches(tmp_
 
 
 def test_fold_curves_in_delta_on_the_full_model_meet_the_branches_at_other_deltas():
-    # the two saddle-nodes of the Fig. 14a branch at a 1 % modal ratio (jobs/fig14a-full.toml, order
-    # 8) followed in delta: the model rebuilds pre-stretch and map at each delta; at a curve's
-    # point the one-parameter branch of a map built there by hand has its saddle-node
+    # the two saddle-nodes of the Fig. 14a branch at a 1 % modal ratio (jobs/fig14a-full.toml at
+    # order 6) followed in delta from 1.1 to 1.11: the model rebuilds pre-stretch and map at each
+    # delta; at a curve's point the one-parameter branch of a map built there by hand has its
+    # saddle-node
     from model.continuation import FOLD, continue_orbits
     from model.damping import Modal
     from sweep.analyses.continuation import CONTINUATION
     from sweep.jobspec import grid_point
 
     job = parse_job((Path(__file__).resolve().parents[1] / "jobs" / "fig14a-full.toml").read_text()
-                    .replace("order = 16", "order = 8").replace("start = 25.0", "start = 33.0")
+                    .replace("order = 16", "order = 6").replace("start = 25.0", "start = 33.0")
                     .replace("stop = 55.0", "stop = 38.0")
                     .replace("families = {n = [1, 2, 3, 4, 5, 6], radial = 16, inplane = true}",
-                             'bifurcation_curves = {parameter = "delta", start = 1.1, stop = 1.12}'))
+                             'bifurcation_curves = {parameter = "delta", start = 1.1, stop = 1.11}'))
     point = grid_point(job.membrane, {"delta": 1.1, "delta_o": 0.2, "P0": 10.0}, job.damping.law, job.model)
     out = CONTINUATION.compute(point, job.options, 0)
     assert out["status"] == 0, out.get("message")
@@ -372,9 +376,9 @@ def test_fold_curves_in_delta_on_the_full_model_meet_the_branches_at_other_delta
     assert folds.size == 2
     for j in folds:
         q, p = out["curve_delta"][j], out["curve_Omega"][j]
-        i = int(np.nanargmax(q))  # the curve's far end (its last step may pass delta = 1.12)
-        assert q[i] >= 1.12 and np.nanmin(q) == pytest.approx(1.1, abs=1e-9)
-        model = AxisymmetricFull(solve_full_prestretch(Membrane(delta=q[i], delta_o=0.2), 8))
+        i = int(np.nanargmax(q))  # the curve's far end (its last step may pass delta = 1.11)
+        assert q[i] >= 1.11 and np.nanmin(q) == pytest.approx(1.1, abs=1e-9)
+        model = AxisymmetricFull(solve_full_prestretch(Membrane(delta=q[i], delta_o=0.2), 6))
         fmap = ForcedFull.build(model, 10.0, 33.0, Modal(0.01), int(out["rk4_steps"]), modes=[(1, 0)])
         one = continue_orbits(fmap, "Omega", 33.0, 38.0, ds_max=0.3, max_points=1000)
         assert np.min(np.abs(one.value[one.special(FOLD)] / p[i] - 1)) <= 1e-6

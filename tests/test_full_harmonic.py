@@ -22,6 +22,7 @@ from model.params import Membrane
 from model.protocol import sorted_multipliers
 from model.shooting import shoot
 from model.switching import follow_bifurcated_branch
+from model.waves import standing_wave_stability
 from sweep import cli
 from sweep.analyses.base import JobError
 from sweep.jobspec import parse_job
@@ -43,8 +44,9 @@ def _state(harmonic, scale=0.02, seed=1):
                                                                len(harmonic.blocks))
 
 
-def test_gradient_is_the_derivative_of_the_energy(model):
-    h = HarmonicFull(model, (0, 1, 2))
+@pytest.mark.parametrize("companions", [False, True], ids=["cosine", "o2"])
+def test_gradient_is_the_derivative_of_the_energy(model, companions):
+    h = HarmonicFull(model, (0, 1, 2), companions=companions)
     q = _state(h)
     step = 1e-30
     expected = np.array([h.energy(q + 1j * step * e).imag / step for e in np.eye(h.dof)])
@@ -140,6 +142,53 @@ def test_angular_rule_converges(model):
     assert np.abs(forces[1] - forces[-1]).max() <= 1e-12 * scale
 
 
+def test_a_turned_pattern_keeps_its_energy(model):
+    # the companions are the cosine blocks turned by a quarter of their period, so turning a
+    # general state by phi (HarmonicFull.rotation) leaves its energy alone, up to the angular
+    # rule's aliasing: it falls spectrally with the points (measured 1e-6, 2e-12, 2e-16 of
+    # the energy for 12, 24, 48 points on the half circle at this 2 cm state); a companion of
+    # the wrong sign or phase changes the energy at first order.  The generator is the
+    # rotation's derivative, and the force is orthogonal to it (the energy's derivative
+    # along the group orbit) to the same aliasing.
+    errors = []
+    for points in (12, 24, 48):
+        h = HarmonicFull(model, (0, 1, 2), points, companions=True)
+        q = _state(h)
+        e = h.energy(q)
+        errors.append(max(abs(h.energy(h.rotation(phi) @ q) - e) for phi in (0.3, 1.1, 2.5)) / e)
+    assert errors[1] <= 1e-3 * errors[0] and errors[2] <= 1e-13
+    generator = h.rotation_generator()[:h.dof, :h.dof]
+    np.testing.assert_allclose((h.rotation(1e-6) - h.rotation(-1e-6)) / 2e-6, generator, atol=1e-9)
+    g = h.compiled_gradient(q)
+    assert abs(g @ generator @ q) <= 1e-13 * np.abs(g).max() * np.abs(q).max()
+
+
+def test_companions_of_a_reflection_symmetric_state_decouple(model):
+    # at a state of cosine blocks alone the Hessian of the whole circle has no block between
+    # the cosine coordinates and their companions (the reflection), its cosine block is the
+    # cosine-only model's on the half circle, and both equal numpy's reference; about an
+    # axisymmetric state each companion harmonic k >= 1 has its cosine block (a quarter turn)
+    # and the torsion V_0 the stiffness of the family (0, "V") (an independent kernel,
+    # model/full/family_kernels.py; mass scale 1 for k = 0, as the harmonic 0)
+    h, even = HarmonicFull(model, (0, 1, 2), companions=True), HarmonicFull(model, (0, 1, 2))
+    q = embedded(np.concatenate([_state(even), np.zeros(even.dof)]), h.dof)[:h.dof]
+    H = h.compiled_hessian(q)
+    odd = h.odd
+    assert np.abs(H[np.ix_(~odd, odd)]).max() <= 1e-14 * np.abs(H).max()
+    np.testing.assert_allclose(H[np.ix_(~odd, ~odd)], even.compiled_hessian(q[~odd]), atol=1e-13 * np.abs(H).max())
+    np.testing.assert_allclose(H, h.hessian(q), atol=1e-13 * np.abs(H).max())
+    axi = _state(HarmonicFull(model, (0,)))
+    q = embedded(np.concatenate([axi, np.zeros_like(axi)]), h.dof)[:h.dof]
+    H = h.compiled_hessian(q)
+    for k in (1, 2):
+        cos = np.r_[h.block(k, "U"), h.block(k, "V"), h.block(k, "W")]
+        sin = np.r_[h.block(k, "U", "odd"), h.block(k, "V", "odd"), h.block(k, "W", "odd")]
+        np.testing.assert_allclose(H[np.ix_(sin, sin)], H[np.ix_(cos, cos)], atol=1e-13 * np.abs(H).max())
+    torsion = np.r_[h.block(0, "V", "odd")]
+    K = FullFamily.build(model, 0, fields="V").stiffness(axi)
+    np.testing.assert_allclose(H[np.ix_(torsion, torsion)], K, atol=1e-12 * np.abs(K).max())
+
+
 def test_free_motion_keeps_its_energy_to_the_order_of_rk4(model):
     # undamped, unforced: the energy's drift over a period falls at least at RK4's fourth order
     # (2^4 = 16 for half the step; 12 leaves room for the pre-asymptotic range)
@@ -202,6 +251,32 @@ def test_growth_of_a_perturbation_is_the_largest_multiplier(model, orbit):
     assert mu < 1.0 and growth == pytest.approx(mu, abs=2e-4)
     # still tiny: the probe's samples lie within the initial 1e-9 m times the mode's size there
     assert -1e-8 < low <= high < 1e-8
+
+
+def test_companions_about_an_axisymmetric_orbit_are_the_families(model, orbit):
+    # the harmonics 0, 1, 2 with their companions on an axisymmetric orbit: the monodromy's
+    # cosine block is the cosine-only map's (another angular rule), and its companion blocks
+    # of k = 0 (the torsion V_0), 1, 2 are the families' monodromy blocks (0, "V"), 1, 2 (the
+    # family kernels), with nothing between the blocks
+    fmap, y = orbit
+    waves = fmap.standing_waves(FullFamily.build(model, 1))
+    h = waves.fmap.model
+    z = waves.embed(y)
+    phi = waves.fmap.monodromy(z)[1]
+    cosine = fmap.harmonic_map((0, 1, 2))
+    odd = waves.odd
+    scale = np.abs(phi).max()
+    np.testing.assert_allclose(phi[np.ix_(~odd, ~odd)], cosine.monodromy(embedded(y, cosine.dof))[1],
+                               atol=1e-11 * scale, rtol=0)
+    assert np.abs(phi[np.ix_(~odd, odd)]).max() <= 1e-13 * scale
+    covered = np.zeros(phi.shape, bool)
+    for k, fields in ((0, "V"), (1, "UVW"), (2, "UVW")):
+        q = np.concatenate([np.r_[h.block(k, f, "odd")] for f in fields])
+        idx = np.r_[q, h.dof + q]
+        block = fmap.family_monodromy(y, FullFamily.build(model, k, fields=fields))
+        np.testing.assert_allclose(phi[np.ix_(idx, idx)], block, atol=1e-11 * scale, rtol=0)
+        covered[np.ix_(idx, idx)] = True
+    assert np.abs(phi[odd][:, odd][~covered[odd][:, odd]]).max() <= 1e-13 * scale
 
 
 def test_perturbed_family_needs_the_whole_family(model, orbit):
@@ -283,6 +358,26 @@ def test_stability_of_a_standing_wave_is_that_of_the_time_integration(switched):
     assert abs(growth - mu) <= 0.1 * abs(mu - 1.0)
 
 
+def test_standing_waves_of_the_full_model_in_o2(switched):
+    # the standing waves with their harmonics' companions: the cosine block's multipliers are
+    # the switched branch's, nothing couples the blocks (the reflection), and the group orbit's
+    # multiplier is 1 to the angular rule's symmetry error (a regression bound: measured
+    # 8e-12 at the last point, test_a_turned_pattern_keeps_its_energy shows the error
+    # spectrally small); the odd block's companion of the family's crossing is that neutral
+    # multiplier, so near the branch point the rest lie inside the unit circle
+    fmap, fam, br, i, sw, mixed, asym = switched
+    waves = fmap.standing_waves(fam)
+    odd = int(waves.odd.sum())
+    for k in (1, sw.value.size - 1):
+        st = standing_wave_stability(waves._replace(fmap=waves.fmap.varied("Omega", sw.value[k])),
+                                     waves.embed(sw.state[k]))
+        np.testing.assert_allclose(st.even, sw.multipliers[k], atol=1e-10)
+        assert st.coupling <= 1e-13 and abs(st.neutral - 1) <= 1e-8 and st.odd.size == odd - 1
+    first = standing_wave_stability(waves._replace(fmap=waves.fmap.varied("Omega", sw.value[1])),
+                                    waves.embed(sw.state[1]))
+    assert np.abs(first.odd).max() < 1
+
+
 SWITCH_JOB = """
 [job]
 name = "full-switch"
@@ -324,11 +419,17 @@ def test_branch_switching_job_on_the_full_model(tmp_path, switched):
     np.testing.assert_allclose(ds.switched_asymmetric_amplitude.values, asym, rtol=1e-6, atol=1e-12)
     assert list(ds.switched_stable.values) == [int(s) for s in sw.stable]
     assert "switched_modal_coordinate" not in ds  # the ROM's alone
+    # with the companions: the branch point's group orbit is a point (no value), then the
+    # standing waves' neutral multiplier is 1 and their O(2) stability needs both blocks stable
+    neutral, odd = ds.switched_neutral_multiplier.values, ds.switched_odd_multiplier_modulus.values
+    assert np.isnan(neutral[0]) and np.abs(neutral[1:] - 1).max() <= 1e-8
+    o2 = ds.switched_stable_o2.values
+    assert o2[0] == 0 and list(o2[1:]) == [int(s and m < 1) for s, m in zip(sw.stable[1:], odd[1:])]
 
 
-def test_branch_switching_on_the_full_model_refuses_the_sine_companions():
-    with pytest.raises(JobError, match=r"continuation.branch_switching.periods = 50 is invalid: needs the ROM's sine "
-                                       r"companions"):
+def test_branch_switching_on_the_full_model_refuses_the_time_integration():
+    with pytest.raises(JobError, match=r"continuation.branch_switching.periods = 50 is invalid: needs the ROM "
+                                       r"\(the time integration of a standing wave in its sine modes\)"):
         parse_job(SWITCH_JOB.replace("n = 1}", "n = 1, periods = 50}"))
     with pytest.raises(JobError, match=r"continuation.branch_switching = .* is invalid: needs on this model the "
                                        r"families in U, V, W on all its radial functions"):
@@ -343,28 +444,38 @@ def test_energy_of_an_asymmetric_state_on_the_finite_element_mesh():
     # to the mesh's error: it falls about eightfold per halving of the elements (P2; measured
     # -2.0 % on 8 x 32, -0.25 % on 16 x 64 at delta = 1.5).  Bounds: at least fourfold, and
     # 0.5 % on the finer mesh (a regression bound, twice the measured error); the sign of v in
-    # a2 reversed gives -1.8 % there.
+    # a2 reversed gives -1.8 % there.  The same for a state with the companions (half as large,
+    # of alternating sign: the pattern is no longer reflection-symmetric), lifted by their
+    # definition (u, w on sin k theta, v on -cos k theta): measured -2.0 % and -0.25 % again;
+    # lifting v on +cos k theta gives -0.61 % on the finer mesh.
     membrane = Membrane(delta=1.5, delta_o=0.2)
     model = AxisymmetricFull(solve_full_prestretch(membrane, 12))
-    h = HarmonicFull(model, (0, 1, 2))
     o, b = model.order, model.state.basis
-    size = {"U": 0.01, "V": 0.01, "W": 0.04}
-    q = np.concatenate([size[f] * (0.5 if k else 1.0) * 0.4 ** np.arange(o) * (-1) ** k for k, f in h.blocks])
-    expected = 2 * np.pi * (h.energy(q) - h.energy(np.zeros(h.dof)))
+    size = {"U": 0.01, "V": 0.01, "W": 0.04, "even": 1.0, "odd": -0.5}
+    states = []
+    for companions in (False, True):
+        h = HarmonicFull(model, (0, 1, 2), companions=companions)
+        q = np.concatenate([size[f] * size[parity] * (0.5 if k else 1.0) * 0.4 ** np.arange(o) * (-1) ** k
+                            for k, f, parity in h.blocks])
+        states.append((h, q, 2 * np.pi * (h.energy(q) - h.energy(np.zeros(h.dof)))))
     errors = []
     for radial, circumferential in ((8, 32), (16, 64)):
         motion = FeMotion.build(solve_fe_prestretch(AnnulusMesh.build(membrane, radial, circumferential)))
         X = motion.basis.doflocs
         rho, theta = np.hypot(X[0], X[1]), np.arctan2(X[1], X[0])
-        u, v, w = (np.zeros_like(rho) for _ in range(3))
-        for i, (k, field) in enumerate(h.blocks):
-            value = b.evaluate(q[i * o:(i + 1) * o], rho)[0]
-            if field == "U":
-                u += value * np.cos(k * theta)
-            elif field == "V":
-                v += value * np.sin(k * theta)
-            else:
-                w += value * np.cos(k * theta)
-        D = motion.rest + np.stack([u * np.cos(theta) - v * np.sin(theta), u * np.sin(theta) + v * np.cos(theta), w])
-        errors.append((motion.energy(D) - motion.energy(motion.rest)) / expected - 1)
-    assert abs(errors[1]) <= abs(errors[0]) / 4 and abs(errors[1]) <= 5e-3
+        for h, q, expected in states:
+            u, v, w = (np.zeros_like(rho) for _ in range(3))
+            for i, (k, field, parity) in enumerate(h.blocks):
+                value = b.evaluate(q[i * o:(i + 1) * o], rho)[0]
+                cos, sin = np.cos(k * theta), np.sin(k * theta)
+                if field == "U":
+                    u += value * (cos if parity == "even" else sin)
+                elif field == "V":
+                    v += value * (sin if parity == "even" else -cos)
+                else:
+                    w += value * (cos if parity == "even" else sin)
+            D = motion.rest + np.stack([u * np.cos(theta) - v * np.sin(theta), u * np.sin(theta) + v * np.cos(theta),
+                                        w])
+            errors.append((motion.energy(D) - motion.energy(motion.rest)) / expected - 1)
+    for coarse, fine in zip(errors[:2], errors[2:]):
+        assert abs(fine) <= abs(coarse) / 4 and abs(fine) <= 5e-3

@@ -92,21 +92,22 @@ def test_the_rom_commutes_with_the_rotation(n3):
 def test_standing_waves_split_into_even_and_odd_blocks(fig14a_n1):
     fmap, br = fig14a_n1.fmap, fig14a_n1.branch
     i = br.special(BRANCH_POINT)[0]
-    sw, fmap_mixed, asym = follow_bifurcated_branch(fmap, fig14a_n1.family, "Omega", 25.0, 55.0, br.state[i],
+    sw, _, asym = follow_bifurcated_branch(fmap, fig14a_n1.family, "Omega", 25.0, 55.0, br.state[i],
                                                     br.value[i], ds=0.01, ds_max=0.3, max_points=8)
-    fmap_o2 = fmap_mixed.with_rom(waves.o2_rom(fmap.rom, fig14a_n1.family))
+    o2 = fmap.standing_waves(fig14a_n1.family)
+    assert o2.fmap.rom.modes == waves.o2_rom(fmap.rom, fig14a_n1.family).modes
     for k in (3, 7):
-        at = fmap_o2.varied("Omega", sw.value[k])
-        st = waves.standing_wave_stability(at, waves.embed_standing(sw.state[k], 1, 2))
+        at = o2._replace(fmap=o2.fmap.varied("Omega", sw.value[k]))
+        st = waves.standing_wave_stability(at, o2.embed(sw.state[k]))
         assert st.coupling <= 1e-12
         assert abs(st.neutral - 1.0) <= 1e-9
         # the even block is the cosine-mode ROM's monodromy (a folded angular rule there)
         assert np.allclose(st.even, sw.multipliers[k], atol=1e-10)
         assert st.odd.size == 3
     with pytest.raises(ValueError, match="not a standing wave"):
-        y = waves.embed_standing(sw.state[3], 1, 2)
+        y = o2.embed(sw.state[3])
         y[3] = 1e-6
-        waves.standing_wave_stability(fmap_o2, y)
+        waves.standing_wave_stability(o2, y)
 
 
 def test_rotating_waves_near_the_point_drift_by_its_multiplier_angle(n3):

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 from scipy.linalg import block_diag, eigh
@@ -43,7 +44,8 @@ from model.damping import DampingLaw, Viscous
 from model.damping_kernels import matrix_or_none
 from model.forced import family_damping, periodic_peak
 from model.modes import bessel_roots, mode_shape
-from model.protocol import PARAMETERS, PerturbedFamily, sorted_multipliers, state_scale
+from model.families import embedded
+from model.protocol import PARAMETERS, PerturbedFamily, StandingWaves, sorted_multipliers, state_scale
 from model.rk4 import stable
 
 from .axisymmetric import AxisymmetricFull
@@ -303,52 +305,73 @@ class ForcedFull:
         return family_monodromy(law, phi, dphi, s, sw, r0, dr0, stages, fam.phi, fam.dphi, fam.variations,
                                 fam.inverse_mass, m.omega0_2, rate, matrix_or_none(matrix), dt)
 
-    def perturbed_family(self, fam: FullFamily) -> PerturbedFamily:
-        """What :func:`model.families.perturbation_growth` integrates to check ``fam``'s
-        multipliers (the optional capability of :mod:`model.protocol`): the map of the full
-        model on the circumferential harmonics ``0, n, 2n`` (:class:`model.full.harmonic.HarmonicFull`:
-        the family's own harmonic and the one its square feeds), at this map's forcing and RK4
-        steps, each harmonic damped by this map's law on its own linear problem (as
-        :meth:`family_monodromy` damps the family); the perturbation starts along the family's
-        dominant Floquet mode (``start`` None) and is measured in the energy norm of its linear
-        problem about the pre-stretch, ``x^T K0 x + x'^T M x'`` (a start in every coefficient
-        puts most of its energy in fast in-plane modes, more damped, that would dominate the
-        fitted periods; the lowest linear mode shares its energy with pairs at the damping's
-        modulus, perturbation_growth); the asymmetric displacement is
-        ``w(probe_rho, 0) - w_0(probe_rho)``.  The family must carry ``U, V, W`` on all the
-        model's radial functions (the harmonics' blocks); ValueError where RK4's step is
-        beyond the stability of the axisymmetric or a harmonic's damped linear motion (the map
-        returns NaN states where a changed ``Omega`` takes it there)."""
+    def harmonic_map(self, harmonics, companions: bool = False) -> HarmonicForced:
+        """The map of the full model on the circumferential ``harmonics`` (0 among them;
+        :class:`model.full.harmonic.HarmonicFull`, with their sine ``companions`` when asked)
+        at this map's forcing and RK4 steps, each harmonic damped by this map's law on its own
+        linear problem (as :meth:`family_monodromy` damps a family: a companion as its cosine
+        block, the torsion ``V_0`` as the family ``(0, "V")``), the amplitude measured at this
+        map's probe radius on every harmonic.  ValueError where RK4's step is beyond the
+        stability of the axisymmetric or a harmonic's damped linear motion (the map returns
+        NaN states where a changed ``Omega`` takes it there)."""
         m = self.model
-        if fam.model is not m:
-            raise ValueError("fam is invalid here: a family of another model (build it on this map's model)")
-        if fam.fields != "UVW" or fam.radial != m.order:
-            raise ValueError(f"fam is invalid here: the nonlinear check needs the family in U, V, W on all "
-                             f"{m.order} radial functions; it has {fam.fields} on {fam.radial}")
         if not self.stable_step:
             raise ValueError(f"steps = {self.steps} is invalid here: RK4's step leaves the stability region of the "
                              "axisymmetric damped linear motion")
-        harmonic = HarmonicFull(m, (0, fam.n, 2 * fam.n))
+        harmonic = HarmonicFull(m, harmonics, companions=companions)
         dt = self.period / self.steps
         blocks = [self.matrix if self.matrix.shape[0] else np.zeros((2 * m.order, 2 * m.order))]
         spectra = [self.eigenvalues]
-        for k in (fam.n, 2 * fam.n):
-            family = fam if k == fam.n else FullFamily.build(m, k)
+        families = [(k, "UVW") for k in harmonic.harmonics[1:]]
+        if companions:
+            families += [(0, "V")] + families
+        for k, fields in families:
+            family = FullFamily.build(m, k, fields=fields)
             rate, matrix = family_damping(family, m.membrane, self.damping)
             spectra.append(damped_eigenvalues(*family.linear_system(), rate, matrix))
             if not stable(spectra[-1], dt):
-                raise ValueError(f"steps = {self.steps} is invalid for the harmonic {k}: RK4's step leaves the "
-                                 "stability region of its damped linear motion")
+                raise ValueError(f"steps = {self.steps} is invalid for the harmonic {k} ({fields}): RK4's step "
+                                 "leaves the stability region of its damped linear motion")
             blocks.append((matrix if matrix.shape[0] else 0.0) + (rate - self.rate) * np.eye(family.size // 2))
-        matrix = block_diag(*blocks)  # the blocks in the harmonics' order: 0 (U, W), n, 2n (U, V, W)
+        matrix = block_diag(*blocks)  # in the order of harmonic.blocks
         forced = HarmonicForced(harmonic, self.P0, self.Omega, self.steps, self.rate,
                                 matrix if np.any(matrix) else np.zeros((0, 0)), eigenvalues=np.concatenate(spectra))
-        forced = replace(forced, probe=forced.probe_vector(self.probe_rho))
-        n = harmonic.block(fam.n, "U").start, harmonic.block(fam.n, "W").stop
+        return replace(forced, probe=forced.probe_vector(self.probe_rho))
+
+    def perturbed_family(self, fam: FullFamily) -> PerturbedFamily:
+        """What :func:`model.families.perturbation_growth` integrates to check ``fam``'s
+        multipliers (the optional capability of :mod:`model.protocol`): :meth:`harmonic_map`
+        on the harmonics ``0, n, 2n`` (the family's own harmonic and the one its square
+        feeds); the perturbation starts along the family's dominant Floquet mode (``start``
+        None) and is measured in the energy norm of its linear problem about the pre-stretch,
+        ``x^T K0 x + x'^T M x'`` (a start in every coefficient puts most of its energy in fast
+        in-plane modes, more damped, that would dominate the fitted periods; the lowest linear
+        mode shares its energy with pairs at the damping's modulus, perturbation_growth); the
+        asymmetric displacement is ``w(probe_rho, 0) - w_0(probe_rho)``.  The family must carry
+        ``U, V, W`` on all the model's radial functions (the harmonics' blocks)."""
+        forced = self.harmonic_map(self._family_harmonics(fam))
+        n = forced.model.block(fam.n, "U").start, forced.model.block(fam.n, "W").stop
         mass, stiffness = fam.linear_system()
         probe = forced.probe_vector(self.probe_rho, (fam.n, 2 * fam.n))
         return PerturbedFamily(forced, replace(forced, probe=probe), tuple(range(*n)), probe, None,
                                block_diag(stiffness, mass))
+
+    def standing_waves(self, fam: FullFamily) -> StandingWaves:
+        """The map of :meth:`perturbed_family` with the sine companions of its harmonics
+        (:meth:`harmonic_map`, ``companions``), where the standing waves of family ``fam``
+        have their stability against rotations (the optional capability of
+        :mod:`model.protocol`; :func:`model.waves.standing_wave_stability`)."""
+        forced = self.harmonic_map(self._family_harmonics(fam), companions=True)
+        h = forced.model
+        return StandingWaves(forced, partial(embedded, dof=h.dof), np.tile(h.odd, 2), h.rotation_generator())
+
+    def _family_harmonics(self, fam: FullFamily) -> tuple[int, int, int]:
+        if fam.model is not self.model:
+            raise ValueError("fam is invalid here: a family of another model (build it on this map's model)")
+        if fam.fields != "UVW" or fam.radial != self.model.order:
+            raise ValueError(f"fam is invalid here: the nonlinear model needs the family in U, V, W on all "
+                             f"{self.model.order} radial functions; it has {fam.fields} on {fam.radial}")
+        return 0, fam.n, 2 * fam.n
 
     def modal_section(self, states) -> np.ndarray:
         """The ROM's modal coordinates and velocities ``(..., 2K)`` (m, m s-1) of the states

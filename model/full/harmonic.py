@@ -31,6 +31,7 @@ from dataclasses import dataclass, replace
 from dataclasses import field as default_field
 
 import numpy as np
+from scipy.linalg import block_diag
 
 from model.damping_kernels import matrix_or_none
 from model.forced import periodic_peak
@@ -49,18 +50,31 @@ _LETTERS = {FIELD_U: "U", FIELD_V: "V", FIELD_W: "W"}
 class HarmonicFull:
     """The full model of ``model``'s pre-stretch and basis on the circumferential
     ``harmonics`` (0 among them), its angular integrals on ``theta_points`` points of
-    ``[0, pi]`` (default ``4 max(harmonics) + 4``).
+    ``[0, pi]`` (default ``4 max(harmonics) + 4``); with ``companions``, the sine companions
+    of every block as well (the group O(2)), on twice the points over the whole circle.
+
+    A block's angular functions follow from two factors, ``e(theta)`` and ``o(theta)``: the
+    field of a ``U`` or ``W`` block is ``e``, that of a ``V`` block ``o``; the cosine blocks
+    (parity ``"even"``) have ``e = cos k theta``, ``o = sin k theta``, their companions
+    (``"odd"``) the same turned by a quarter of the harmonic's period, ``e = sin k theta``,
+    ``o = -cos k theta`` (``v = -V_k cos k theta``; for ``k = 0`` the torsion ``v = -V_0``).
+    A rotation of the pattern by ``phi`` then turns each (cosine, companion) pair of
+    coefficients by ``k phi`` (:meth:`rotation`), as the ROM's cosine and sine modes
+    (:func:`model.waves.rotation`).
 
     Attributes
     ----------
-    blocks : tuple of (int, str)
-        The coordinate blocks in order, ``(k, field)``: per harmonic ``U``, ``V`` (``k >= 1``)
-        and ``W``, each ``order`` coefficients (over ``Re``).
+    blocks : tuple of (int, str, str)
+        The coordinate blocks in order, ``(k, field, parity)``: per harmonic ``U``, ``V``
+        (``k >= 1``) and ``W`` of parity ``"even"``, then with ``companions`` per harmonic
+        ``U`` (``k >= 1``), ``V`` and ``W`` (``k >= 1``) of parity ``"odd"``; each ``order``
+        coefficients (over ``Re``).
     dof : int
         ``len(blocks) order``.
     """
 
-    def __init__(self, model: AxisymmetricFull, harmonics, theta_points: int | None = None):
+    def __init__(self, model: AxisymmetricFull, harmonics, theta_points: int | None = None,
+                 companions: bool = False):
         if not model.inplane:
             raise ValueError("model is invalid here: the circumferential harmonics need the in-plane fields "
                              "(inplane = true)")
@@ -75,24 +89,32 @@ class HarmonicFull:
         self.model = model
         self.harmonics = tuple(ks)
         self.order = model.order
-        self.blocks = tuple((k, _LETTERS[f]) for k in ks for f in ((FIELD_U, FIELD_W) if k == 0
-                                                                  else (FIELD_U, FIELD_V, FIELD_W)))
+        self.companions = bool(companions)
+        self.blocks = tuple((k, f, "even") for k in ks for f in (("U", "W") if k == 0 else ("U", "V", "W")))
+        if self.companions:
+            self.blocks += tuple((k, f, "odd") for k in ks for f in (("V",) if k == 0 else ("U", "V", "W")))
         self.dof = len(self.blocks) * self.order
         codes = {v: c for c, v in _LETTERS.items()}
-        self._fields = np.array([codes[f] for _, f in self.blocks], dtype=np.int64)
-        self._wave = np.array([float(k) for k, _ in self.blocks])
-        theta = math.pi * (np.arange(points) + 0.5) / points
+        self._fields = np.array([codes[f] for _, f, _ in self.blocks], dtype=np.int64)
+        self._wave = np.array([float(k) for k, _, _ in self.blocks])
+        # the midpoint rule on [0, pi] is that on the circle for the even states' integrands,
+        # which are even in theta; the companions' are not
+        if self.companions:
+            points *= 2
+        theta = (2.0 if self.companions else 1.0) * math.pi * (np.arange(points) + 0.5) / points
         self.theta = theta
-        self._cos = np.ascontiguousarray(np.cos(np.outer(self._wave, theta)))
-        self._sin = np.ascontiguousarray(np.sin(np.outer(self._wave, theta)))
+        kt = np.outer(self._wave, theta)
+        odd = np.array([parity == "odd" for _, _, parity in self.blocks])[:, None]
+        #: ``e`` and ``o`` of each block at the angular points ``(B, T)``
+        self._even_factor = np.ascontiguousarray(np.where(odd, np.sin(kt), np.cos(kt)))
+        self._odd_factor = np.ascontiguousarray(np.where(odd, -np.cos(kt), np.sin(kt)))
         self._theta_weight = np.full(points, 1.0 / points)
         # what a coefficient of each block moves in F per phi' and per phi / s at each angle: the
-        # family's vectors, the components even under theta -> -theta times cos, the odd ones sin
+        # family's vectors, their components even under theta -> -theta times e, the odd ones o
         even = np.arange(6) % 2 == 0
         self._variations = np.ascontiguousarray(np.stack([
-            variation_vectors(k, np.array([code]))[0][None] * np.where(even, np.cos(k * theta)[:, None, None],
-                                                                       np.sin(k * theta)[:, None, None])
-            for k, code in zip(self._wave, self._fields)]))
+            variation_vectors(k, np.array([code]))[0][None] * np.where(even, e[:, None, None], o[:, None, None])
+            for k, code, e, o in zip(self._wave, self._fields, self._even_factor, self._odd_factor)]))
         # the same as at most two components per block and kind: their indices and values (the
         # compiled Hessian's sparse form; an unused component has index 0 and value 0)
         B = len(self.blocks)
@@ -103,7 +125,7 @@ class HarmonicFull:
                 nz = np.flatnonzero(g)
                 self._var_index[b, alpha, :nz.size] = nz
                 self._var_value[b, :, alpha, :nz.size] = self._variations[b, :, alpha][:, nz]
-        #: each block's inverse angular mean of ``cos^2`` or ``sin^2``: 1 for ``k = 0``, else 2
+        #: each block's inverse angular mean of its field's factor squared: 1 for ``k = 0``, else 2
         self.inverse_scale = np.where(self._wave == 0.0, 1.0, 2.0)
         g0 = self.compiled_gradient(np.zeros(self.dof))
         #: ``omega_0^2 M^-1 g(0)`` (s-2): the rounding of the pre-stretch's equilibrium, added
@@ -112,16 +134,49 @@ class HarmonicFull:
             [self.inverse_scale[b] * (model.inverse_mass @ g0[b * self.order:(b + 1) * self.order])
              for b in range(len(self.blocks))])
         #: the index of the block ``W_0``, where the pressure acts
-        self.load_block = self.blocks.index((0, "W"))
+        self.load_block = self.blocks.index((0, "W", "even"))
 
-    def block(self, k: int, field: str) -> slice:
-        """The coordinates of the field ``"U"``, ``"V"`` or ``"W"`` of harmonic ``k``."""
-        b = self.blocks.index((int(k), field))
+    def block(self, k: int, field: str, parity: str = "even") -> slice:
+        """The coordinates of the field ``"U"``, ``"V"`` or ``"W"`` of harmonic ``k`` (of the
+        cosine blocks, or of their companions: ``parity = "odd"``)."""
+        b = self.blocks.index((int(k), field, parity))
         return slice(b * self.order, (b + 1) * self.order)
+
+    @property
+    def odd(self) -> np.ndarray:
+        """``(dof,)``: which coordinates are the companions' (odd under ``theta -> -theta``)."""
+        return np.repeat([parity == "odd" for _, _, parity in self.blocks], self.order)
+
+    def rotation(self, phi: float) -> np.ndarray:
+        """``(dof, dof)``: the coordinates of the pattern turned by ``phi`` (rad),
+        ``f(theta) -> f(theta - phi)``: each (cosine, companion) pair of blocks of harmonic
+        ``k`` turns by ``k phi``, the rest is left alone.  Needs :attr:`companions`."""
+        out = np.eye(self.dof)
+        for b, c, k in self._pairs():
+            cos, sin = math.cos(k * phi), math.sin(k * phi)
+            out[b, b], out[b, c], out[c, b], out[c, c] = cos, -sin, sin, cos
+        return out
+
+    def rotation_generator(self) -> np.ndarray:
+        """``(2 dof, 2 dof)`` (rad-1): the derivative of :meth:`rotation` at ``phi = 0`` acting on
+        a state ``(q, q')``; ``(a, b) -> k (-b, a)`` for each pair."""
+        g = np.zeros((self.dof, self.dof))
+        for b, c, k in self._pairs():
+            g[b, c], g[c, b] = -k, k
+        return block_diag(g, g)
+
+    def _pairs(self):
+        # (a cosine block's coordinates, its companion's, k) for k >= 1: paired entry by entry
+        if not self.companions:
+            raise ValueError("the rotations need the companions (HarmonicFull(..., companions=True))")
+        for k, f, parity in self.blocks:
+            if parity == "even" and k > 0:
+                b, c = self.block(k, f), self.block(k, f, "odd")
+                yield np.arange(b.start, b.stop), np.arange(c.start, c.stop), k
 
     def _tables(self):
         m = self.model
-        return (*m.kernel_tables, self._fields, self._wave, self._cos, self._sin, self._theta_weight)
+        return (*m.kernel_tables, self._fields, self._wave, self._even_factor, self._odd_factor, self._theta_weight)
 
     def compiled_gradient(self, q) -> np.ndarray:
         """``d energy / dq`` (``(dof,)``) by the compiled loop (:func:`harmonic_gradient`)."""
@@ -138,25 +193,26 @@ class HarmonicFull:
         return out
 
     def _fields_on_grid(self, q):
-        # u, u_s, u_theta, v, v_s, v_theta, w_s, w_theta at (theta, s): (T, points) each
+        # u, u_s, u_theta, v, v_s, v_theta, w_s, w_theta at (theta, s): (T, points) each; a block's
+        # field is e (U, W) or o (V), e' = -k o and o' = k e
         b = self.model.state.basis
         zero = np.zeros((self.theta.size, b.s.size), dtype=np.result_type(q, float))
         out = {key: zero.copy() for key in ("u", "us", "ut", "v", "vs", "vt", "ws", "wt")}
-        for i, (k, f) in enumerate(self.blocks):
+        for i, (k, f, _) in enumerate(self.blocks):
             c = q[i * self.order:(i + 1) * self.order]
             value, slope = c @ b.phi, c @ b.dphi
-            cos, sin = np.cos(k * self.theta)[:, None], np.sin(k * self.theta)[:, None]
+            e, o = self._even_factor[i][:, None], self._odd_factor[i][:, None]
             if f == "U":
-                out["u"] += value * cos
-                out["us"] += slope * cos
-                out["ut"] -= k * value * sin
+                out["u"] += value * e
+                out["us"] += slope * e
+                out["ut"] -= k * value * o
             elif f == "V":
-                out["v"] += value * sin
-                out["vs"] += slope * sin
-                out["vt"] += k * value * cos
+                out["v"] += value * o
+                out["vs"] += slope * o
+                out["vt"] += k * value * e
             else:
-                out["ws"] += slope * cos
-                out["wt"] -= k * value * sin
+                out["ws"] += slope * e
+                out["wt"] -= k * value * o
         return out
 
     def _columns(self, q):

@@ -2,8 +2,11 @@
 the force of a state that is not axisymmetric, and its forced motion by fixed-step RK4.
 
 The coordinates are blocks of ``order`` Legendre-Galerkin coefficients (over ``Re``), one per
-field of one harmonic ``k``: ``U_k`` of ``u = sum U_k(s) cos k theta``, ``V_k`` of
-``v = sum V_k(s) sin k theta`` (``k >= 1``) and ``W_k`` of ``w = sum W_k(s) cos k theta``.  A
+field of one harmonic ``k`` and parity: ``U_k`` of ``u = sum U_k(s) e_k(theta)``, ``V_k`` of
+``v = sum V_k(s) o_k(theta)`` and ``W_k`` of ``w = sum W_k(s) e_k(theta)``, with the angular
+factors ``(e_k, o_k) = (cos k theta, sin k theta)`` of the cosine blocks or
+``(sin k theta, -cos k theta)`` of their companions (:class:`model.full.harmonic.HarmonicFull`),
+so that ``e_k' = -k o_k`` and ``o_k' = k e_k`` for both.  A
 material point at ``(s, theta)`` moves to ``(r_o + u) e_r + v e_theta + w e_z`` in the frame of
 its angle, so the columns of the deformation gradient are
 
@@ -11,10 +14,11 @@ its angle, so the columns of the deformation gradient are
 
 and the energy over ``2 pi h C1 Re^2`` is ``(1 / 2 pi) int int W s ds dtheta``.  Its gradient is
 the first Piola stress of :func:`model.full.surface.gradient` projected on the coordinates'
-variations (those of :mod:`model.full.family_kernels` times ``cos k theta`` or ``sin k theta``).
-The states of this subspace are even under ``theta -> -theta`` (the reflection that keeps the
-cosine families), so every angular integrand is even and the midpoint rule on ``[0, pi]`` is
-the trapezoidal rule on the circle: exact for harmonics below twice its points.
+variations (those of :mod:`model.full.family_kernels`, the components even under
+``theta -> -theta`` times ``e_k``, the odd ones times ``o_k``).  The angular rule is given as
+points and weights: the midpoint rule on ``[0, pi]`` for the cosine blocks alone (their states
+are even under the reflection, and so is every integrand: the rule is then the trapezoidal
+rule on the circle), on the whole circle with the companions.
 """
 
 from __future__ import annotations
@@ -46,7 +50,7 @@ def _radial_values(phi, dphi, q, p, value, slope):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy", inline="always")
-def _columns_at(fields, wave, cos_t, sin_t, value, slope, r0, dr0, inv_s, t):
+def _columns_at(fields, wave, even_t, odd_t, value, slope, r0, dr0, inv_s, t):
     """The columns ``a1``, ``a2`` (6 components) at the angular point ``t`` from the blocks'
     radial ``value`` and ``slope`` at one radius (``r0``, ``dr0``: the pre-stretch there)."""
     u = 0.0
@@ -58,8 +62,8 @@ def _columns_at(fields, wave, cos_t, sin_t, value, slope, r0, dr0, inv_s, t):
     w_s = 0.0
     w_t = 0.0
     for b in range(fields.size):
-        c = cos_t[b, t]
-        sn = sin_t[b, t]
+        c = even_t[b, t]
+        sn = odd_t[b, t]
         k = wave[b]
         if fields[b] == FIELD_U:
             u += value[b] * c
@@ -76,7 +80,7 @@ def _columns_at(fields, wave, cos_t, sin_t, value, slope, r0, dr0, inv_s, t):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def harmonic_gradient(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, q, out,
+def harmonic_gradient(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight, q, out,
                       value, slope, along1, along2):
     """``out[:] = d((1 / 2 pi) int int W/C1 s ds dtheta)/dq`` for the block coordinates ``q``.
 
@@ -87,8 +91,8 @@ def harmonic_gradient(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, si
         the basis at the quadrature points ``(points, order)``.
     fields, wave : (B,) arrays
         Each block's field code (:data:`model.full.family_kernels.FIELD_U`, ...) and harmonic ``k`` (float).
-    cos_t, sin_t : (B, T) arrays
-        ``cos k theta_t``, ``sin k theta_t`` of each block's harmonic at the angular points.
+    even_t, odd_t : (B, T) arrays
+        The angular factors ``e_k(theta_t)``, ``o_k(theta_t)`` of each block at the angular points.
     theta_weight : (T,) array
         The angular weights (their sum is 1: the mean over the circle).
     q, out : (B order,) arrays
@@ -104,7 +108,7 @@ def harmonic_gradient(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, si
         along2[:] = 0.0
         inv_s = 1.0 / s[p]
         for t in range(angles):
-            a1r, a1t, a1z, a2r, a2t, a2z = _columns_at(fields, wave, cos_t, sin_t, value, slope, r0[p], dr0[p],
+            a1r, a1t, a1z, a2r, a2t, a2z = _columns_at(fields, wave, even_t, odd_t, value, slope, r0[p], dr0[p],
                                                        inv_s, t)
             n1 = a1r * a1r + a1t * a1t + a1z * a1z
             n2 = a2r * a2r + a2t * a2t + a2z * a2z
@@ -121,8 +125,8 @@ def harmonic_gradient(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, si
             p2t = (f2 * a2t + cross * a1t) * theta_weight[t]
             p2z = (f2 * a2z + cross * a1z) * theta_weight[t]
             for b in range(blocks):
-                c = cos_t[b, t]
-                sn = sin_t[b, t]
+                c = even_t[b, t]
+                sn = odd_t[b, t]
                 k = wave[b]
                 if fields[b] == FIELD_U:
                     along1[b] += p1r * c
@@ -142,13 +146,13 @@ def harmonic_gradient(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, si
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def _acceleration(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, inv_mass,
+def _acceleration(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight, inv_mass,
                   inv_scale, omega0_2, bias, rate, damping_matrix, load, load_block, pressure, y, out, g,
                   value, slope, along1, along2):
     # out = (q', q'') at the state y under the pressure `pressure` (Pa) at this instant
     dof = g.size
     order = phi.shape[1]
-    harmonic_gradient(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, y[:dof], g,
+    harmonic_gradient(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight, y[:dof], g,
                       value, slope, along1, along2)
     for i in range(dof):
         out[i] = y[dof + i]
@@ -166,7 +170,7 @@ def _acceleration(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t,
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def harmonic_motion(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, inv_mass,
+def harmonic_motion(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight, inv_mass,
                     inv_scale, omega0_2, bias, rate, damping_matrix, load, load_block, P0, Omega, y0, dt, steps,
                     every, record):
     """``steps`` RK4 steps of ``dt`` (s) from ``y0`` at ``t = 0`` of
@@ -199,7 +203,7 @@ def harmonic_motion(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_
                 for j in range(n):
                     stage[j] = y[j] + stage_offset(i, dt) * k[i - 1, j]
             pressure = P0 * np.cos(Omega * (step * dt + stage_offset(i, dt)))
-            _acceleration(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, inv_mass,
+            _acceleration(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight, inv_mass,
                           inv_scale, omega0_2, bias, rate, damping_matrix, load, load_block, pressure, stage, k[i],
                           g, value, slope, along1, along2)
         for j in range(n):
@@ -243,12 +247,12 @@ def _moduli(law, a, dD, A):
 
 
 @nb.njit(cache=True, fastmath=True, error_model="numpy")
-def harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, var_index,
+def harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight, var_index,
                      var_value, q, out):
     """``out[:, :] = d^2((1 / 2 pi) int int W/C1 s ds dtheta)/dq^2`` for the block coordinates
     ``q``.  What a coefficient of block ``b`` moves in ``F`` at the angular point ``t`` per
     ``phi'`` (``alpha = 0``) and per ``phi / s`` (``alpha = 1``) -- the family's variation
-    vectors of :mod:`model.full.family_kernels` times ``cos k theta_t`` or ``sin k theta_t`` --
+    vectors of :mod:`model.full.family_kernels` times ``e_k(theta_t)`` or ``o_k(theta_t)`` --
     has at most two components: ``var_index`` (``(B, 2, 2)``) names them, ``var_value``
     (``(B, T, 2, 2)``) gives their values (zero for an unused second one); the other arguments
     as :func:`harmonic_gradient`.
@@ -274,7 +278,7 @@ def harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin
         inv_s = 1.0 / s[p]
         C[:, :, :, :] = 0.0
         for t in range(angles):
-            a[0], a[1], a[2], a[3], a[4], a[5] = _columns_at(fields, wave, cos_t, sin_t, value, slope, r0[p], dr0[p],
+            a[0], a[1], a[2], a[3], a[4], a[5] = _columns_at(fields, wave, even_t, odd_t, value, slope, r0[p], dr0[p],
                                                              inv_s, t)
             _moduli(law, a, dD, A)
             for b in range(blocks):
@@ -312,7 +316,7 @@ def harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin
 
 
 @nb.njit(cache=True, error_model="numpy")
-def harmonic_variational(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, var_index,
+def harmonic_variational(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight, var_index,
                          var_value, inv_mass, inv_scale, omega0_2, bias, rate, damping_matrix, load, load_block, P0,
                          Omega, parameter, y0, dt, steps):
     """``steps`` RK4 steps of ``dt`` (s) of the motion of :func:`harmonic_motion` from ``y0`` at
@@ -351,10 +355,10 @@ def harmonic_variational(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t,
                 stage[:] = y + f * k[i - 1]
                 pstage[:, :] = big + f * kp[i - 1]
             cosine = np.cos(Omega * (step * dt + f))
-            _acceleration(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, inv_mass,
+            _acceleration(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight, inv_mass,
                           inv_scale, omega0_2, bias, rate, damping_matrix, load, load_block, P0 * cosine, stage,
                           k[i], g, value, slope, along1, along2)
-            harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, var_index,
+            harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight, var_index,
                              var_value, stage[:dof], hess)
             for b in range(blocks):
                 stiff[b * order:(b + 1) * order, :] = (-omega0_2 * inv_scale[b]) * (inv_mass @ hess_blocks[b])

@@ -18,6 +18,9 @@ Outputs (a task's branches differ in length: every ``point`` array is padded wit
 * ``modal_coordinate``, ``modal_velocity`` (``point``, ``mode``): the state on the
   stroboscopic section ``t = 0 mod 2 pi / Omega`` (the paper's ``A_mn`` axes; for the full
   model the fit of ``w`` by the mode shapes, :func:`model.protocol.modal_section`);
+* ``state`` (``point``, ``state``), for a model whose state is not its modal section (the full
+  model: :meth:`sweep.models.base.Model.state_size`): the map's state on the section, from
+  which shooting at that point restarts;
 * ``amplitude`` (``point``): max over one period of ``|w(0.5 Re, 0, t)|`` (m);
 * ``stable`` (``point``, int8): 1 stable, 0 unstable (and at located bifurcation points);
   with ``families``, stable means stable to the families' perturbations too;
@@ -60,8 +63,9 @@ standing wave with a small perturbation in the sine companions: ``switched_check
 (:func:`model.waves.wave_motion`).  Reaching N points is not a failure: the branch is
 followed as far as asked.  On the full model (families in ``U, V, W`` on all its radial
 functions) the branch is followed on the circumferential harmonics 0, n, 2n
-(:mod:`model.full.harmonic`), ``switched_stable`` within them; the modal coordinates and the
-sine companions (O(2), ``periods``) are the ROM's alone.
+(:mod:`model.full.harmonic`), ``switched_stable`` within them, ``switched_stable_o2`` with their
+sine companions (the same harmonics turned by a quarter period); the modal coordinates and the
+time integration (``periods``) are the ROM's alone.
 
 Rotating waves (``rotating_waves = {max_points = N, n = 3, periods = P}``, with ``families``):
 at the first Neimark-Sacker point of family n the rotating waves (:func:`model.waves.continue_rotating_waves`)
@@ -188,8 +192,11 @@ class ContinuationOptions:
     #: ``symmetry_breaking``: points of the branch without the half-period symmetry (0: none)
     broken_points: int = 0
     #: whether the job's model is the ROM (:attr:`sweep.models.base.Model.rom_features`): the
-    #: switched branch's modal coordinates and its standing waves in O(2)
+    #: switched branch's modal coordinates and the standing waves' time integration
     rom_features: bool = False
+    #: the size of the map's state when it is not its modal section (the full model), stored
+    #: as ``state``; 0: not stored (:meth:`sweep.models.base.Model.state_size`)
+    state_size: int = 0
 
 
 #: Arclength (scaled unknowns: the parameter range is 1, 0.05 m of displacement is 1) that
@@ -287,8 +294,8 @@ class ContinuationAnalysis(Analysis):
                                    "true): the harmonics' blocks of the nonlinear model")
         if not rom and isinstance(table.get("branch_switching"), dict) and table["branch_switching"].get("periods"):
             raise JobError(f"{s}.branch_switching.periods", table["branch_switching"]["periods"],
-                           "needs the ROM's sine companions (the standing waves in O(2)); this job's model is "
-                           f"{context.model.kind!r} ([model] kind)")
+                           "needs the ROM (the time integration of a standing wave in its sine modes); this job's "
+                           f"model is {context.model.kind!r} ([model] kind)")
         opt.model_modes(s, context.model, modes)
         if families is not None and isinstance(families[1], tuple):  # a study in the radial modes
             for key in ("branch_switching", "rotating_waves", "family_check", "bifurcation_curves",
@@ -315,7 +322,8 @@ class ContinuationAnalysis(Analysis):
             second_parameter(table, s, parameter, context.damping), families,
             curves, *switching_option(table, s, families),
             family_check_option(table, s), tongues_option(table, s), membrane.law,
-            rotating_option(table, s, families), symmetry_breaking_option(table, s), rom)
+            rotating_option(table, s, families), symmetry_breaking_option(table, s), rom,
+            context.model.model().state_size(context.model.options))
 
     def variables(self, options):
         return [v for feature in FEATURES for v in feature.variables(options)] + self._branch_variables(options)
@@ -333,6 +341,10 @@ class ContinuationAnalysis(Analysis):
                      "modal coordinate q_mn on the stroboscopic section t = 0 mod 2 pi / Omega (A_mn axis)"),
             Variable("modal_velocity", ("point", "mode"), (n, K), "f8", "m s-1",
                      "modal velocity dq_mn/dt on the stroboscopic section t = 0 mod 2 pi / Omega"),
+            *([Variable("state", ("point", "state"), (n, options.state_size), "f8", "m, m s-1",
+                         "the map's state on the stroboscopic section (the full model: the Legendre-Galerkin "
+                         "coefficients of u then w, times Re, then their rates), from which shooting restarts")]
+              if options.state_size else []),
             Variable("stable", pt, (n,), "i1", "1", "stability of the periodic response", -1,
                      {"flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "padding unstable stable"}),
             Variable("point_type", pt, (n,), "i1", "1", "kind of point on the branch", -1,
@@ -395,6 +407,8 @@ class ContinuationAnalysis(Analysis):
         out["amplitude"][:m] = br.amplitude
         section = modal_section(fmap, br.state)
         out["modal_coordinate"][:m], out["modal_velocity"][:m] = section[:, :K], section[:, K:]
+        if options.state_size:
+            out["state"][:m] = br.state
         out["stable"][:m] = br.stable
         out["point_type"][:m] = br.kind
         out["multiplier_real"][:m] = br.multipliers.real[:, :2 * K]

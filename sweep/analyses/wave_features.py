@@ -25,8 +25,7 @@ from model.continuation import BRANCH_POINT, NEIMARK_SACKER
 from model.families import embedded
 from model.shooting import shoot
 from model.switching import follow_bifurcated_branch
-from model.waves import (continue_rotating_waves, embed_standing, o2_rom, rotation_generator, standing_wave_stability,
-                         wave_motion)
+from model.waves import continue_rotating_waves, standing_wave_stability, wave_motion
 
 from . import options as opt
 from .base import GRID_KEYS, JobError, Variable, blank_outputs
@@ -136,15 +135,18 @@ class BranchSwitching(BranchFeature):
                      kind_attrs()),
             Variable("switched_multiplier_modulus", sp, (n,), "f8", "1", "largest Floquet multiplier modulus"),
         ]
-        if not options.rom_features:
-            return out
         out += [
             Variable("switched_odd_multiplier_modulus", sp, (n,), "f8", "1", "largest multiplier modulus of the "
                      "perturbations in the family's sine companions, the group orbit's multiplier 1 removed"),
             Variable("switched_neutral_multiplier", sp, (n,), "f8", "1", "the group orbit's multiplier as computed "
-                     "(1 up to rounding)"),
-            Variable("switched_stable_o2", sp, (n,), "i1", "1", "stability in the ROM with the family's sine "
-                     "companions (O(2)), the group orbit's multiplier removed", -1, _FLAGS),
+                     "(1 up to the symmetry error of the model's discretisation)"),
+            Variable("switched_stable_o2", sp, (n,), "i1", "1", "stability with the family's sine companions "
+                     "(O(2)): the ROM's sine modes or the full model's harmonics' companions, the group orbit's "
+                     "multiplier removed", -1, _FLAGS),
+        ]
+        if not options.rom_features:
+            return out
+        out += [
             Variable("switched_modal_coordinate", ("switched_point", "switched_mode"), (n, K), "f8", "m",
                      "modal coordinates on the stroboscopic section (modes: switched_mode_m, switched_mode_n)"),
             *_mode_variables("switched", K),
@@ -183,38 +185,37 @@ class BranchSwitching(BranchFeature):
         out["switched_point_type"][:m] = sw.kind
         out["switched_multiplier_modulus"][:m] = np.abs(sw.multipliers).max(axis=1)
         problems = [] if sw.complete or m >= n else [f"switched branch: {sw.message}"]
-        if not options.rom_features:  # the full model's harmonics: no modal coordinates, no sine companions
-            return out, "; ".join(problems)
-        out["switched_modal_coordinate"][:m] = sw.state[:, :K]
-        modes = np.array(fmap_mixed.rom.modes, dtype=np.int32)
-        out["switched_mode_m"], out["switched_mode_n"] = modes[:, 0], modes[:, 1]
         try:
-            self._o2(out, options, fmap, fmap_mixed, family, sw)
+            self._o2(out, options, fmap, family, sw)
         except (RuntimeError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
             problems.append(f"standing waves in O(2): {type(exc).__name__}: {exc}")
+        if options.rom_features:
+            out["switched_modal_coordinate"][:m] = sw.state[:, :K]
+            modes = np.array(fmap_mixed.rom.modes, dtype=np.int32)
+            out["switched_mode_m"], out["switched_mode_n"] = modes[:, 0], modes[:, 1]
         return out, "; ".join(problems)
 
     @staticmethod
-    def _o2(out, options, fmap, fmap_mixed, family, sw) -> None:
-        """The standing waves' stability with the sine companions, and the check."""
+    def _o2(out, options, fmap, family, sw) -> None:
+        """The standing waves' stability with the sine companions, and the check (the ROM)."""
         p, m = options.parameter, sw.value.size
-        fmap_o2 = fmap_mixed.with_rom(o2_rom(fmap.rom, family))
-        Ka, M = fmap.dof, len(family.radial)
+        waves = fmap.standing_waves(family)
         out["switched_stable_o2"][:m] = 0  # as switched_stable: a located point is not stable
         for k in range(m):
-            y = embed_standing(sw.state[k], Ka, M)
-            if not np.any(rotation_generator(fmap_o2.rom.modes) @ y):
+            y = waves.embed(sw.state[k])
+            if not np.any(waves.generator @ y):
                 continue  # the branch point itself: axisymmetric, its group orbit a point
-            st = standing_wave_stability(fmap_o2.varied(p, sw.value[k]), y)
+            st = standing_wave_stability(waves._replace(fmap=waves.fmap.varied(p, sw.value[k])), y)
             out["switched_odd_multiplier_modulus"][k] = np.abs(st.odd).max()
             out["switched_neutral_multiplier"][k] = st.neutral
             out["switched_stable_o2"][k] = st.stable and sw.kind[k] == 0
         if options.switch_periods and m > 1:
-            y = embed_standing(sw.state[m - 1], Ka, M)
+            Ka, M = fmap.dof, len(family.radial)
+            y = waves.embed(sw.state[m - 1])
             # sine coordinates with alternating signs over the radial modes: not along the group
             # orbit (the standing wave turned), whose sine coordinates are n times its cosine ones
             y[Ka + M:Ka + 2 * M] = STANDING_KICK * np.abs(y[Ka:Ka + M]).max() * (-1.0) ** np.arange(M)
-            _run_check(out, "switched", p, sw.value[m - 1], fmap_o2.varied(p, sw.value[m - 1]), y, family.n,
+            _run_check(out, "switched", p, sw.value[m - 1], waves.fmap.varied(p, sw.value[m - 1]), y, family.n,
                        options.switch_periods)
 
 

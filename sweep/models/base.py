@@ -66,6 +66,12 @@ class Model:
         by default."""
         return ""
 
+    def state_size(self, model_options: Any) -> int:
+        """The size of the forced maps' state when it is not their modal section (the
+        continuation then stores it as ``state``, from which a study restarts); 0 when it is
+        (the ROM: the state is its modal coordinates and velocities)."""
+        return 0
+
     def parse_options(self, table: Mapping[str, Any]) -> Any:
         """Validate the ``[model]`` table (without ``kind``); raise
         :class:`~sweep.analyses.base.JobError` on bad input.  Default: no keys."""

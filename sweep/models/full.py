@@ -101,6 +101,10 @@ class FullModel(Model):
     def orbit_extents(self, model_options):
         return "uvw" if model_options.inplane else "w"
 
+    def state_size(self, model_options):
+        # (U, W) or W alone, and their rates (model.full.forced.ForcedFull.dof)
+        return 2 * (2 if model_options.inplane else 1) * model_options.order
+
     def forced_map(self, point, model_options, options, modes=None, default_steps=None):
         from model.damping import Viscous
         from model.forced import DEFAULT_STEPS
