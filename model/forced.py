@@ -29,9 +29,9 @@ from .damping_kernels import matrix_or_none
 from .families import Family, family_monodromy
 from .integrate import OMEGA, PRESSURE, monodromy, monodromy_parameter, rk4_one_mode, rk4_steps
 from .params import Loading
-from .protocol import PARAMETERS, KernelArguments, PerturbedFamily, StandingWaves, sorted_multipliers, state_scale
+from .protocol import PARAMETERS, Companions, KernelArguments, PerturbedFamily, sorted_multipliers, state_scale
 from .rom import Forcing, Rom, acceleration_mismatch, build_rom, lean_radial_points, linear_frequencies, linear_system
-from .waves import embed_standing, o2_rom, rotation_generator
+from .waves import o2_rom, rotation, rotation_generator
 
 #: RK4 steps per forcing period of shooting, continuation and stepped sweeps.  At
 #: delta = 1.1, Omega = 33.5, c = 0.05 the fold values in P0 change by 2e-6 (relative) from
@@ -186,15 +186,16 @@ class ForcedMap:
         return PerturbedFamily(mixed, asymmetric, tuple(range(self.rom.dof, mixed.dof)), asymmetric.rom.tables.probe,
                                np.ones(len(family.modes)), None)
 
-    def standing_waves(self, family: Family) -> StandingWaves:
-        """The map of the O(2) ROM (:func:`model.waves.o2_rom`: this ROM's axisymmetric modes,
-        the family's cosine modes and their sine companions), where the standing waves of
-        :meth:`perturbed_family`'s mixed ROM have their stability against turning (the optional
-        capability of :mod:`model.protocol`; :func:`model.waves.standing_wave_stability`)."""
+    def companions(self, family: Family) -> Companions:
+        """The O(2) ROM (:func:`model.waves.o2_rom`: this ROM's axisymmetric modes, the
+        family's cosine modes and their sine companions), where the standing waves of
+        :meth:`perturbed_family`'s mixed ROM have their stability against turning and the
+        rotating waves live (the optional capability of :mod:`model.protocol`)."""
         o2 = self.with_rom(o2_rom(self.rom, family))
         modes = o2.rom.modes
-        return StandingWaves(o2, partial(embed_standing, axisymmetric=self.rom.dof, family_size=len(family.radial)),
-                             np.array([n < 0 for _, n in modes] * 2), rotation_generator(modes))
+        Ka, M = self.rom.dof, len(family.radial)
+        return Companions(o2, np.array([n < 0 for _, n in modes] * 2), rotation_generator(modes),
+                          partial(rotation, modes), np.arange(Ka, Ka + M), np.arange(Ka + M, Ka + 2 * M))
 
     @property
     def radial_points(self) -> int:

@@ -36,11 +36,12 @@ back without them:
     :class:`PerturbedFamily`: the nonlinear model in which a family's perturbations grow
     from an axisymmetric orbit, to check the family's multipliers by time integration
     (continuation ``family_check``, :func:`model.families.perturbation_growth`).
-``standing_waves(family)``
-    :class:`StandingWaves`: the model of ``perturbed_family`` with the family's sine
+``companions(family)``
+    :class:`Companions`: the model of ``perturbed_family`` with the family's sine
     companions (the group O(2)), where a standing wave of the family has its stability
     against turning (branch switching's ``switched_stable_o2``,
-    :func:`model.waves.standing_wave_stability`).
+    :func:`model.waves.standing_wave_stability`) and the rotating waves live
+    (:func:`model.waves.continue_rotating_waves`).
 ``lean(sample, rtol)`` with ``acceleration_mismatch(reference, states)``
     A cheaper map that is the same to ``rtol`` on the states ``sample()`` (the ROM's
     fewest radial quadrature points), and how far it is from the original on other
@@ -186,19 +187,26 @@ class PerturbedFamily(NamedTuple):
     metric: np.ndarray | None
 
 
-class StandingWaves(NamedTuple):
-    """A model with a family's sine companions, in which the standing waves of the family's
-    mixed model (:attr:`PerturbedFamily.fmap`) are the states whose companion coordinates
-    vanish (the optional capability ``standing_waves`` of the maps)."""
+class Companions(NamedTuple):
+    """A model with a family's sine companions, symmetric under every rotation and the
+    reflection (O(2); the optional capability ``companions`` of the maps).  Its coordinates
+    begin with those of the family's mixed model (:attr:`PerturbedFamily.fmap`), which begin
+    with the axisymmetric map's, in the same order: a state of either is one of this model
+    with the other coordinates zero (:func:`model.families.embedded`); the standing waves are
+    the states whose companion coordinates vanish."""
 
     #: the map of the model with the companions
     fmap: Any
-    #: a state of the mixed model as a state of :attr:`fmap` (the companions at zero)
-    embed: Callable[[np.ndarray], np.ndarray]
     #: ``(2 dof,)`` bool: the companions' coordinates and velocities (odd under the reflection)
     odd: np.ndarray
     #: ``(2 dof, 2 dof)`` (rad-1): the generator of the rotations acting on a state
     generator: np.ndarray
+    #: ``rotation(phi)`` ``(2 dof, 2 dof)``: the state of the pattern turned by ``phi`` (rad)
+    rotation: Callable[[float], np.ndarray]
+    #: the indices in ``q`` of the family's coordinates (in the order of its block) and of
+    #: their companions: each (cosine, companion) pair turns by ``n phi``
+    cosine: np.ndarray
+    sine: np.ndarray
 
 
 class KernelArguments(NamedTuple):

@@ -1,4 +1,4 @@
-"""Standing and rotating waves: the O(2) symmetry of the ROM with sine companions.
+"""Standing and rotating waves: the O(2) symmetry of a model with sine companions.
 
 The forced membrane is unchanged by a rotation ``theta -> theta + phi`` and by the reflection
 ``theta -> -theta`` (the group O(2)).  So is the ROM of some axisymmetric modes ``(m, 0)``
@@ -30,22 +30,23 @@ and Groups in Bifurcation Theory II*, ch. XVII):
   pseudo-arclength in ``(y, phi, parameter)`` with the phase condition
   ``(G y_pred) . (y - y_pred) = 0`` at each predicted point ``y_pred`` (scaled
   coordinates), which picks one member of each group orbit.
+
+The algorithms take the model with a family's companions through the maps' ``companions``
+capability (:class:`model.protocol.Companions`): the ROM's (:func:`o2_rom`, whose pairs are
+described above) and the full model's circumferential harmonics with their companions
+(:class:`model.full.harmonic.HarmonicFull`, each pair of harmonic ``k`` turning by ``k phi``).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .continuation import LENGTH, bordered_newton, step, unit_tangent
 from .families import Family, embedded
-from .protocol import StandingWaves, sorted_multipliers
+from .protocol import Companions, sorted_multipliers
 from .rom import Rom, build_rom
-
-if TYPE_CHECKING:  # the ROM's map offers its standing waves from here (model.forced imports this module)
-    from .forced import ForcedMap
 
 
 def o2_rom(rom: Rom, family: Family) -> Rom:
@@ -109,15 +110,6 @@ def deflated_multipliers(jac: np.ndarray, direction: np.ndarray) -> tuple[np.nda
     return sorted_multipliers(b[1:, 1:]), float(t @ jac @ t)
 
 
-def embed_standing(state, axisymmetric: int, family_size: int) -> np.ndarray:
-    """A state of the ROM of axisymmetric plus cosine modes (``axisymmetric + M`` modes) as a
-    state of the O(2) ROM (:func:`o2_rom`): the sine coordinates zero."""
-    K0 = axisymmetric + family_size
-    if np.shape(state) != (2 * K0,):
-        raise ValueError(f"state shape {np.shape(state)} is invalid: expected ({2 * K0},)")
-    return embedded(state, axisymmetric + 2 * family_size)
-
-
 @dataclass
 class StandingWaveStability:
     """The stability of a standing wave in the O(2) ROM.
@@ -146,10 +138,10 @@ class StandingWaveStability:
         return bool(max(np.abs(self.even).max(), np.abs(self.odd).max(initial=0.0)) < 1.0)
 
 
-def standing_wave_stability(waves: StandingWaves, y) -> StandingWaveStability:
+def standing_wave_stability(waves: Companions, y) -> StandingWaveStability:
     """:class:`StandingWaveStability` of the standing wave ``y`` (a state of ``waves.fmap``
     whose companion coordinates ``waves.odd`` vanish) of a model with sine companions (the
-    maps' ``standing_waves`` capability, :class:`model.protocol.StandingWaves`: the O(2) ROM of
+    maps' ``companions`` capability, :class:`model.protocol.Companions`: the O(2) ROM of
     :func:`o2_rom`, or the full model's harmonics with their companions)."""
     odd = np.asarray(waves.odd, dtype=bool)
     y = np.asarray(y, dtype=float)
@@ -167,7 +159,7 @@ def standing_wave_stability(waves: StandingWaves, y) -> StandingWaveStability:
                                  float(coupling / scale))
 
 
-def neimark_sacker_direction(fmap: ForcedMap, state, family: Family) -> tuple[np.ndarray, float]:
+def neimark_sacker_direction(fmap, state, family) -> tuple[np.ndarray, float]:
     """The critical eigenvector of family ``family``'s block at the axisymmetric orbit ``state``
     and its angle: the multiplier ``exp(i theta)``, ``0 < theta < pi``, closest to the unit
     circle.
@@ -232,12 +224,12 @@ class _RotatingProblem:
     """``H(x) = (s (P(y) - R_phi y), c . (x_y - anchor_y)) = 0`` in the scaled unknowns
     ``x = (s y, phi, (lambda - start) / span)``; ``c`` is the group tangent at the anchor."""
 
-    def __init__(self, fmap: ForcedMap, parameter: str, start: float, stop: float):
-        self.fmap, self.parameter, self.start, self.span = fmap, parameter, start, abs(stop - start)
+    def __init__(self, o2: Companions, parameter: str, start: float, stop: float):
+        self.fmap, self.parameter, self.start, self.span = o2.fmap, parameter, start, abs(stop - start)
         self.lo, self.hi = min(start, stop), max(start, stop)
-        self.s = fmap.state_scale(None if parameter == "P0" else 0.5 * (start + stop)) / LENGTH
-        self.modes = fmap.rom.modes
-        self.g = rotation_generator(self.modes)
+        self.s = o2.fmap.state_scale(None if parameter == "P0" else 0.5 * (start + stop)) / LENGTH
+        self.rotation = o2.rotation
+        self.g = o2.generator
         self.n = self.s.size
         self.phase = np.zeros(self.n)
 
@@ -256,7 +248,7 @@ class _RotatingProblem:
     def evaluate(self, x):
         y, phi, lam = self.unpack(x)
         yT, jac_y, dlam = self.fmap.varied(self.parameter, lam).monodromy_parameter(y, self.parameter)
-        r = rotation(self.modes, phi)
+        r = self.rotation(phi)
         h = np.empty(self.n + 1)
         h[:self.n] = self.s * (yT - r @ y)
         h[self.n] = self.phase @ (x[:self.n] - self.anchor)
@@ -268,16 +260,18 @@ class _RotatingProblem:
         return h, jac, jac_y, r
 
 
-def continue_rotating_waves(fmap: ForcedMap, family: Family, parameter: str, start: float, stop: float,
-                            state, value: float, ds: float = 0.01, ds_min: float = 1e-6, ds_max: float = 0.05,
-                            max_points: int = 100, tol: float = 1e-10) -> tuple[RotatingWaves, ForcedMap]:
+def continue_rotating_waves(fmap, family, parameter: str, start: float, stop: float, state, value: float,
+                            ds: float = 0.01, ds_min: float = 1e-6, ds_max: float = 0.05, max_points: int = 100,
+                            tol: float = 1e-10) -> tuple[RotatingWaves, Companions]:
     """The rotating waves bifurcating at a Neimark-Sacker point of ``family``.
 
     Parameters
     ----------
-    fmap : ForcedMap
-        The map of the axisymmetric ROM (its continued parameter is overridden).
-    family : Family
+    fmap : StroboscopicMap
+        The map of the axisymmetric model (its continued parameter is overridden), with the
+        capabilities ``family_monodromy`` and ``companions`` (:mod:`model.protocol`): the ROM's
+        :class:`model.forced.ForcedMap` or the full model's :class:`model.full.forced.ForcedFull`.
+    family
         The family whose multipliers cross the unit circle as a complex pair at the point.
     parameter, start, stop
         As for :func:`model.continuation.continue_orbits`; ``value`` must lie in the range.
@@ -291,29 +285,30 @@ def continue_rotating_waves(fmap: ForcedMap, family: Family, parameter: str, sta
     Returns
     -------
     waves : RotatingWaves
-        In the O(2) ROM's coordinates.  The first point is the Neimark-Sacker point itself
-        (wave amplitude 0, drift ``-theta / n``, multipliers NaN); the branch leaves it along
-        the critical eigenvector at fixed parameter (the rotating waves grow like the square
-        root of the parameter distance).
-    fmap_o2 : ForcedMap
-        The map of the O(2) ROM (:func:`o2_rom`, at ``value``).
+        In the coordinates of the model with the companions.  The first point is the
+        Neimark-Sacker point itself (wave amplitude 0, drift ``-theta / n``, multipliers NaN);
+        the branch leaves it along the critical eigenvector at fixed parameter (the rotating
+        waves grow like the square root of the parameter distance).
+    o2 : Companions
+        The model with the family's companions (its map at ``value``).
     """
     if not min(start, stop) <= value <= max(start, stop):
         raise ValueError(f"value = {value!r} is invalid: must lie in [{start}, {stop}]")
     at = fmap.varied(parameter, value)
     v, theta = neimark_sacker_direction(at, state, family)
-    fmap_o2 = at.with_rom(o2_rom(fmap.rom, family))
-    Ka, M, K = fmap.dof, len(family.radial), fmap_o2.dof
+    o2 = at.companions(family)
+    fmap_o2 = o2.fmap
+    F, K = o2.cosine.size, fmap_o2.dof
     y0 = embedded(state, K)
     direction = np.zeros(2 * K)
-    for off, part in ((0, v[:M]), (K, v[M:])):  # a - i b along the eigenvector: the pattern turns
-        direction[off + Ka:off + Ka + M] = part.real
-        direction[off + Ka + M:off + K] = -part.imag
-    prob = _RotatingProblem(fmap_o2, parameter, float(start), float(stop))
+    for off, part in ((0, v[:F]), (K, v[F:])):  # a - i b along the eigenvector: the pattern turns
+        direction[off + o2.cosine] = part.real
+        direction[off + o2.sine] = -part.imag
+    prob = _RotatingProblem(o2, parameter, float(start), float(stop))
     x = prob.pack(y0, -theta / family.n, value)
     t = np.concatenate([prob.s * direction, [0.0, 0.0]])
     t /= np.linalg.norm(t)
-    wave = np.arange(Ka, K)  # the family's displacements, cosine and sine
+    wave = np.concatenate([o2.cosine, o2.sine])  # the family's displacements, cosine and sine
     pts = [(value, y0, -theta / family.n, fmap_o2.amplitude(y0), 0.0,
             np.full(2 * K - 1, np.nan + 0j), np.nan)]
 
@@ -345,12 +340,12 @@ def continue_rotating_waves(fmap: ForcedMap, family: Family, parameter: str, sta
             ds = min(2.0 * ds, ds_max)
     value_, state_, drift, amp, size, mu, neutral = (np.array(c) for c in zip(*pts))
     stable = np.abs(mu).max(axis=1) < 1.0  # NaN at the bifurcation point: False
-    return RotatingWaves(value_, state_, drift, amp, size, mu, neutral, stable, complete, message), fmap_o2
+    return RotatingWaves(value_, state_, drift, amp, size, mu, neutral, stable, complete, message), o2
 
 
 @dataclass
 class WaveMotion:
-    """What a time integration of the O(2) ROM settles to (:func:`wave_motion`), from the
+    """What a time integration of a model with a family's companions settles to (:func:`wave_motion`), from the
     stroboscopic samples of the last tenth of the integration.
 
     Attributes
@@ -374,20 +369,19 @@ class WaveMotion:
     wave_spread: float
 
 
-def wave_motion(fmap_o2: ForcedMap, y0, n: int, periods: int) -> WaveMotion:
-    """Integrate the O(2) ROM's map ``fmap_o2`` for ``periods`` forcing periods from ``y0``
-    and describe the family's pattern over the last tenth (:class:`WaveMotion`): the check of
-    a continued rotating or standing wave by time integration."""
+def wave_motion(o2: Companions, y0, n: int, periods: int) -> WaveMotion:
+    """Integrate the map ``o2.fmap`` of a model with a family's companions for ``periods``
+    forcing periods from ``y0`` and describe the family's pattern over the last tenth
+    (:class:`WaveMotion`): the check of a continued rotating or standing wave by time
+    integration."""
     if periods < 20:
         raise ValueError(f"periods = {periods!r} is invalid: need at least 20")
-    pairs = companion_pairs(fmap_o2.rom.modes)
-    a_idx, b_idx = [i for i, _, _ in pairs], [j for _, j, _ in pairs]
     tail = max(periods // 10, 2)
-    y = fmap_o2.advance(y0, periods - tail)
-    ab = np.empty((tail, 2, len(pairs)))
+    y = o2.fmap.advance(y0, periods - tail)
+    ab = np.empty((tail, 2, o2.cosine.size))
     for k in range(tail):
-        y = fmap_o2.advance(y)
-        ab[k] = y[a_idx], y[b_idx]
+        y = o2.fmap.advance(y)
+        ab[k] = y[o2.cosine], y[o2.sine]
     size = np.sqrt((ab ** 2).sum(axis=(1, 2)))
     if not np.all(np.isfinite(size)) or size.min() == 0.0:
         raise ArithmeticError("the pattern is not finite or vanished exactly: no drift to read")

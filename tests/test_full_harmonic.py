@@ -4,6 +4,8 @@ against the axisymmetric model, the block of a harmonic n about an axisymmetric 
 the family's stiffness (an independent kernel), the free motion's energy, the linearised map
 against the family's monodromy block, and the full model's ``family_check`` in a job."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -11,7 +13,7 @@ import xarray as xr
 from model.damping import Modal, Viscous
 from model.fe_annulus import AnnulusMesh, solve_fe_prestretch
 from model.fe_motion import FeMotion
-from model.continuation import BRANCH_POINT, continue_orbits
+from model.continuation import BRANCH_POINT, NEIMARK_SACKER, continue_orbits
 from model.families import embedded, floquet_start, perturbation_growth
 from model.full.axisymmetric import AxisymmetricFull
 from model.full.families import FullFamily
@@ -22,7 +24,7 @@ from model.params import Membrane
 from model.protocol import sorted_multipliers
 from model.shooting import shoot
 from model.switching import follow_bifurcated_branch
-from model.waves import standing_wave_stability
+from model.waves import continue_rotating_waves, neimark_sacker_direction, standing_wave_stability
 from sweep import cli
 from sweep.analyses.base import JobError
 from sweep.jobspec import parse_job
@@ -155,12 +157,12 @@ def test_a_turned_pattern_keeps_its_energy(model):
         h = HarmonicFull(model, (0, 1, 2), points, companions=True)
         q = _state(h)
         e = h.energy(q)
-        errors.append(max(abs(h.energy(h.rotation(phi) @ q) - e) for phi in (0.3, 1.1, 2.5)) / e)
+        errors.append(max(abs(h.energy(h.rotation(phi)[:h.dof, :h.dof] @ q) - e) for phi in (0.3, 1.1, 2.5)) / e)
     assert errors[1] <= 1e-3 * errors[0] and errors[2] <= 1e-13
-    generator = h.rotation_generator()[:h.dof, :h.dof]
+    generator = h.rotation_generator()
     np.testing.assert_allclose((h.rotation(1e-6) - h.rotation(-1e-6)) / 2e-6, generator, atol=1e-9)
     g = h.compiled_gradient(q)
-    assert abs(g @ generator @ q) <= 1e-13 * np.abs(g).max() * np.abs(q).max()
+    assert abs(g @ generator[:h.dof, :h.dof] @ q) <= 1e-13 * np.abs(g).max() * np.abs(q).max()
 
 
 def test_companions_of_a_reflection_symmetric_state_decouple(model):
@@ -259,9 +261,9 @@ def test_companions_about_an_axisymmetric_orbit_are_the_families(model, orbit):
     # of k = 0 (the torsion V_0), 1, 2 are the families' monodromy blocks (0, "V"), 1, 2 (the
     # family kernels), with nothing between the blocks
     fmap, y = orbit
-    waves = fmap.standing_waves(FullFamily.build(model, 1))
+    waves = fmap.companions(FullFamily.build(model, 1))
     h = waves.fmap.model
-    z = waves.embed(y)
+    z = embedded(y, h.dof)
     phi = waves.fmap.monodromy(z)[1]
     cosine = fmap.harmonic_map((0, 1, 2))
     odd = waves.odd
@@ -271,12 +273,37 @@ def test_companions_about_an_axisymmetric_orbit_are_the_families(model, orbit):
     assert np.abs(phi[np.ix_(~odd, odd)]).max() <= 1e-13 * scale
     covered = np.zeros(phi.shape, bool)
     for k, fields in ((0, "V"), (1, "UVW"), (2, "UVW")):
-        q = np.concatenate([np.r_[h.block(k, f, "odd")] for f in fields])
+        q = waves.sine if k == 1 else np.concatenate([np.r_[h.block(k, f, "odd")] for f in fields])
         idx = np.r_[q, h.dof + q]
         block = fmap.family_monodromy(y, FullFamily.build(model, k, fields=fields))
         np.testing.assert_allclose(phi[np.ix_(idx, idx)], block, atol=1e-11 * scale, rtol=0)
         covered[np.ix_(idx, idx)] = True
     assert np.abs(phi[odd][:, odd][~covered[odd][:, odd]]).max() <= 1e-13 * scale
+    # the family's own coordinates among the cosine blocks, where the continuation puts its
+    # eigenvectors' real parts (model.waves.continue_rotating_waves)
+    idx = np.r_[waves.cosine, h.dof + waves.cosine]
+    np.testing.assert_allclose(phi[np.ix_(idx, idx)], fmap.family_monodromy(y, FullFamily.build(model, 1)),
+                               atol=1e-11 * scale, rtol=0)
+
+
+def test_the_map_with_companions_commutes_with_the_rotation(orbit):
+    # P(R y) = R P(y) for a state of centimetres in every block, the companions' included: the
+    # symmetry that the rotating waves and the group orbit's multiplier rest on.  It holds to
+    # the angular rule's aliasing, which falls spectrally (test_a_turned_pattern_keeps_its_energy):
+    # measured 5e-7 of the state with the default 12 points on the half circle, 1e-14 with 24;
+    # bounds 1e-12 there (rounding over the period's 175 steps) and 1e-5 at the default (a
+    # regression bound).  The generator is the rotation's tangent at 0 acting on states.
+    fmap, y = orbit
+    waves = fmap.companions(FullFamily.build(fmap.model, 1))
+    h = waves.fmap.model
+    state = np.concatenate([_state(h, scale=0.01), 30 * _state(h, scale=0.01, seed=2)]) * fmap.model.membrane.Re
+    finer = replace(waves.fmap, model=HarmonicFull(fmap.model, h.harmonics, 24, companions=True))
+    for f, bound in ((waves.fmap, 1e-5), (finer, 1e-12)):
+        for phi in (0.4, 2.0):
+            r = waves.rotation(phi)
+            left, right = f.advance(r @ state), r @ f.advance(state)
+            assert np.linalg.norm(left - right) <= bound * np.linalg.norm(right)
+    np.testing.assert_allclose((waves.rotation(1e-6) - waves.rotation(-1e-6)) / 2e-6, waves.generator, atol=1e-9)
 
 
 def test_perturbed_family_needs_the_whole_family(model, orbit):
@@ -366,16 +393,43 @@ def test_standing_waves_of_the_full_model_in_o2(switched):
     # spectrally small); the odd block's companion of the family's crossing is that neutral
     # multiplier, so near the branch point the rest lie inside the unit circle
     fmap, fam, br, i, sw, mixed, asym = switched
-    waves = fmap.standing_waves(fam)
+    waves = fmap.companions(fam)
     odd = int(waves.odd.sum())
     for k in (1, sw.value.size - 1):
         st = standing_wave_stability(waves._replace(fmap=waves.fmap.varied("Omega", sw.value[k])),
-                                     waves.embed(sw.state[k]))
+                                     embedded(sw.state[k], waves.fmap.dof))
         np.testing.assert_allclose(st.even, sw.multipliers[k], atol=1e-10)
         assert st.coupling <= 1e-13 and abs(st.neutral - 1) <= 1e-8 and st.odd.size == odd - 1
     first = standing_wave_stability(waves._replace(fmap=waves.fmap.varied("Omega", sw.value[1])),
-                                    waves.embed(sw.state[1]))
+                                    embedded(sw.state[1], waves.fmap.dof))
     assert np.abs(first.odd).max() < 1
+
+
+@pytest.fixture(scope="module")
+def rotating(switched):
+    """The rotating waves at the branch's first Neimark-Sacker point of n = 1 (near 33.97 rad/s),
+    one corrected point past it."""
+    fmap, fam, br, *_ = switched
+    i = next(i for i in range(br.value.size) if br.kind[i] == NEIMARK_SACKER and br.family[i] == 1)
+    rw, o2 = continue_rotating_waves(fmap, fam, "Omega", 30.0, 34.34, br.state[i], br.value[i], ds_max=0.3,
+                                     max_points=2)
+    return br.value[i], neimark_sacker_direction(fmap.varied("Omega", br.value[i]), br.state[i], fam)[1], rw, o2
+
+
+def test_rotating_waves_of_the_full_model_turn_by_their_drift(rotating):
+    # the continuation starts at the point with the drift -theta / n of the family's critical
+    # multiplier; its corrected point is a relative periodic orbit of the harmonics with their
+    # companions, P(y) = R(drift) y, checked by the map itself (the corrector's tolerance 1e-10
+    # of the scaled unknowns), with its group orbit's multiplier 1 (a regression bound, as for
+    # the standing waves), a pattern of its own and a drift near the point's
+    value, theta, rw, o2 = rotating
+    assert rw.value.size == 2 and rw.value[0] == value and rw.drift[0] == -theta
+    y, drift = rw.state[1], rw.drift[1]
+    step = o2.fmap.varied("Omega", rw.value[1]).advance(y)
+    assert np.linalg.norm(step - o2.rotation(drift) @ y) <= 1e-8 * np.linalg.norm(y)
+    assert abs(rw.neutral[1] - 1) <= 1e-8 and rw.wave_amplitude[1] > 0
+    assert np.linalg.norm(y[o2.sine]) > 0.01 * np.linalg.norm(y[o2.cosine])  # not a standing wave
+    assert abs(drift + theta) <= 0.01 * theta
 
 
 SWITCH_JOB = """
@@ -401,13 +455,14 @@ modes = [[1, 0]]
 ds_max = 0.3
 max_points = 400
 families = {n = [1], radial = 6, inplane = true}
-branch_switching = {max_points = 8, n = 1}
+branch_switching = {max_points = 8, n = 1, periods = 20}
+rotating_waves = {max_points = 2, n = 1}
 """
 
 
-def test_branch_switching_job_on_the_full_model(tmp_path, switched):
+def test_branch_switching_job_on_the_full_model(tmp_path, switched, rotating):
     # the job reports the branch of the model-level switch above: the same located point and
-    # the same standing waves (one computation, two routes)
+    # the same standing waves and rotating waves (one computation, two routes)
     fmap, fam, br, i, sw, mixed, asym = switched
     job = tmp_path / "switch.toml"
     job.write_text(SWITCH_JOB)
@@ -425,15 +480,22 @@ def test_branch_switching_job_on_the_full_model(tmp_path, switched):
     assert np.isnan(neutral[0]) and np.abs(neutral[1:] - 1).max() <= 1e-8
     o2 = ds.switched_stable_o2.values
     assert o2[0] == 0 and list(o2[1:]) == [int(s and m < 1) for s, m in zip(sw.stable[1:], odd[1:])]
+    # 20 periods from the last standing wave kicked in its companions: the pattern's size and
+    # turn are read (a finite size: the kick is 1 % of the wave)
+    assert float(ds.switched_check_Omega) == sw.value[-1] and float(ds.switched_check_wave_amplitude) > 0
+    assert np.isfinite(float(ds.switched_check_drift))
+    value, theta, rw, o2 = rotating
+    np.testing.assert_allclose(ds.rotating_Omega.values, rw.value, rtol=1e-9)
+    np.testing.assert_allclose(ds.rotating_drift.values, rw.drift, rtol=1e-7)
+    assert "rotating_modal_coordinate" not in ds
 
 
-def test_branch_switching_on_the_full_model_refuses_the_time_integration():
-    with pytest.raises(JobError, match=r"continuation.branch_switching.periods = 50 is invalid: needs the ROM "
-                                       r"\(the time integration of a standing wave in its sine modes\)"):
-        parse_job(SWITCH_JOB.replace("n = 1}", "n = 1, periods = 50}"))
-    with pytest.raises(JobError, match=r"continuation.branch_switching = .* is invalid: needs on this model the "
-                                       r"families in U, V, W on all its radial functions"):
-        parse_job(SWITCH_JOB.replace("radial = 6", "radial = 4"))
+def test_waves_on_the_full_model_need_the_whole_family():
+    for key, other in (("branch_switching", "rotating_waves"), ("rotating_waves", "branch_switching")):
+        text = "\n".join(line for line in SWITCH_JOB.splitlines() if not line.startswith(other))
+        with pytest.raises(JobError, match=rf"continuation.{key} = .* is invalid: needs on this model the "
+                                           r"families in U, V, W on all its radial functions"):
+            parse_job(text.replace("radial = 6", "radial = 4"))
 
 
 def test_energy_of_an_asymmetric_state_on_the_finite_element_mesh():

@@ -17,7 +17,7 @@ from scipy.linalg import expm
 
 from model import waves
 from model.continuation import BRANCH_POINT, NEIMARK_SACKER, continue_orbits
-from model.families import build_family
+from model.families import build_family, embedded
 from model.params import Membrane
 from model.switching import follow_bifurcated_branch
 from sweep.analyses.continuation import CONTINUATION
@@ -31,9 +31,9 @@ def n3(fig14a_n1):
     family = build_family(fig14a_n1.prestretch, fig14a_n1.rom, 3, 2)
     br = continue_orbits(fig14a_n1.fmap, "Omega", 25.0, 41.5, ds_max=0.3, max_points=400, families=[family])
     i = br.special(NEIMARK_SACKER)[0]
-    rw, fmap_o2 = waves.continue_rotating_waves(fig14a_n1.fmap, family, "Omega", 25.0, 41.5, br.state[i],
-                                                br.value[i], ds_max=0.3, max_points=40)
-    return SimpleNamespace(family=family, branch=br, ns=i, waves=rw, fmap_o2=fmap_o2)
+    rw, o2 = waves.continue_rotating_waves(fig14a_n1.fmap, family, "Omega", 25.0, 41.5, br.state[i],
+                                           br.value[i], ds_max=0.3, max_points=40)
+    return SimpleNamespace(family=family, branch=br, ns=i, waves=rw, o2=o2, fmap_o2=o2.fmap)
 
 
 def test_rotation_is_the_exponential_of_its_generator():
@@ -94,18 +94,18 @@ def test_standing_waves_split_into_even_and_odd_blocks(fig14a_n1):
     i = br.special(BRANCH_POINT)[0]
     sw, _, asym = follow_bifurcated_branch(fmap, fig14a_n1.family, "Omega", 25.0, 55.0, br.state[i],
                                                     br.value[i], ds=0.01, ds_max=0.3, max_points=8)
-    o2 = fmap.standing_waves(fig14a_n1.family)
+    o2 = fmap.companions(fig14a_n1.family)
     assert o2.fmap.rom.modes == waves.o2_rom(fmap.rom, fig14a_n1.family).modes
     for k in (3, 7):
         at = o2._replace(fmap=o2.fmap.varied("Omega", sw.value[k]))
-        st = waves.standing_wave_stability(at, o2.embed(sw.state[k]))
+        st = waves.standing_wave_stability(at, embedded(sw.state[k], o2.fmap.dof))
         assert st.coupling <= 1e-12
         assert abs(st.neutral - 1.0) <= 1e-9
         # the even block is the cosine-mode ROM's monodromy (a folded angular rule there)
         assert np.allclose(st.even, sw.multipliers[k], atol=1e-10)
         assert st.odd.size == 3
     with pytest.raises(ValueError, match="not a standing wave"):
-        y = o2.embed(sw.state[3])
+        y = embedded(sw.state[3], o2.fmap.dof)
         y[3] = 1e-6
         waves.standing_wave_stability(o2, y)
 
@@ -151,8 +151,6 @@ def test_wave_motion_reads_the_drift_of_a_turning_pattern(n3):
     r = waves.rotation(modes, -0.3)
 
     class Turning:
-        rom = n3.fmap_o2.rom
-
         @staticmethod
         def advance(y, periods=1):
             for _ in range(periods):
@@ -161,7 +159,7 @@ def test_wave_motion_reads_the_drift_of_a_turning_pattern(n3):
 
     y0 = np.zeros(2 * len(modes))
     y0[1:5] = [1e-3, 2e-4, -5e-4, 1e-4]
-    motion = waves.wave_motion(Turning, y0, 3, 40)
+    motion = waves.wave_motion(n3.o2._replace(fmap=Turning), y0, 3, 40)
     assert motion.drift == pytest.approx(-0.3, abs=1e-12)
     assert motion.drift_spread <= 1e-12 and motion.wave_spread <= 1e-12
     assert motion.wave_amplitude == pytest.approx(np.linalg.norm(y0[1:5]), rel=1e-12)

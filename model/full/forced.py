@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from functools import partial
 
 import numpy as np
 from scipy.linalg import block_diag, eigh
@@ -44,8 +43,7 @@ from model.damping import DampingLaw, Viscous
 from model.damping_kernels import matrix_or_none
 from model.forced import family_damping, periodic_peak
 from model.modes import bessel_roots, mode_shape
-from model.families import embedded
-from model.protocol import PARAMETERS, PerturbedFamily, StandingWaves, sorted_multipliers, state_scale
+from model.protocol import PARAMETERS, Companions, PerturbedFamily, sorted_multipliers, state_scale
 from model.rk4 import stable
 
 from .axisymmetric import AxisymmetricFull
@@ -356,14 +354,17 @@ class ForcedFull:
         return PerturbedFamily(forced, replace(forced, probe=probe), tuple(range(*n)), probe, None,
                                block_diag(stiffness, mass))
 
-    def standing_waves(self, fam: FullFamily) -> StandingWaves:
+    def companions(self, fam: FullFamily) -> Companions:
         """The map of :meth:`perturbed_family` with the sine companions of its harmonics
         (:meth:`harmonic_map`, ``companions``), where the standing waves of family ``fam``
-        have their stability against rotations (the optional capability of
-        :mod:`model.protocol`; :func:`model.waves.standing_wave_stability`)."""
+        have their stability against turning and the rotating waves live (the optional
+        capability of :mod:`model.protocol`); the family's coordinates are the blocks
+        ``U, V, W`` of its harmonic."""
         forced = self.harmonic_map(self._family_harmonics(fam), companions=True)
         h = forced.model
-        return StandingWaves(forced, partial(embedded, dof=h.dof), np.tile(h.odd, 2), h.rotation_generator())
+        cosine, sine = (np.concatenate([np.arange(h.dof)[h.block(fam.n, f, parity)] for f in "UVW"])
+                        for parity in ("even", "odd"))
+        return Companions(forced, np.tile(h.odd, 2), h.rotation_generator(), h.rotation, cosine, sine)
 
     def _family_harmonics(self, fam: FullFamily) -> tuple[int, int, int]:
         if fam.model is not self.model:

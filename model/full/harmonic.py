@@ -148,18 +148,18 @@ class HarmonicFull:
         return np.repeat([parity == "odd" for _, _, parity in self.blocks], self.order)
 
     def rotation(self, phi: float) -> np.ndarray:
-        """``(dof, dof)``: the coordinates of the pattern turned by ``phi`` (rad),
+        """``(2 dof, 2 dof)``: the state ``(q, q')`` of the pattern turned by ``phi`` (rad),
         ``f(theta) -> f(theta - phi)``: each (cosine, companion) pair of blocks of harmonic
         ``k`` turns by ``k phi``, the rest is left alone.  Needs :attr:`companions`."""
         out = np.eye(self.dof)
         for b, c, k in self._pairs():
             cos, sin = math.cos(k * phi), math.sin(k * phi)
             out[b, b], out[b, c], out[c, b], out[c, c] = cos, -sin, sin, cos
-        return out
+        return block_diag(out, out)
 
     def rotation_generator(self) -> np.ndarray:
-        """``(2 dof, 2 dof)`` (rad-1): the derivative of :meth:`rotation` at ``phi = 0`` acting on
-        a state ``(q, q')``; ``(a, b) -> k (-b, a)`` for each pair."""
+        """``(2 dof, 2 dof)`` (rad-1): the derivative of :meth:`rotation` at ``phi = 0``;
+        ``(a, b) -> k (-b, a)`` for each pair."""
         g = np.zeros((self.dof, self.dof))
         for b, c, k in self._pairs():
             g[b, c], g[c, b] = -k, k

@@ -63,9 +63,9 @@ standing wave with a small perturbation in the sine companions: ``switched_check
 (:func:`model.waves.wave_motion`).  Reaching N points is not a failure: the branch is
 followed as far as asked.  On the full model (families in ``U, V, W`` on all its radial
 functions) the branch is followed on the circumferential harmonics 0, n, 2n
-(:mod:`model.full.harmonic`), ``switched_stable`` within them, ``switched_stable_o2`` with their
-sine companions (the same harmonics turned by a quarter period); the modal coordinates and the
-time integration (``periods``) are the ROM's alone.
+(:mod:`model.full.harmonic`), ``switched_stable`` within them, ``switched_stable_o2`` and the
+time integration with their sine companions (the same harmonics turned by a quarter period); the
+modal coordinates are the ROM's alone.
 
 Rotating waves (``rotating_waves = {max_points = N, n = 3, periods = P}``, with ``families``):
 at the first Neimark-Sacker point of family n the rotating waves (:func:`model.waves.continue_rotating_waves`)
@@ -76,7 +76,9 @@ for at most N points, over ``rotating_point``: ``rotating_<parameter>``, ``rotat
 with negative n).  With ``periods``, a time integration from the axisymmetric response at the
 rotating wave nearest the middle of the family's unstable interval (where the axisymmetric
 response is unstable), perturbed towards a standing wave: ``rotating_check_*`` as for
-branch switching.
+branch switching.  On the full model (families in ``U, V, W`` on all its radial functions) the
+rotating waves live on its harmonics 0, n, 2n with their sine companions, and the modal
+coordinates are not reported.
 
 Time-symmetry breaking (``symmetry_breaking = {max_points = N}``): at the first branch point of
 the axisymmetric block, the responses without the half-period symmetry for at most N points,
@@ -238,11 +240,12 @@ class ContinuationAnalysis(Analysis):
                             "modes plus the family's cosine modes (the full model: its harmonics 0, n, 2n, families "
                             "in U, V, W on all its radial functions); its stability also with the sine companions "
                             "(O(2)); with P >= 20, P periods of time integration from the last standing wave with a "
-                            "small perturbation in the sine companions (the ROM; needs families; default none)",
+                            "small perturbation in the sine companions (needs families; default none)",
         "rotating_waves": "{max_points = N, n = wave number, periods = P}: at the first Neimark-Sacker point of "
                           "family n on the branch, follow the rotating waves (periodic in a turning frame) for at "
                           "most N points in the ROM of the axisymmetric modes plus the family's cosine and sine "
-                          "modes, with their drift per period and stability; with P >= 20, P periods of time "
+                          "modes (the full model: its harmonics 0, n, 2n with their sine companions, families in "
+                          "U, V, W on all its radial functions), with their drift per period and stability; with P >= 20, P periods of time "
                           "integration from the axisymmetric response at the one nearest the middle of the "
                           "family's unstable interval, perturbed towards a standing wave (needs families; default none)",
         "family_check": "{values = [..], periods = 100, saturate = 0}: brute-force check of the families' "
@@ -279,23 +282,19 @@ class ContinuationAnalysis(Analysis):
         if start == stop:
             raise JobError(f"{s}.stop", stop, "must differ from continuation.start")
         modes = opt.modes(table, s)
-        opt.rom_only(table, s, context.model, ("rotating_waves", "tongues"))
+        opt.rom_only(table, s, context.model, ("tongues",))
         if "families" in table and not context.model.model().provides("families"):
             raise JobError(f"{s}.families", table["families"], f"needs a model with asymmetric families; this "
                            f"job's model is {context.model.kind!r} ([model] kind)")
         families = opt.families(table, s, modes, context.model)
         rom = context.model.model().rom_features
-        for key in ("family_check", "branch_switching"):
+        for key in ("family_check", "branch_switching", "rotating_waves"):
             if key in table and families is not None and not isinstance(families.radial, tuple) and not rom:
                 order, _ = context.model.model().family_limits(context.model.options)
                 if not families.inplane or families.radial != order:
                     raise JobError(f"{s}.{key}", table[key], "needs on this model the families in U, V, W on all "
                                    f"its radial functions (continuation.families: radial = {order}, inplane = "
                                    "true): the harmonics' blocks of the nonlinear model")
-        if not rom and isinstance(table.get("branch_switching"), dict) and table["branch_switching"].get("periods"):
-            raise JobError(f"{s}.branch_switching.periods", table["branch_switching"]["periods"],
-                           "needs the ROM (the time integration of a standing wave in its sine modes); this job's "
-                           f"model is {context.model.kind!r} ([model] kind)")
         opt.model_modes(s, context.model, modes)
         if families is not None and isinstance(families[1], tuple):  # a study in the radial modes
             for key in ("branch_switching", "rotating_waves", "family_check", "bifurcation_curves",

@@ -95,8 +95,8 @@ def _check_variables(prefix: str, parameter: str, what: str) -> list[Variable]:
     ]
 
 
-def _run_check(out, prefix, parameter, value, fmap_o2, y0, n, periods) -> None:
-    motion = wave_motion(fmap_o2, y0, n, periods)
+def _run_check(out, prefix, parameter, value, o2, y0, n, periods) -> None:
+    motion = wave_motion(o2, y0, n, periods)
     out[f"{prefix}_check_{parameter}"] = np.float64(value)
     out[f"{prefix}_check_drift"], out[f"{prefix}_check_drift_spread"] = motion.drift, motion.drift_spread
     out[f"{prefix}_check_wave_amplitude"], out[f"{prefix}_check_wave_spread"] = (motion.wave_amplitude,
@@ -144,16 +144,15 @@ class BranchSwitching(BranchFeature):
                      "(O(2)): the ROM's sine modes or the full model's harmonics' companions, the group orbit's "
                      "multiplier removed", -1, _FLAGS),
         ]
-        if not options.rom_features:
-            return out
-        out += [
-            Variable("switched_modal_coordinate", ("switched_point", "switched_mode"), (n, K), "f8", "m",
-                     "modal coordinates on the stroboscopic section (modes: switched_mode_m, switched_mode_n)"),
-            *_mode_variables("switched", K),
-        ]
         if options.switch_periods:
             out += _check_variables("switched", p, "from the last standing wave with a small perturbation in the "
                                     "sine companions")
+        if options.rom_features:
+            out += [
+                Variable("switched_modal_coordinate", ("switched_point", "switched_mode"), (n, K), "f8", "m",
+                         "modal coordinates on the stroboscopic section (modes: switched_mode_m, switched_mode_n)"),
+                *_mode_variables("switched", K),
+            ]
         return out
 
     def coords(self, options):
@@ -197,26 +196,25 @@ class BranchSwitching(BranchFeature):
 
     @staticmethod
     def _o2(out, options, fmap, family, sw) -> None:
-        """The standing waves' stability with the sine companions, and the check (the ROM)."""
+        """The standing waves' stability with the sine companions, and the check."""
         p, m = options.parameter, sw.value.size
-        waves = fmap.standing_waves(family)
+        o2 = fmap.companions(family)
         out["switched_stable_o2"][:m] = 0  # as switched_stable: a located point is not stable
         for k in range(m):
-            y = waves.embed(sw.state[k])
-            if not np.any(waves.generator @ y):
+            y = embedded(sw.state[k], o2.fmap.dof)
+            if not np.any(o2.generator @ y):
                 continue  # the branch point itself: axisymmetric, its group orbit a point
-            st = standing_wave_stability(waves._replace(fmap=waves.fmap.varied(p, sw.value[k])), y)
+            st = standing_wave_stability(o2._replace(fmap=o2.fmap.varied(p, sw.value[k])), y)
             out["switched_odd_multiplier_modulus"][k] = np.abs(st.odd).max()
             out["switched_neutral_multiplier"][k] = st.neutral
             out["switched_stable_o2"][k] = st.stable and sw.kind[k] == 0
         if options.switch_periods and m > 1:
-            Ka, M = fmap.dof, len(family.radial)
-            y = waves.embed(sw.state[m - 1])
-            # sine coordinates with alternating signs over the radial modes: not along the group
-            # orbit (the standing wave turned), whose sine coordinates are n times its cosine ones
-            y[Ka + M:Ka + 2 * M] = STANDING_KICK * np.abs(y[Ka:Ka + M]).max() * (-1.0) ** np.arange(M)
-            _run_check(out, "switched", p, sw.value[m - 1], waves.fmap.varied(p, sw.value[m - 1]), y, family.n,
-                       options.switch_periods)
+            y = embedded(sw.state[m - 1], o2.fmap.dof)
+            # companions with alternating signs over the family's coordinates: not along the
+            # group orbit (the standing wave turned), whose companions are n times its cosines
+            y[o2.sine] = STANDING_KICK * np.abs(y[o2.cosine]).max() * (-1.0) ** np.arange(o2.sine.size)
+            _run_check(out, "switched", p, sw.value[m - 1], o2._replace(fmap=o2.fmap.varied(p, sw.value[m - 1])), y,
+                       family.n, options.switch_periods)
 
 
 class RotatingWaves(BranchFeature):
@@ -239,16 +237,20 @@ class RotatingWaves(BranchFeature):
             Variable("rotating_wave_amplitude", rp, (n,), "f8", "m", "size of the family's pattern, sqrt(sum of "
                      "squared cosine and sine coordinates), constant along a rotating wave"),
             Variable("rotating_drift", rp, (n,), "f8", "rad", "angle the pattern turns per forcing period"),
-            Variable("rotating_stable", rp, (n,), "i1", "1", "stability in the ROM with the family's cosine and "
-                     "sine modes (O(2)), the group orbit's multiplier removed", -1, _FLAGS),
+            Variable("rotating_stable", rp, (n,), "i1", "1", "stability with the family's sine companions (O(2)): "
+                     "the ROM's sine modes or the full model's harmonics' companions, the group orbit's multiplier "
+                     "removed", -1, _FLAGS),
             Variable("rotating_multiplier_modulus", rp, (n,), "f8", "1", "largest Floquet multiplier modulus in "
                      "the rotating frame, the group orbit's multiplier 1 removed"),
             Variable("rotating_neutral_multiplier", rp, (n,), "f8", "1", "the group orbit's multiplier as "
-                     "computed (1 up to rounding)"),
-            Variable("rotating_modal_coordinate", ("rotating_point", "rotating_mode"), (n, K), "f8", "m",
-                     "modal coordinates on the stroboscopic section (modes: rotating_mode_m, rotating_mode_n)"),
-            *_mode_variables("rotating", K),
+                     "computed (1 up to the symmetry error of the model's discretisation)"),
         ]
+        if options.rom_features:
+            out += [
+                Variable("rotating_modal_coordinate", ("rotating_point", "rotating_mode"), (n, K), "f8", "m",
+                         "modal coordinates on the stroboscopic section (modes: rotating_mode_m, rotating_mode_n)"),
+                *_mode_variables("rotating", K),
+            ]
         if periods:
             out += _check_variables("rotating", p, f"from the axisymmetric response perturbed towards a standing "
                                     f"wave of family {family}")
@@ -270,19 +272,20 @@ class RotatingWaves(BranchFeature):
         i = ns[0]
         family = next(f for f in ctx.families if f.n == wave_number)
         try:
-            rw, fmap_o2 = continue_rotating_waves(fmap, family, p, options.start, options.stop, br.state[i],
-                                                  br.value[i], ds_max=options.ds_max, max_points=n)
+            rw, o2 = continue_rotating_waves(fmap, family, p, options.start, options.stop, br.state[i], br.value[i],
+                                             ds_max=options.ds_max, max_points=n)
         except (RuntimeError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
             return out, f"rotating waves at {p} = {br.value[i]:.9g}: {type(exc).__name__}: {exc}"
-        m, K = rw.value.size, fmap_o2.dof
+        m = rw.value.size
         out[f"rotating_{p}"][:m], out["rotating_amplitude"][:m] = rw.value, rw.amplitude
         out["rotating_wave_amplitude"][:m], out["rotating_drift"][:m] = rw.wave_amplitude, rw.drift
         out["rotating_stable"][:m] = rw.stable
         out["rotating_multiplier_modulus"][:m] = np.abs(rw.multipliers).max(axis=1)
         out["rotating_neutral_multiplier"][:m] = rw.neutral
-        out["rotating_modal_coordinate"][:m] = rw.state[:, :K]
-        modes = np.array(fmap_o2.rom.modes, dtype=np.int32)
-        out["rotating_mode_m"], out["rotating_mode_n"] = modes[:, 0], modes[:, 1]
+        if options.rom_features:
+            out["rotating_modal_coordinate"][:m] = rw.state[:, :o2.fmap.dof]
+            modes = np.array(o2.fmap.rom.modes, dtype=np.int32)
+            out["rotating_mode_m"], out["rotating_mode_n"] = modes[:, 0], modes[:, 1]
         problems = [] if rw.complete or m >= n else [f"rotating waves: {rw.message}"]
         if periods and m > 1:
             k = _check_point(br, ctx.families.index(family), i, rw.value)
@@ -291,16 +294,16 @@ class RotatingWaves(BranchFeature):
                                 f"to n = {wave_number}")
             else:
                 try:
-                    problems += self._check(out, fmap, fmap_o2, family, p, rw.value[k], rw.state[k], periods)
+                    problems += self._check(out, fmap, o2, family, p, rw.value[k], rw.state[k], periods)
                 except (RuntimeError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
                     problems.append(f"rotating-wave check: {type(exc).__name__}: {exc}")
         return out, "; ".join(problems)
 
     @staticmethod
-    def _check(out, fmap, fmap_o2, family, p, value, state, periods) -> list[str]:
+    def _check(out, fmap, o2, family, p, value, state, periods) -> list[str]:
         """From the axisymmetric response at ``value``, a standing perturbation with a trace of
         sine: which wave the motion settles to."""
-        Ka, M, K = fmap.dof, len(family.radial), fmap_o2.dof
+        Ka, K = fmap.dof, o2.fmap.dof
         at = fmap.varied(p, value)
         axi = shoot(at, np.concatenate([state[:Ka], state[K:K + Ka]]))
         if not axi.converged:
@@ -309,9 +312,9 @@ class RotatingWaves(BranchFeature):
             return [f"rotating-wave check: the axisymmetric response found at {p} = {value:.9g} is stable to "
                     f"n = {family.n} (another of the coexisting responses)"]
         y = embedded(axi.state, K)
-        y[Ka:Ka + M] = CHECK_SIZE
-        y[Ka + M:K] = CHECK_SIZE * CHECK_ODD
-        _run_check(out, "rotating", p, value, fmap_o2.varied(p, value), y, family.n, periods)
+        y[o2.cosine] = CHECK_SIZE
+        y[o2.sine] = CHECK_SIZE * CHECK_ODD
+        _run_check(out, "rotating", p, value, o2._replace(fmap=o2.fmap.varied(p, value)), y, family.n, periods)
         return []
 
 
