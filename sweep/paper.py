@@ -60,6 +60,7 @@ VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
     "fig14a-broken-rom", "fig14a-broken-viscous-axi-order16", "fig14a-broken-viscous-axi-order24",
     "fig14a-bruteforce-axi",
     "family-check", "family-check-full", "family-check-full-1pct-modal", "fig14a-full-switching-order8", "fig14a-full-switching-order12",
+    "fig14a-full-rotating-order8",
     "fig14a-families-m2", "waves-fig14a",
     "fig19a-basins-brute", "fig19a-full-basins-order12", "fig19a-full-basins-brute",
     "fig19a-full-basins-brute-same-steps", "fig19a-full-basins-brute-perturbed", "fig19a-basins-brute-perturbed",
