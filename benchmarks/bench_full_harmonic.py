@@ -51,21 +51,21 @@ from model.params import Membrane  # noqa: E402
 
 
 @nb.njit(cache=True)
-def _forces(Q, repeats, law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, G):
+def _forces(Q, repeats, law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight, G):
     B = fields.size
     work = np.empty((4, B))
     for _ in range(repeats):
         for m in range(Q.shape[0]):
-            harmonic_gradient(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, Q[m], G[m],
+            harmonic_gradient(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight, Q[m], G[m],
                               work[0], work[1], work[2], work[3])
 
 
 @nb.njit(cache=True)
-def _hessians(Q, repeats, law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, var_index,
+def _hessians(Q, repeats, law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight, var_index,
               var_value, H):
     for _ in range(repeats):
         for m in range(Q.shape[0]):
-            harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight, var_index,
+            harmonic_hessian(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight, var_index,
                              var_value, Q[m], H[m])
 
 
@@ -93,7 +93,7 @@ def main(argv=None) -> None:
     model = AxisymmetricFull(solve_full_prestretch(Membrane(delta=1.1, delta_o=0.2), order))
     h = HarmonicFull(model, (0, 1, 2))
     tables = h._tables()
-    law, phi, dphi, s, sw, w, r0, dr0, fields, wave, cos_t, sin_t, theta_weight = tables
+    law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t, odd_t, theta_weight = tables
     P, N = phi.shape
     Q = _states(h, states, np.random.default_rng(0))
     families = [FullFamily.build(model, n) for n in (1, 2)]
@@ -116,7 +116,7 @@ def main(argv=None) -> None:
     work = Path(tempfile.mkdtemp())
     exe = compile_reference("full_harmonic", work, ("-ffast-math",))
     np.concatenate([phi.ravel(), dphi.ravel(), s, sw, w, r0, dr0, model.inverse_mass.ravel(), h.inverse_scale,
-                    fields.astype(float), wave, cos_t.ravel(), sin_t.ravel(), theta_weight,
+                    fields.astype(float), wave, even_t.ravel(), odd_t.ravel(), theta_weight,
                     h._var_index.ravel().astype(float), h._var_value.ravel(),
                     [model.omega0_2, 0.0]]).tofile(work / "tables.bin")
     Q.tofile(work / "q.bin")

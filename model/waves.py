@@ -112,14 +112,16 @@ def deflated_multipliers(jac: np.ndarray, direction: np.ndarray) -> tuple[np.nda
 
 @dataclass
 class StandingWaveStability:
-    """The stability of a standing wave in the O(2) ROM.
+    """The stability of a standing wave in a model with a family's sine companions
+    (:class:`model.protocol.Companions`).
 
     Attributes
     ----------
-    even : (2(Ka + M),) complex array
-        Multipliers of the cosine block (perturbations that keep the reflection symmetry).
-    odd : (2M - 1,) complex array
-        Multipliers of the sine block without the group orbit's.
+    even : complex array
+        Multipliers of the cosine block (perturbations that keep the reflection symmetry):
+        ``2 (Ka + M)`` of the O(2) ROM, twice the cosine coordinates of the full model's harmonics.
+    odd : complex array
+        Multipliers of the sine block (the companions) without the group orbit's.
     neutral : float
         The group orbit's multiplier as computed (1 up to the symmetry error of the map).
     coupling : float

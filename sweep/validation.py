@@ -712,8 +712,12 @@ def _job_option(results: Path, name: str, key: str, field: str, section: str = "
     return _job_table(results, name, section)[key].get(field, default)
 
 
-def _rotating_waves(b, ds, results: Path) -> list[str]:
-    out = ["### Rotating waves at the n = 3 Neimark-Sacker point", ""]
+def _rotating_waves(b, ds, results: Path, name: str = "validation/waves-fig14a", n: int = 3,
+                    model: str = "this ROM") -> list[str]:
+    """The rotating waves of family ``n`` at its first Neimark-Sacker point in the result
+    ``name``, their continuation against the normal form and their time-integration check;
+    ``model`` names what carries the family (its other families are not computed)."""
+    out = [f"### Rotating waves at the n = {n} Neimark-Sacker point", ""]
     omega = b.rotating_Omega.values.ravel()
     m = int(np.isfinite(omega).sum())
     if m < 7:
@@ -722,18 +726,18 @@ def _rotating_waves(b, ds, results: Path) -> list[str]:
     mod, neutral = b.rotating_multiplier_modulus.values.ravel()[:m], b.rotating_neutral_multiplier.values.ravel()[:m]
     stable = b.rotating_stable.values.ravel()[:m]
     decay = _damping_factor(ds, b, omega)
-    j = list(b.family.values).index(3)
+    j = list(b.family.values).index(n)
     stretch, _, modulus, _, _ = _resonant_stretch(b)
     intervals = unstable_intervals(stretch, modulus[:, j])
     if not intervals:
-        return out + ["*The n = 3 family is not unstable on the resonant stretch.*", ""]
+        return out + [f"*The n = {n} family is not unstable on the resonant stretch.*", ""]
     first = min(intervals, key=lambda ab: min(abs(ab[0] - omega[0]), abs(ab[1] - omega[0])))
     lo, hi = min(first), max(first)
     step = max(m // 12, 1)
-    out += [f"The axisymmetric response is unstable to n = 3 from {lo:.4f} to {hi:.4f} rad/s. From the",
+    out += [f"The axisymmetric response is unstable to n = {n} from {lo:.4f} to {hi:.4f} rad/s. From the",
             f"Neimark-Sacker point at {omega[0]:.4f} rad/s, every {step}th of the {m} points of the rotating waves:", "",
             "| Omega (rad/s) | wave size on the section (m) | drift (rad/period) | largest multiplier / exp(-alpha T), "
-            "turning frame | group orbit's multiplier - 1 | stable (O(2), n = 3) |", "|---|---|---|---|---|---|"]
+            f"turning frame | group orbit's multiplier - 1 | stable (O(2), n = {n}) |", "|---|---|---|---|---|---|"]
     for k in list(range(0, m, step)) + ([m - 1] if (m - 1) % step else []):
         verdict = "Neimark-Sacker point" if k == 0 else ("yes" if stable[k] == 1 else "no")
         out.append(f"| {omega[k]:.4f} | {wave[k]:.5f} | {drift[k]:+.5f} | {mod[k] / decay[k]:.6f} | "
@@ -753,25 +757,26 @@ def _rotating_waves(b, ds, results: Path) -> list[str]:
     beyond = np.flatnonzero(omega > hi)
     others = _unstable_families(b, omega[beyond])
     unstable_n1 = sum(1 for fams in others if 1 in fams)
+    n1 = (f"; at {unstable_n1} of those it is unstable to n = 1, which {model} does not carry"
+          if n != 1 and 1 in b.family.values else "")
     out += ["", f"Near the point the wave size {'grows like' if shape else 'does not follow'} sqrt(Omega - Omega_NS) "
             f"(wave^2 / (Omega - Omega_NS) over the second to sixth points: {ratio.min():.4e} .. {ratio.max():.4e} "
-            f"m^2 s/rad), {kind}. The n = 3 block's critical multiplier at the point (continuation) has the angle "
-            f"{theta:.5f} rad, so -theta/3 = {-theta / 3:+.5f} rad per period; the rotating waves' drift at their "
-            f"second point is {drift[1]:+.5f}. They are stable against n = 3 perturbations at "
+            f"m^2 s/rad), {kind}. The n = {n} block's critical multiplier at the point (continuation) has the angle "
+            f"{theta:.5f} rad, so -theta/{n} = {-theta / n:+.5f} rad per period; the rotating waves' drift at their "
+            f"second point is {drift[1]:+.5f}. They are stable against n = {n} perturbations at "
             f"{int((stable[1:] == 1).sum())} of {m - 1} points (largest multiplier {np.nanmax(mod[1:] / decay[1:]):.6f} "
             f"times the damping factor). {beyond.size} of them lie beyond {hi:.4f} rad/s, where the axisymmetric "
-            f"response is stable to n = 3; at {unstable_n1} of those it is unstable to n = 1, which this ROM does "
-            "not carry.", ""]
+            f"response is stable to n = {n}{n1}.", ""]
     if "rotating_check_drift" in b:
         check = float(b.rotating_check_Omega)
         k = int(np.argmin(np.abs(omega - check)))
         c_drift, c_dspread = float(b.rotating_check_drift), float(b.rotating_check_drift_spread)
         c_wave, c_wspread = float(b.rotating_check_wave_amplitude), float(b.rotating_check_wave_spread)
-        periods = _job_option(results, "validation/waves-fig14a", "rotating_waves", "periods")
+        periods = _job_option(results, name, "rotating_waves", "periods")
         settled = _wave_kind(c_drift, c_wspread, c_wave, wave[k])
         mirror = min(abs(c_drift - drift[k]), abs(c_drift + drift[k]))
         out += [f"Time integration ({periods} periods) at Omega = {check:.4f} rad/s from the axisymmetric response, "
-                "unstable to n = 3 there, with a small standing n = 3 perturbation (a trace of it in the sine "
+                f"unstable to n = {n} there, with a small standing n = {n} perturbation (a trace of it in the sine "
                 f"coordinates): over the last tenth the pattern turns by {c_drift:+.5f} rad per period (range "
                 f"{c_dspread:.1e}; the continued rotating wave there: {drift[k]:+.5f}, its mirror image "
                 f"{-drift[k]:+.5f}, the nearer of the two {mirror:.1e} away) at a size of {c_wave:.5f} m (range "
@@ -779,7 +784,7 @@ def _rotating_waves(b, ds, results: Path) -> list[str]:
                 f"{settled}."]
         if settled == "a rotating wave" and stable[k] == 1:
             out += ["Of the two kinds born at the Neimark-Sacker point, the rotating waves are the stable one against",
-                    "n = 3 perturbations, the standing waves (a torus of the map, not continued here) unstable."]
+                    f"n = {n} perturbations, the standing waves (a torus of the map, not continued here) unstable."]
         out += [""]
     return out
 
@@ -1918,6 +1923,8 @@ def _o2_summary(b, omega, m) -> str:
     odd = b.switched_odd_multiplier_modulus.values.ravel()[1:m]
     neutral = b.switched_neutral_multiplier.values.ravel()[1:m]
     o2 = b.switched_stable_o2.values.ravel()[1:m]
+    if not np.isfinite(odd).any():
+        return f" With the sine companions: not computed ({str(b.message.values) or 'no standing wave past the point'})."
     runs = _runs(np.flatnonzero(o2 == 1) + 1)
     where = ("at none of its points" if not runs else
              ", ".join(f"{omega[i]:.4f}-{omega[j]:.4f} rad/s" for i, j in runs))
@@ -1925,6 +1932,33 @@ def _o2_summary(b, omega, m) -> str:
             f"{np.nanmin(odd):.5f}-{np.nanmax(odd):.5f}, above 1 at {int((odd > 1).sum())} of the {m - 1} points past "
             f"the branch point; the group orbit's multiplier is 1 within {np.nanmax(np.abs(neutral - 1)):.1e}; "
             f"stable in O(2) {where}.")
+
+
+#: The full model's rotating waves (docs/validation.md, "Rotating waves on the full model").
+FULL_ROTATING = "validation/fig14a-full-rotating-order8"
+
+
+def section_full_rotating(results: Path) -> list[str]:
+    """The rotating waves of the full model at its first n = 2 Neimark-Sacker point of
+    Fig. 14a, with their time-integration check."""
+    out = ["## Rotating waves on the full model (Fig. 14a)", "",
+           "The full model's Fig. 14a resonance (delta = 1.1, delta_o = 0.2, P0 = 1 Pa, c = 0.05 N s/m^3, 8",
+           "radial functions per field) with the family n = 2 in (U, V, W) on all of them",
+           f"(`{FULL_ROTATING}`). At the family's first Neimark-Sacker point the rotating waves are continued",
+           "on the circumferential harmonics 0, 2 and 4 with their sine companions (model/full/harmonic.py:",
+           "the same harmonics turned by a quarter period; the group O(2)), in (state, drift, Omega) with a",
+           "phase condition, as the ROM's (\"Standing and rotating waves: the O(2) symmetry\"); their",
+           "multipliers are those of the map in the turning frame without the group orbit's. The stability",
+           "below is against perturbations in these harmonics (the axisymmetric motion, n = 2 and n = 4), not",
+           "against the other families; the multiplier moduli are shown over the viscous damping's factor",
+           "exp(-alpha T).", ""]
+    ds = _open(results, FULL_ROTATING)
+    if ds is None or "rotating_Omega" not in ds:
+        return out + _missing(FULL_ROTATING)
+    b = _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
+    if not np.isfinite(b.rotating_Omega.values).any():
+        return out + [f"*No rotating waves: {str(b.message.values) or 'no Neimark-Sacker point of n = 2'}.*", ""]
+    return out + _rotating_waves(b, ds, results, FULL_ROTATING, 2, "this model")
 
 
 def _runs(indices) -> list[tuple[int, int]]:
@@ -2769,6 +2803,7 @@ SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_mo
             section_families, section_waves, section_tongues, section_family_orbit, section_held_families,
             section_time_symmetry,
             section_full_fig14a, section_full_fig14a_light, section_full_family_check, section_full_switching,
+            section_full_rotating,
             section_bruteforce_diagram, section_basins,
             section_basins_modes, section_full_basins)
 

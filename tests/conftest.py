@@ -1,7 +1,11 @@
 """Test-wide fixtures: the fake analyses of ``fake_analysis.py`` are registered for every
 test (``SWEEP_EXTRA_ANALYSES``), as the command line and the runner see them; the Fig. 14a
 resonance branch with the n = 1 family, shared by the tests of two-parameter continuation and
-branch switching."""
+branch switching.  Importing :mod:`sweep.threads` first gives the tests one BLAS and numba
+thread, as the command line does (a multi-threaded BLAS on a loaded two-core machine is many
+times slower on the small matrices of the variational equations)."""
+
+import sweep.threads  # noqa: F401  (before numpy)
 
 from types import SimpleNamespace
 

@@ -101,3 +101,11 @@ def test_the_check_finds_what_it_looks_for(tmp_path):
     for expected in ("Conventions", "a: no long_name", "units 'furlongs'", "2 flag_values", "flag_values of type",
                      "coordinates names 'nowhere'"):
         assert expected in found
+
+
+def test_a_variable_named_after_one_of_its_dimensions_is_refused():
+    # xarray would make it a coordinate without an index, and the files would not combine
+    from sweep.analyses.base import Variable
+
+    with pytest.raises(ValueError, match="'state' is named after one of its dimensions"):
+        Variable("state", ("point", "state"), (2, 3), "f8", "m", "a state per point")

@@ -34,7 +34,7 @@ RESULTS = {
         "stop = 55.0": "stop = 42.0", "max_points = 500": "max_points = 60"}),
     "fig14a-full-switching-order8.nc": ("validation/fig14a-full-switching-order8", {
         "order = 8": "order = 6", "radial = 8,": "radial = 6,", "start = 25.0": "start = 30.0",
-        "families = {n = [1, 2]": "families = {n = [1]", "max_points = 300": "max_points = 8"}),
+        "families = {n = [1, 2]": "families = {n = [1]", "max_points = 300": "max_points = 4"}),
 }
 
 

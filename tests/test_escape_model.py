@@ -89,7 +89,7 @@ def test_a_continuation_orbit_is_periodic_for_scipy(results):
     i = int(np.nanargmin(np.abs(ds.Omega.values - 0.7)))
     omega = float(ds.Omega.values[i])
     y0 = [float(ds.modal_coordinate.values[i]), float(ds.modal_velocity.values[i])]
-    assert "state" not in ds  # the state is its modal section (sweep.models.base.Model.state_size)
+    assert "section_state" not in ds  # the state is its modal section (sweep.models.base.Model.state_size)
     sol = solve_ivp(rhs(0.1, 0.05, omega), (0.0, 2 * np.pi / omega), y0, method="DOP853", rtol=1e-12, atol=1e-14)
     # RK4 with 128 steps per period: a global error ~ (2 pi / 128)^4 ~ 6e-6 of the state
     np.testing.assert_allclose(sol.y[:, -1], y0, atol=2e-5 * np.abs(y0).max())

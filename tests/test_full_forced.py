@@ -258,8 +258,8 @@ def test_continuation_job_on_the_full_model_reports_rom_coordinates_and_folds(tm
         np.testing.assert_allclose(orbit.amplitude, float(ds.amplitude[i]), rtol=1e-8)
         np.testing.assert_allclose(fmap.modal_section(orbit.state)[:2], ds.modal_coordinate[i], rtol=1e-7)
         # the stored state is that orbit's (the corrector's tolerance, 1e-10 of 0.05 m)
-        assert ds.state.sizes["state"] == 2 * fmap.dof
-        np.testing.assert_allclose(ds.state[i], orbit.state, atol=1e-9 * np.abs(orbit.state).max(), rtol=0)
+        assert "section_state" in ds.data_vars and ds.section_state.sizes["state"] == 2 * fmap.dof
+        np.testing.assert_allclose(ds.section_state[i], orbit.state, atol=1e-9 * np.abs(orbit.state).max(), rtol=0)
     # the reported coordinate of (1, 0) carries the probe's deflection: psi_1(0.5 Re) q_1 ~ w
     m = Membrane(delta=1.1, delta_o=0.2)
     psi = mode_shape(np.array([0.5 * m.Re]), bessel_roots(0, m.delta_o, 1), 0, m.Re, m.delta_o)[0][0, 0]

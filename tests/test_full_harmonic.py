@@ -165,6 +165,18 @@ def test_a_turned_pattern_keeps_its_energy(model):
     assert abs(g @ generator[:h.dof, :h.dof] @ q) <= 1e-13 * np.abs(g).max() * np.abs(q).max()
 
 
+def test_a_rotation_turns_the_fields_the_right_way(model):
+    # rotation(phi) is f(theta) -> f(theta - phi): by a multiple of the rule's step the fields
+    # on the angular grid move by as many points, every field (u, v, w and their derivatives)
+    h = HarmonicFull(model, (0, 1, 2), companions=True)
+    q = _state(h)
+    shift = 5
+    turned = h.rotation(2 * np.pi * shift / h.theta.size)[:h.dof, :h.dof] @ q
+    before, after = h._fields_on_grid(q), h._fields_on_grid(turned)
+    for key in before:
+        np.testing.assert_allclose(after[key], np.roll(before[key], shift, axis=0), atol=1e-14, rtol=0)
+
+
 def test_companions_of_a_reflection_symmetric_state_decouple(model):
     # at a state of cosine blocks alone the Hessian of the whole circle has no block between
     # the cosine coordinates and their companions (the reflection), its cosine block is the
@@ -255,12 +267,15 @@ def test_growth_of_a_perturbation_is_the_largest_multiplier(model, orbit):
     assert -1e-8 < low <= high < 1e-8
 
 
-def test_companions_about_an_axisymmetric_orbit_are_the_families(model, orbit):
+@pytest.mark.parametrize("law", [Viscous(0.05), Modal(0.01)], ids=["viscous", "modal"])
+def test_companions_about_an_axisymmetric_orbit_are_the_families(model, orbit, law):
     # the harmonics 0, 1, 2 with their companions on an axisymmetric orbit: the monodromy's
     # cosine block is the cosine-only map's (another angular rule), and its companion blocks
     # of k = 0 (the torsion V_0), 1, 2 are the families' monodromy blocks (0, "V"), 1, 2 (the
-    # family kernels), with nothing between the blocks
-    fmap, y = orbit
+    # family kernels), with nothing between the blocks; each damped by the law on its own
+    # linear problem (the modal law: a damping matrix per block, in the order of the blocks)
+    fmap = orbit[0] if isinstance(law, Viscous) else ForcedFull.build(model, 1.0, 36.0, law, orbit[0].steps)
+    y = shoot(fmap, orbit[1]).state
     waves = fmap.companions(FullFamily.build(model, 1))
     h = waves.fmap.model
     z = embedded(y, h.dof)

@@ -26,7 +26,8 @@ def test_missing_results_name_the_jobs(tmp_path):
              + validation.section_waves(tmp_path) + validation.section_fig08(tmp_path)
              + validation.section_fe_motion(tmp_path) + validation.section_full_basins(tmp_path)
              + validation.section_held_families(tmp_path) + validation.section_time_symmetry(tmp_path)
-             + validation.section_full_family_check(tmp_path) + validation.section_full_switching(tmp_path))
+             + validation.section_full_family_check(tmp_path) + validation.section_full_switching(tmp_path)
+             + validation.section_full_rotating(tmp_path))
     text = "\n".join(lines)
     for job in ("fig09-modes", "fig15-bifurcation-p0", "fig15-bruteforce", "fig19-basins",
                 "fig10-11-backbone", "fig12-inner-radius", "fig17-cusp", "fig16-17-damping",

@@ -7,16 +7,20 @@ and ``w = sum_k W_k(s) cos k theta`` over a set of harmonics ``k`` that holds 0:
 even under the reflection ``theta -> -theta``, where the cosine families
 (:mod:`model.full.families`) live and where the nonlinearity keeps them (a product of
 harmonics ``k`` and ``l`` feeds ``k + l`` and ``|k - l|``; the harmonics left out are a
-truncation in ``theta``, as the ROM's modes are one in both directions).  Each field of each
-harmonic has the ``order`` functions of the radial basis; the energy is
+truncation in ``theta``, as the ROM's modes are one in both directions).  With
+``companions`` every block also has its sine companion (the block turned by a quarter of its
+period: ``u, w`` on ``sin k theta``, ``v`` on ``-cos k theta``, the torsion ``v = -V_0``), and the
+model holds every state of these harmonics, symmetric under the rotations and the reflection
+(O(2)).  Each field of each harmonic has the ``order`` functions of the radial basis; the
+energy is
 ``(1 / 2 pi) int int W s ds dtheta`` (over ``2 pi h C1 Re^2``: the axisymmetric model's
 :meth:`model.full.axisymmetric.AxisymmetricFull.energy` on the harmonic 0) and Lagrange's
 equations are
 
     q'' = -omega_0^2 M^-1 g(q) - D q' + P(t) load,
 
-with the mass of a block ``int phi_k phi_l s ds`` times the angular mean of ``cos^2 k theta``
-or ``sin^2 k theta`` (1 for ``k = 0``, 1/2 otherwise) and the pressure on the harmonic 0 of
+with the mass of a block ``int phi_k phi_l s ds`` times the angular mean of the square of its
+angular function (1 for ``k = 0``, 1/2 otherwise) and the pressure on the harmonic 0 of
 ``w`` alone (the uniform pressure's work on ``cos k theta`` vanishes for ``k >= 1``).  About
 an axisymmetric state the block of harmonic ``n`` of the Hessian is half the family's
 stiffness ``K_n`` (:meth:`model.full.families.FullFamily.stiffness`): with the half mass the

@@ -248,6 +248,12 @@ class Variable:
     fill: float | int = np.nan
     attrs: Mapping[str, Any] = field(default_factory=dict)
 
+    def __post_init__(self):
+        # xarray makes a variable named after one of its dimensions a coordinate of it, and
+        # a coordinate of several dimensions has no index: such files no longer combine
+        if self.name in self.dims and self.dims != (self.name,):
+            raise ValueError(f"Variable {self.name!r} is named after one of its dimensions {self.dims}: rename it")
+
     def blank(self) -> np.ndarray:
         """An array of the declared shape and dtype filled with ``fill``: where a task's
         output starts, so that what it does not reach stays padding."""

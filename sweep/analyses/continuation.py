@@ -18,9 +18,9 @@ Outputs (a task's branches differ in length: every ``point`` array is padded wit
 * ``modal_coordinate``, ``modal_velocity`` (``point``, ``mode``): the state on the
   stroboscopic section ``t = 0 mod 2 pi / Omega`` (the paper's ``A_mn`` axes; for the full
   model the fit of ``w`` by the mode shapes, :func:`model.protocol.modal_section`);
-* ``state`` (``point``, ``state``), for a model whose state is not its modal section (the full
-  model: :meth:`sweep.models.base.Model.state_size`): the map's state on the section, from
-  which shooting at that point restarts;
+* ``section_state`` (``point``, ``state``), for a model whose state is not its modal section
+  (the full model: :meth:`sweep.models.base.Model.state_size`): the map's state on the
+  section, from which shooting at that point restarts;
 * ``amplitude`` (``point``): max over one period of ``|w(0.5 Re, 0, t)|`` (m);
 * ``stable`` (``point``, int8): 1 stable, 0 unstable (and at located bifurcation points);
   with ``families``, stable means stable to the families' perturbations too;
@@ -197,7 +197,7 @@ class ContinuationOptions:
     #: switched branch's modal coordinates and the standing waves' time integration
     rom_features: bool = False
     #: the size of the map's state when it is not its modal section (the full model), stored
-    #: as ``state``; 0: not stored (:meth:`sweep.models.base.Model.state_size`)
+    #: as ``section_state``; 0: not stored (:meth:`sweep.models.base.Model.state_size`)
     state_size: int = 0
 
 
@@ -340,9 +340,10 @@ class ContinuationAnalysis(Analysis):
                      "modal coordinate q_mn on the stroboscopic section t = 0 mod 2 pi / Omega (A_mn axis)"),
             Variable("modal_velocity", ("point", "mode"), (n, K), "f8", "m s-1",
                      "modal velocity dq_mn/dt on the stroboscopic section t = 0 mod 2 pi / Omega"),
-            *([Variable("state", ("point", "state"), (n, options.state_size), "f8", "m, m s-1",
+            *([Variable("section_state", ("point", "state"), (n, options.state_size), "f8", "m, m s-1",
                          "the map's state on the stroboscopic section (the full model: the Legendre-Galerkin "
-                         "coefficients of u then w, times Re, then their rates), from which shooting restarts")]
+                         "coefficients of u then w, or of w alone with u held, times Re, then their rates), "
+                         "from which shooting restarts")]
               if options.state_size else []),
             Variable("stable", pt, (n,), "i1", "1", "stability of the periodic response", -1,
                      {"flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "padding unstable stable"}),
@@ -407,7 +408,7 @@ class ContinuationAnalysis(Analysis):
         section = modal_section(fmap, br.state)
         out["modal_coordinate"][:m], out["modal_velocity"][:m] = section[:, :K], section[:, K:]
         if options.state_size:
-            out["state"][:m] = br.state
+            out["section_state"][:m] = br.state
         out["stable"][:m] = br.stable
         out["point_type"][:m] = br.kind
         out["multiplier_real"][:m] = br.multipliers.real[:, :2 * K]

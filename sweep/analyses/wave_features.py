@@ -184,10 +184,11 @@ class BranchSwitching(BranchFeature):
         out["switched_point_type"][:m] = sw.kind
         out["switched_multiplier_modulus"][:m] = np.abs(sw.multipliers).max(axis=1)
         problems = [] if sw.complete or m >= n else [f"switched branch: {sw.message}"]
-        try:
-            self._o2(out, options, fmap, family, sw)
-        except (RuntimeError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
-            problems.append(f"standing waves in O(2): {type(exc).__name__}: {exc}")
+        if getattr(fmap, "companions", None) is not None:  # else the O(2) outputs stay padding
+            try:
+                self._o2(out, options, fmap.varied(p, sw.value[0]), family, sw)
+            except (RuntimeError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
+                problems.append(f"standing waves in O(2): {type(exc).__name__}: {exc}")
         if options.rom_features:
             out["switched_modal_coordinate"][:m] = sw.state[:, :K]
             modes = np.array(fmap_mixed.rom.modes, dtype=np.int32)
@@ -196,7 +197,9 @@ class BranchSwitching(BranchFeature):
 
     @staticmethod
     def _o2(out, options, fmap, family, sw) -> None:
-        """The standing waves' stability with the sine companions, and the check."""
+        """The standing waves' stability with the sine companions (of ``fmap`` at the branch
+        point: its RK4 step is checked against the companions' damped motion there), and the
+        check."""
         p, m = options.parameter, sw.value.size
         o2 = fmap.companions(family)
         out["switched_stable_o2"][:m] = 0  # as switched_stable: a located point is not stable
@@ -269,6 +272,8 @@ class RotatingWaves(BranchFeature):
         ns = [i for i in np.flatnonzero(br.kind == NEIMARK_SACKER) if br.family[i] == wave_number]
         if not ns:
             return out, ""
+        if getattr(fmap, "companions", None) is None:
+            return out, "rotating waves: this model's maps have no sine companions (the companions capability)"
         i = ns[0]
         family = next(f for f in ctx.families if f.n == wave_number)
         try:

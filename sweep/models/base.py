@@ -68,7 +68,7 @@ class Model:
 
     def state_size(self, model_options: Any) -> int:
         """The size of the forced maps' state when it is not their modal section (the
-        continuation then stores it as ``state``, from which a study restarts); 0 when it is
+        continuation then stores it as ``section_state``, from which a study restarts); 0 when it is
         (the ROM: the state is its modal coordinates and velocities)."""
         return 0
 
