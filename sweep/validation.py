@@ -742,8 +742,9 @@ def _rotating_waves(b, ds, results: Path, name: str = "validation/waves-fig14a",
         verdict = "Neimark-Sacker point" if k == 0 else ("yes" if stable[k] == 1 else "no")
         out.append(f"| {omega[k]:.4f} | {wave[k]:.5f} | {drift[k]:+.5f} | {mod[k] / decay[k]:.6f} | "
                    f"{neutral[k] - 1:+.1e} | {verdict} |")
-    d = omega[1:6] - omega[0]
-    ratio = wave[1:6] ** 2 / d
+    # the distance from the point on the side the waves leave it toward
+    gap = "Omega - Omega_NS" if omega[1] >= omega[0] else "Omega_NS - Omega"
+    ratio = wave[1:6] ** 2 / np.abs(omega[1:6] - omega[0])
     inside = bool(np.all((omega[1:6] > lo) & (omega[1:6] < hi)))
     kind = ("on the side where the axisymmetric response is unstable: a supercritical bifurcation" if inside else
             "on the side where the axisymmetric response is stable: a subcritical bifurcation")
@@ -759,8 +760,8 @@ def _rotating_waves(b, ds, results: Path, name: str = "validation/waves-fig14a",
     unstable_n1 = sum(1 for fams in others if 1 in fams)
     n1 = (f"; at {unstable_n1} of those it is unstable to n = 1, which {model} does not carry"
           if n != 1 and 1 in b.family.values else "")
-    out += ["", f"Near the point the wave size {'grows like' if shape else 'does not follow'} sqrt(Omega - Omega_NS) "
-            f"(wave^2 / (Omega - Omega_NS) over the second to sixth points: {ratio.min():.4e} .. {ratio.max():.4e} "
+    out += ["", f"Near the point the wave size {'grows like' if shape else 'does not follow'} sqrt({gap}) "
+            f"(wave^2 / ({gap}) over the second to sixth points: {ratio.min():.4e} .. {ratio.max():.4e} "
             f"m^2 s/rad), {kind}. The n = {n} block's critical multiplier at the point (continuation) has the angle "
             f"{theta:.5f} rad, so -theta/{n} = {-theta / n:+.5f} rad per period; the rotating waves' drift at their "
             f"second point is {drift[1]:+.5f}. They are stable against n = {n} perturbations at "
@@ -1958,7 +1959,29 @@ def section_full_rotating(results: Path) -> list[str]:
     b = _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
     if not np.isfinite(b.rotating_Omega.values).any():
         return out + [f"*No rotating waves: {str(b.message.values) or 'no Neimark-Sacker point of n = 2'}.*", ""]
-    return out + _rotating_waves(b, ds, results, FULL_ROTATING, 2, "this model")
+    return out + _rotating_waves(b, ds, results, FULL_ROTATING, 2, "this model") + _inherited(b, 2)
+
+
+def _inherited(b, n: int) -> list[str]:
+    """What else the axisymmetric response is unstable to at the rotating waves' Neimark-Sacker
+    point (the other families of the run), against the waves' own largest multiplier at their
+    first corrected point: the harmonic 2n is part of their model, the others are not."""
+    n_points = int(b.n_points)
+    omega, kind = b.Omega.values.ravel()[:n_points], b.point_type.values.ravel()[:n_points]
+    at = int(np.argmin(np.where(kind == NEIMARK_SACKER, np.abs(omega - float(b.rotating_Omega.values.ravel()[0])),
+                                np.inf)))
+    modulus = b.family_multiplier_modulus.values.reshape(b.sizes["point"], -1)[at]
+    others = [(int(f), float(mu)) for f, mu in zip(b.family.values, modulus) if f != n and mu > 1.0]
+    if not others:
+        return []
+    own = float(b.rotating_multiplier_modulus.values.ravel()[1])
+    listed = ", ".join(f"n = {f} ({mu:.5f}{', the harmonic 2n the waves carry' if f == 2 * n else ''})"
+                       for f, mu in others)
+    return [f"At the Neimark-Sacker point the axisymmetric response is already unstable to {listed}. The rotating "
+            f"waves' largest multiplier at their first point is {own:.5f}"
+            + (f": the n = {2 * n} instability, which they inherit through their harmonic {2 * n}"
+               if any(f == 2 * n and abs(mu - own) < 1e-3 * mu for f, mu in others) else "")
+            + "; a family they do not carry is not part of their stability.", ""]
 
 
 def _runs(indices) -> list[tuple[int, int]]:
