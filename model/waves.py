@@ -191,7 +191,7 @@ class RotatingWaves:
     value : (N,) array
         The continued parameter (rad s-1 or Pa).
     state : (N, 2K) array
-        ``y(0)`` in the O(2) ROM's coordinates; ``y(T) = R_drift y(0)``.
+        ``y(0)`` in the coordinates of the model with the companions; ``y(T) = R_drift y(0)``.
     drift : (N,) array
         ``phi`` (rad per forcing period): the angle the pattern turns in one period.
     amplitude : (N,) array

@@ -713,10 +713,14 @@ def _job_option(results: Path, name: str, key: str, field: str, section: str = "
 
 
 def _rotating_waves(b, ds, results: Path, name: str = "validation/waves-fig14a", n: int = 3,
-                    model: str = "this ROM") -> list[str]:
+                    carried: str | None = None) -> list[str]:
     """The rotating waves of family ``n`` at its first Neimark-Sacker point in the result
     ``name``, their continuation against the normal form and their time-integration check;
-    ``model`` names what carries the family (its other families are not computed)."""
+    ``carried`` names the perturbations their stability covers (default: the ROM's family
+    ``n``; its other families are not computed)."""
+    against = f"n = {n} perturbations" if carried is None else f"perturbations in {carried}"
+    label = f"n = {n}" if carried is None else carried
+    model = "this ROM" if carried is None else carried
     out = [f"### Rotating waves at the n = {n} Neimark-Sacker point", ""]
     omega = b.rotating_Omega.values.ravel()
     m = int(np.isfinite(omega).sum())
@@ -737,7 +741,7 @@ def _rotating_waves(b, ds, results: Path, name: str = "validation/waves-fig14a",
     out += [f"The axisymmetric response is unstable to n = {n} from {lo:.4f} to {hi:.4f} rad/s. From the",
             f"Neimark-Sacker point at {omega[0]:.4f} rad/s, every {step}th of the {m} points of the rotating waves:", "",
             "| Omega (rad/s) | wave size on the section (m) | drift (rad/period) | largest multiplier / exp(-alpha T), "
-            f"turning frame | group orbit's multiplier - 1 | stable (O(2), n = {n}) |", "|---|---|---|---|---|---|"]
+            f"turning frame | group orbit's multiplier - 1 | stable (O(2), {label}) |", "|---|---|---|---|---|---|"]
     for k in list(range(0, m, step)) + ([m - 1] if (m - 1) % step else []):
         verdict = "Neimark-Sacker point" if k == 0 else ("yes" if stable[k] == 1 else "no")
         out.append(f"| {omega[k]:.4f} | {wave[k]:.5f} | {drift[k]:+.5f} | {mod[k] / decay[k]:.6f} | "
@@ -746,9 +750,15 @@ def _rotating_waves(b, ds, results: Path, name: str = "validation/waves-fig14a",
     gap = "Omega - Omega_NS" if omega[1] >= omega[0] else "Omega_NS - Omega"
     ratio = wave[1:6] ** 2 / np.abs(omega[1:6] - omega[0])
     inside = bool(np.all((omega[1:6] > lo) & (omega[1:6] < hi)))
-    kind = ("on the side where the axisymmetric response is unstable: a supercritical bifurcation" if inside else
-            "on the side where the axisymmetric response is stable: a subcritical bifurcation")
     shape = (np.ptp(ratio) <= 0.1 * ratio.mean())
+    if shape:
+        kind = ("on the side where the axisymmetric response is unstable: a supercritical bifurcation" if inside else
+                "on the side where the axisymmetric response is stable: a subcritical bifurcation")
+    else:  # no normal form to read: where the branch goes instead
+        turns = np.flatnonzero(np.diff(np.sign(np.diff(omega))) != 0)
+        kind = ("leaving on the side where the axisymmetric response is "
+                f"{'unstable' if inside else 'stable'}" + (f" and turning back at {omega[turns[0] + 1]:.4f} rad/s"
+                                                           if turns.size else "") + ": no verdict on the kind")
     ns = int(np.argmin(np.abs(stretch - omega[0])))
     shape_mu = (b.sizes["point"], b.sizes["family"], -1)
     mu = (b.family_multiplier_real.values.reshape(shape_mu)[ns, j]
@@ -758,13 +768,14 @@ def _rotating_waves(b, ds, results: Path, name: str = "validation/waves-fig14a",
     beyond = np.flatnonzero(omega > hi)
     others = _unstable_families(b, omega[beyond])
     unstable_n1 = sum(1 for fams in others if 1 in fams)
-    n1 = (f"; at {unstable_n1} of those it is unstable to n = 1, which {model} does not carry"
+    n1 = (f"; at {unstable_n1} of those it is unstable to n = 1, which {model} "
+          f"{'does' if carried is None else 'do'} not carry"
           if n != 1 and 1 in b.family.values else "")
     out += ["", f"Near the point the wave size {'grows like' if shape else 'does not follow'} sqrt({gap}) "
             f"(wave^2 / ({gap}) over the second to sixth points: {ratio.min():.4e} .. {ratio.max():.4e} "
             f"m^2 s/rad), {kind}. The n = {n} block's critical multiplier at the point (continuation) has the angle "
             f"{theta:.5f} rad, so -theta/{n} = {-theta / n:+.5f} rad per period; the rotating waves' drift at their "
-            f"second point is {drift[1]:+.5f}. They are stable against n = {n} perturbations at "
+            f"second point is {drift[1]:+.5f}. They are stable against {against} at "
             f"{int((stable[1:] == 1).sum())} of {m - 1} points (largest multiplier {np.nanmax(mod[1:] / decay[1:]):.6f} "
             f"times the damping factor). {beyond.size} of them lie beyond {hi:.4f} rad/s, where the axisymmetric "
             f"response is stable to n = {n}{n1}.", ""]
@@ -785,7 +796,7 @@ def _rotating_waves(b, ds, results: Path, name: str = "validation/waves-fig14a",
                 f"{settled}."]
         if settled == "a rotating wave" and stable[k] == 1:
             out += ["Of the two kinds born at the Neimark-Sacker point, the rotating waves are the stable one against",
-                    f"n = {n} perturbations, the standing waves (a torus of the map, not continued here) unstable."]
+                    f"{against}, the standing waves (a torus of the map, not continued here) unstable."]
         out += [""]
     return out
 
@@ -1944,8 +1955,8 @@ def section_full_rotating(results: Path) -> list[str]:
     Fig. 14a, with their time-integration check."""
     out = ["## Rotating waves on the full model (Fig. 14a)", "",
            "The full model's Fig. 14a resonance (delta = 1.1, delta_o = 0.2, P0 = 1 Pa, c = 0.05 N s/m^3, 8",
-           "radial functions per field) with the family n = 2 in (U, V, W) on all of them",
-           f"(`{FULL_ROTATING}`). At the family's first Neimark-Sacker point the rotating waves are continued",
+           "radial functions per field) with the families n = 1, 2 and 4 in (U, V, W) on all of them",
+           f"(`{FULL_ROTATING}`). At the first Neimark-Sacker point of n = 2 the rotating waves are continued",
            "on the circumferential harmonics 0, 2 and 4 with their sine companions (model/full/harmonic.py:",
            "the same harmonics turned by a quarter period; the group O(2)), in (state, drift, Omega) with a",
            "phase condition, as the ROM's (\"Standing and rotating waves: the O(2) symmetry\"); their",
@@ -1959,28 +1970,32 @@ def section_full_rotating(results: Path) -> list[str]:
     b = _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
     if not np.isfinite(b.rotating_Omega.values).any():
         return out + [f"*No rotating waves: {str(b.message.values) or 'no Neimark-Sacker point of n = 2'}.*", ""]
-    return out + _rotating_waves(b, ds, results, FULL_ROTATING, 2, "this model") + _inherited(b, 2)
+    return out + _rotating_waves(b, ds, results, FULL_ROTATING, 2, "the harmonics 0, 2, 4") + _inherited(ds, b, 2)
 
 
-def _inherited(b, n: int) -> list[str]:
+def _inherited(ds, b, n: int) -> list[str]:
     """What else the axisymmetric response is unstable to at the rotating waves' Neimark-Sacker
     point (the other families of the run), against the waves' own largest multiplier at their
-    first corrected point: the harmonic 2n is part of their model, the others are not."""
+    second point (the first past the point): the harmonic 2n is part of their model, the others
+    are not.  Moduli over the damping factor exp(-alpha T), as in the table."""
+    omega = b.rotating_Omega.values.ravel()
+    if np.isfinite(omega).sum() < 2:
+        return []
     n_points = int(b.n_points)
-    omega, kind = b.Omega.values.ravel()[:n_points], b.point_type.values.ravel()[:n_points]
-    at = int(np.argmin(np.where(kind == NEIMARK_SACKER, np.abs(omega - float(b.rotating_Omega.values.ravel()[0])),
-                                np.inf)))
-    modulus = b.family_multiplier_modulus.values.reshape(b.sizes["point"], -1)[at]
-    others = [(int(f), float(mu)) for f, mu in zip(b.family.values, modulus) if f != n and mu > 1.0]
+    main, kind = b.Omega.values.ravel()[:n_points], b.point_type.values.ravel()[:n_points]
+    at = int(np.argmin(np.where(kind == NEIMARK_SACKER, np.abs(main - omega[0]), np.inf)))
+    decay = float(_damping_factor(ds, b, main[at]))
+    modulus = b.family_multiplier_modulus.values.reshape(b.sizes["point"], -1)[at] / decay
+    others = [(int(f), float(mu)) for f, mu in zip(b.family.values, modulus) if f != n and mu * decay > 1.0]
     if not others:
         return []
-    own = float(b.rotating_multiplier_modulus.values.ravel()[1])
-    listed = ", ".join(f"n = {f} ({mu:.5f}{', the harmonic 2n the waves carry' if f == 2 * n else ''})"
+    own = float(b.rotating_multiplier_modulus.values.ravel()[1]) / float(_damping_factor(ds, b, omega[1]))
+    listed = ", ".join(f"n = {f} ({mu:.6f}{', the harmonic 2n the waves carry' if f == 2 * n else ''})"
                        for f, mu in others)
-    return [f"At the Neimark-Sacker point the axisymmetric response is already unstable to {listed}. The rotating "
-            f"waves' largest multiplier at their first point is {own:.5f}"
-            + (f": the n = {2 * n} instability, which they inherit through their harmonic {2 * n}"
-               if any(f == 2 * n and abs(mu - own) < 1e-3 * mu for f, mu in others) else "")
+    same = any(f == 2 * n and abs(mu - own) < 1e-3 * mu for f, mu in others)
+    return [f"At the Neimark-Sacker point the axisymmetric response is already unstable to {listed} (moduli over "
+            f"the damping factor). The rotating waves' largest multiplier at their second point is {own:.6f}"
+            + (f": the n = {2 * n} instability, which they inherit through their harmonic {2 * n}" if same else "")
             + "; a family they do not carry is not part of their stability.", ""]
 
 

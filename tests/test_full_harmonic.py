@@ -24,7 +24,7 @@ from model.params import Membrane
 from model.protocol import sorted_multipliers
 from model.shooting import shoot
 from model.switching import follow_bifurcated_branch
-from model.waves import continue_rotating_waves, neimark_sacker_direction, standing_wave_stability
+from model.waves import continue_rotating_waves, neimark_sacker_direction, standing_wave_stability, wave_motion
 from sweep import cli
 from sweep.analyses.base import JobError
 from sweep.jobspec import parse_job
@@ -445,6 +445,10 @@ def test_rotating_waves_of_the_full_model_turn_by_their_drift(rotating):
     assert abs(rw.neutral[1] - 1) <= 1e-8 and rw.wave_amplitude[1] > 0
     assert np.linalg.norm(y[o2.sine]) > 0.01 * np.linalg.norm(y[o2.cosine])  # not a standing wave
     assert abs(drift + theta) <= 0.01 * theta
+    # the time integration's reading of it (model.waves.wave_motion on the family's pairs): the
+    # continued drift and a constant size, to the corrector's tolerance over 20 periods
+    motion = wave_motion(o2._replace(fmap=o2.fmap.varied("Omega", rw.value[1])), y, 1, 20)
+    assert motion.drift == pytest.approx(drift, rel=1e-6) and motion.wave_spread <= 1e-6
 
 
 SWITCH_JOB = """

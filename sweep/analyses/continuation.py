@@ -194,7 +194,7 @@ class ContinuationOptions:
     #: ``symmetry_breaking``: points of the branch without the half-period symmetry (0: none)
     broken_points: int = 0
     #: whether the job's model is the ROM (:attr:`sweep.models.base.Model.rom_features`): the
-    #: switched branch's modal coordinates and the standing waves' time integration
+    #: switched and rotating waves' modal coordinates
     rom_features: bool = False
     #: the size of the map's state when it is not its modal section (the full model), stored
     #: as ``section_state``; 0: not stored (:meth:`sweep.models.base.Model.state_size`)

@@ -1,11 +1,12 @@
 """The continuation's asymmetric waves: standing waves by branch switching and rotating waves.
 
-Two features of :mod:`sweep.analyses.branch_features`' kind, on the O(2) symmetry of the ROM
-with a family's sine companions (:mod:`model.waves`):
+Two features of :mod:`sweep.analyses.branch_features`' kind, on the O(2) symmetry of a model
+with a family's sine companions (:mod:`model.waves`; the maps' ``companions`` capability: the
+ROM's sine modes, the full model's harmonics with their companions):
 
 * :data:`BRANCH_SWITCHING` (``branch_switching``) -- the asymmetric branch born at the first
   branch point of a family (:func:`model.switching.follow_bifurcated_branch`), a branch of
-  standing waves, with its stability within the cosine modes and in the O(2) ROM (the group
+  standing waves, with its stability within the cosine modes and with the companions (the group
   orbit's multiplier removed), and optionally a time integration from a perturbed standing wave;
 * :data:`ROTATING_WAVES` (``rotating_waves``) -- the rotating waves born at the first
   Neimark-Sacker point of a family (:func:`model.waves.continue_rotating_waves`), with their
@@ -25,15 +26,16 @@ from model.continuation import BRANCH_POINT, NEIMARK_SACKER
 from model.families import embedded
 from model.shooting import shoot
 from model.switching import follow_bifurcated_branch
-from model.waves import continue_rotating_waves, standing_wave_stability, wave_motion
+from model.waves import continue_rotating_waves, neimark_sacker_direction, standing_wave_stability, wave_motion
 
 from . import options as opt
 from .base import GRID_KEYS, JobError, Variable, blank_outputs
 from .branch_features import BranchFeature, kind_attrs
 
-#: Displacement (m) of the family's cosine coordinates that starts a check from an axisymmetric
-#: response, and the fraction of it given to the sine coordinates (a standing wave, slightly
-#: turned out of the reflection-symmetric subspace so that a rotating wave can take over).
+#: Size (m, the norm of the family's cosine coordinates) of the standing pattern that starts a
+#: check from an axisymmetric response, shaped as the family's critical Floquet mode, and the
+#: fraction of it given to the sine coordinates (a standing wave, slightly turned out of the
+#: reflection-symmetric subspace so that a rotating wave can take over).
 CHECK_SIZE, CHECK_ODD = 1e-4, 1e-3
 #: Relative size of the odd perturbation of a standing wave that starts its check: across the
 #: group orbit (a radial profile that the rotation of the wave does not produce).
@@ -184,7 +186,10 @@ class BranchSwitching(BranchFeature):
         out["switched_point_type"][:m] = sw.kind
         out["switched_multiplier_modulus"][:m] = np.abs(sw.multipliers).max(axis=1)
         problems = [] if sw.complete or m >= n else [f"switched branch: {sw.message}"]
-        if getattr(fmap, "companions", None) is not None:  # else the O(2) outputs stay padding
+        if getattr(fmap, "companions", None) is None:  # the O(2) outputs stay padding
+            problems.append("standing waves in O(2): this model's maps have no sine companions (the companions "
+                            "capability)")
+        else:
             try:
                 self._o2(out, options, fmap.varied(p, sw.value[0]), family, sw)
             except (RuntimeError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
@@ -316,9 +321,12 @@ class RotatingWaves(BranchFeature):
         if np.abs(np.linalg.eigvals(at.family_monodromy(axi.state, family))).max() <= 1.0:
             return [f"rotating-wave check: the axisymmetric response found at {p} = {value:.9g} is stable to "
                     f"n = {family.n} (another of the coexisting responses)"]
+        # the pattern of the family's complex Floquet mode nearest the unit circle (its real
+        # part: a standing pattern in the family's own shape, not spread over every coefficient)
+        shape = neimark_sacker_direction(at, axi.state, family)[0][:o2.cosine.size].real
         y = embedded(axi.state, K)
-        y[o2.cosine] = CHECK_SIZE
-        y[o2.sine] = CHECK_SIZE * CHECK_ODD
+        y[o2.cosine] = CHECK_SIZE * shape / np.linalg.norm(shape)
+        y[o2.sine] = CHECK_ODD * y[o2.cosine]
         _run_check(out, "rotating", p, value, o2._replace(fmap=o2.fmap.varied(p, value)), y, family.n, periods)
         return []
 

@@ -43,8 +43,8 @@ class Model:
     OPTIONS: ClassVar[Mapping[str, str]] = {}
     #: The grid keys of the membrane the model needs (the analyses add their forcing keys).
     required_grid: ClassVar[tuple[str, ...]] = ()
-    #: Whether the analyses' ROM-only options (branch switching, the family check, mixed
-    #: mode sets) apply to this model's maps.
+    #: Whether the analyses' ROM-only options (mixed mode sets, mode-set sweeps, tongues, the
+    #: modal coordinates of the waves) apply to this model's maps.
     rom_features: ClassVar[bool] = False
     #: Whether the model's forced maps hold axisymmetric states only (the forced analyses'
     #: ``modes`` must then be axisymmetric, ``(m, 0)``).
