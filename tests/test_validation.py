@@ -135,3 +135,46 @@ def test_a_coarse_lattice_is_found_in_a_fine_one():
     np.testing.assert_array_equal(rows[0], np.arange(0, 100, 9))
     np.testing.assert_array_equal(rows[1], np.arange(0, 100, 3))
     assert validation._lattice_rows(lattice(100, 100), lattice(20, 12)) is None  # 99 / 19 is no integer step
+
+
+def test_the_o2_summary_of_standing_waves():
+    """Past the branch point: the companions' multipliers, how many above 1, the group orbit's
+    multiplier's distance from 1 and the stable stretch; "not computed" (with the run's message)
+    when no companion multiplier was."""
+    import xarray as xr
+
+    nan = np.nan
+    ds = xr.Dataset({"switched_odd_multiplier_modulus": ("switched_point", [nan, 0.99, 1.02, 0.98]),
+                     "switched_neutral_multiplier": ("switched_point", [nan, 1 + 1e-9, 1 - 3e-9, 1.0]),
+                     "switched_stable_o2": ("switched_point", [0, 1, 0, 1]), "message": ((), "")})
+    omega = np.array([33.0, 33.1, 33.2, 33.3])
+    text = validation._o2_summary(ds, omega, 4)
+    assert "0.98000-1.02000, above 1 at 1 of the 3 points" in text and "1 within 3.0e-09" in text
+    assert "stable in O(2) 33.1000-33.1000 rad/s, 33.3000-33.3000 rad/s" in text
+    blank = ds.assign(switched_odd_multiplier_modulus=("switched_point", [nan] * 4),
+                      message=((), "standing waves in O(2): ValueError: steps"))
+    assert validation._o2_summary(blank, omega, 4) == (" With the sine companions: not computed (standing waves "
+                                                        "in O(2): ValueError: steps).")
+
+
+def test_what_the_rotating_waves_inherit():
+    """At the Neimark-Sacker point of n = 2 the response is unstable to n = 1 and n = 4 (moduli
+    over the damping factor); the waves' own largest multiplier at their second point is n = 4's
+    (the harmonic 2n they carry): named as inherited; not when it differs."""
+    import xarray as xr
+
+    omega = np.array([33.0, 33.5, 34.0])
+    decay = np.exp(-0.05 / 2 * 2 * np.pi / omega)  # c / (2 Gamma h) with Gamma h = 1
+    modulus = np.array([[0.9, 0.9, 0.9], [1.01, 1.0, 1.03], [0.9, 0.9, 0.9]]) * decay[:, None]
+    ds = xr.Dataset({"Omega": ("point", omega), "point_type": ("point", [0, 3, 0]),
+                     "family_multiplier_modulus": (("point", "family"), modulus),
+                     "rotating_Omega": ("rotating_point", [33.5, 33.49]),
+                     "rotating_multiplier_modulus": ("rotating_point",
+                                                     [np.nan, 1.03 * np.exp(-0.05 / 2 * 2 * np.pi / 33.49)]),
+                     "n_points": ((), 3), "c": ((), 0.05)},
+                    coords={"family": [1, 2, 4]}, attrs={"membrane_Gamma": 1.0, "membrane_h": 1.0})
+    text = " ".join(validation._inherited(ds, ds, 2))
+    assert "unstable to n = 1 (1.010000), n = 4 (1.030000, the harmonic 2n the waves carry)" in text
+    assert "second point is 1.030000: the n = 4 instability, which they inherit through their harmonic 4" in text
+    other = ds.assign(rotating_multiplier_modulus=("rotating_point", [np.nan, 1.2]))
+    assert "inherit" not in " ".join(validation._inherited(other, other, 2))
