@@ -320,17 +320,20 @@ class ForcedFull:
         dt = self.period / self.steps
         blocks = [self.matrix if self.matrix.shape[0] else np.zeros((2 * m.order, 2 * m.order))]
         spectra = [self.eigenvalues]
-        families = [(k, "UVW") for k in harmonic.harmonics[1:]]
-        if companions:
-            families += [(0, "V")] + families
-        for k, fields in families:
-            family = FullFamily.build(m, k, fields=fields)
-            rate, matrix = family_damping(family, m.membrane, self.damping)
-            spectra.append(damped_eigenvalues(*family.linear_system(), rate, matrix))
-            if not stable(spectra[-1], dt):
-                raise ValueError(f"steps = {self.steps} is invalid for the harmonic {k} ({fields}): RK4's step "
-                                 "leaves the stability region of its damped linear motion")
-            blocks.append((matrix if matrix.shape[0] else 0.0) + (rate - self.rate) * np.eye(family.size // 2))
+        cosines = [(k, "UVW") for k in harmonic.harmonics[1:]]
+        damped = {}  # (k, fields) -> (damping block, spectrum): a companion is damped as its cosine block
+        for k, fields in cosines + ([(0, "V")] + cosines if companions else []):
+            if (k, fields) not in damped:
+                family = FullFamily.build(m, k, fields=fields)
+                rate, matrix = family_damping(family, m.membrane, self.damping)
+                spectrum = damped_eigenvalues(*family.linear_system(), rate, matrix)
+                if not stable(spectrum, dt):
+                    raise ValueError(f"steps = {self.steps} is invalid for the harmonic {k} ({fields}): RK4's step "
+                                     "leaves the stability region of its damped linear motion")
+                block = (matrix if matrix.shape[0] else 0.0) + (rate - self.rate) * np.eye(family.size // 2)
+                damped[k, fields] = block, spectrum
+            blocks.append(damped[k, fields][0])
+            spectra.append(damped[k, fields][1])
         matrix = block_diag(*blocks)  # in the order of harmonic.blocks
         forced = HarmonicForced(harmonic, self.P0, self.Omega, self.steps, self.rate,
                                 matrix if np.any(matrix) else np.zeros((0, 0)), eigenvalues=np.concatenate(spectra))
