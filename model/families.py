@@ -434,9 +434,30 @@ def floquet_start(block) -> np.ndarray:
     return np.real(v / x[np.argmax(np.abs(x))])
 
 
+class PerturbationGrowth(NamedTuple):
+    """What :func:`perturbation_growth` measured.
+
+    Attributes
+    ----------
+    growth : float
+        The largest multiplier modulus of the family as seen by the integration.
+    saturated : tuple of float
+        ``(min, max)`` of ``w_asym(rho_probe, 0)`` (m) over the last tenth of the
+        ``saturate`` periods, NaN without ``saturate``.
+    state : (2 K,) array
+        The mixed model's state at the end of the integration (after the ``saturate``
+        periods): where a classification of the state reached starts
+        (:func:`model.lyapunov.lyapunov_spectrum`).
+    """
+
+    growth: float
+    saturated: tuple[float, float]
+    state: np.ndarray
+
+
 def perturbation_growth(fmap, state, asymmetric, periods: int = 100, settle: int = 20,
                         size: float = 1e-9, limit: float = 1e-5, saturate: int = 0,
-                        probe=None, start=None, metric=None) -> tuple[float, tuple[float, float]]:
+                        probe=None, start=None, metric=None) -> PerturbationGrowth:
     """Growth per period of a small asymmetric perturbation, by integrating the nonlinear ROM.
 
     The independent check of :func:`family_monodromy`: ``fmap`` is the map of a mixed model
@@ -467,11 +488,7 @@ def perturbation_growth(fmap, state, asymmetric, periods: int = 100, settle: int
 
     Returns
     -------
-    growth : float
-        The largest multiplier modulus of the family as seen by the integration.
-    saturated : tuple of float
-        ``(min, max)`` of ``w_asym(rho_probe, 0)`` (m) over the last tenth of the
-        ``saturate`` periods, NaN without ``saturate``.
+    PerturbationGrowth
     """
     K = fmap.dof
     z = embedded(state, K)
@@ -504,4 +521,4 @@ def perturbation_growth(fmap, state, asymmetric, periods: int = 100, settle: int
             z = fmap.advance(z)
             samples.append(float(np.asarray(probe) @ z[:K]))
         saturated = (float(min(samples)), float(max(samples)))
-    return float(np.exp(slope)), saturated
+    return PerturbationGrowth(float(np.exp(slope)), saturated, z)

@@ -9,6 +9,7 @@ from model.free import FreeRom
 from model.continuation import (FOLD, REGULAR, continue_orbits, cusp_from_folds, resonant_end, stable_amplitudes_at,
                                 unstable_intervals)
 from model.forced import DEFAULT_STEPS, ForcedMap
+from model.lyapunov import PERIODIC
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
 from model.rom import build_rom, force_jacobian
@@ -139,6 +140,13 @@ MEMBRANE = Membrane()
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
       "family_check": {"values": [float("nan")]}}, GRID,
      "continuation.family_check.values = [nan] is invalid: must be a list of 1 to 16 finite numbers"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
+      "family_check": {"values": [0.5], "saturate": 100, "classify": 45}}, GRID,
+     "continuation.family_check.classify = 45 is invalid: must be 0 or a multiple of 10 of at least 32"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
+      "family_check": {"values": [0.5], "classify": 40}}, GRID,
+     "continuation.family_check.classify = 40 is invalid: needs saturate > 0 (the transient before the "
+     "classification)"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": [4, 2]}}, GRID,
      "continuation.families.radial = [4, 2] is invalid: an integer from 1 to 32, or a list of distinct increasing"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": [2, 40]}}, GRID,
@@ -349,6 +357,29 @@ def test_family_check_compares_time_integration_with_floquet():
     assert floquet[0] < 1.0 and growth[0] < 1.0 and growth[0] == pytest.approx(floquet[0], rel=1.5e-3)
     assert floquet[1] > 1.3 and growth[1] == pytest.approx(floquet[1], rel=1e-4)
     assert np.isnan(out["check_asymmetric_amplitude"]).all()
+
+
+def test_family_check_classifies_the_state_reached():
+    # Fig. 14a, n = 1 at 44 rad/s, inside the family's interval: the perturbation grows and
+    # saturates on the asymmetric orbits born at the interval's branch point (a supercritical
+    # pitchfork: tests/test_switching.py), so after the transient the state reached is periodic
+    # of period one, with an asymmetric part far above the 1e-9 m start.  The light damping
+    # (alpha T = 2e-3 per period) leaves a transient of a few hundred periods: 600 saturate
+    # periods.  The sum of the exponents is Liouville's -2 K alpha of the viscous law for K = 3
+    # coordinates, to RK4's error of the determinant (the bound of tests/test_lyapunov.py).
+    grid = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "P0": np.array([1.0]), "c": np.array([0.05])}
+    check = {"values": [44.0], "periods": 100, "saturate": 600, "classify": 40}
+    options = CONTINUATION.parse_options(
+        {"parameter": "Omega", "start": 25.0, "stop": 55.0, "max_points": 600, "ds_max": 0.3,
+         "families": {"n": [1], "radial": 2}, "family_check": check}, grid, MEMBRANE)
+    point = grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "P0": 1.0, "c": 0.05})
+    out = CONTINUATION.compute(point, options, 0)
+    assert out["status"] == 0 and out["check_floquet_modulus"][0, 0] > 1.3
+    assert out["check_kind"][0, 0] == PERIODIC and out["check_kind_period"][0, 0] == 1
+    assert np.isnan(out["check_rotation_number"][0, 0]) and out["check_asymmetric_amplitude"][0, 0] > 1e-3
+    alpha = 0.05 / (2 * MEMBRANE.Gamma * MEMBRANE.h)
+    assert out["check_lyapunov_sum"][0, 0] == pytest.approx(-2 * 3 * alpha, rel=1e-3)
+    assert out["check_lyapunov_error"][0, 0] > 0
 
 
 def test_sine_companions_do_not_duplicate_located_points():

@@ -34,6 +34,8 @@ import numpy as np
 from model.codim2 import continue_curve, continue_folds
 from model.continuation import KIND_NAMES, resonant_end
 from model.families import floquet_start, perturbation_growth, symmetry_blocks
+from model.lyapunov import KIND_NAMES as RESPONSE_KINDS, classify, lyapunov_spectrum
+from model.response import LYAPUNOV_BLOCKS
 from model.tongues import family_tongue
 
 from . import options as opt
@@ -49,6 +51,9 @@ CURVE_DS_MAX = 0.5
 MAX_CURVES = 16
 #: Largest number of values of ``family_check``.
 MAX_CHECKS = 16
+#: Longest period (forcing periods) the classification of ``family_check.classify`` looks
+#: for (:func:`model.lyapunov.classify`); ``classify`` is at least twice it.
+CHECK_MAX_PERIOD = 16
 
 
 def kind_attrs() -> dict:
@@ -324,22 +329,30 @@ class BifurcationCurves(BranchFeature):
 
 
 def family_check_option(table, section):
-    """The ``family_check = {values, periods, saturate}`` option: ``(values, periods,
-    saturate)`` or None."""
+    """The ``family_check = {values, periods, saturate, classify}`` option: ``(values,
+    periods, saturate, classify)`` or None."""
     value = table.get("family_check")
     if value is None:
         return None
     key = f"{section}.family_check"
-    if not isinstance(value, dict) or not {"values"} <= set(value) <= {"values", "periods", "saturate"}:
-        raise JobError(key, value, "must be a table {values = [..], periods = N, saturate = N}")
+    allowed = {"values", "periods", "saturate", "classify"}
+    if not isinstance(value, dict) or not {"values"} <= set(value) <= allowed:
+        raise JobError(key, value, "must be a table {values = [..], periods = N, saturate = N, classify = N}")
     if table.get("families") is None:
         raise JobError(key, value, "needs continuation.families")
     values = value["values"]
     if (not isinstance(values, list) or not 0 < len(values) <= MAX_CHECKS
             or any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) for v in values)):
         raise JobError(f"{key}.values", values, f"must be a list of 1 to {MAX_CHECKS} finite numbers")
+    saturate = opt.number(value, key, "saturate", 0, integer=True, low=0, high=1_000_000)
+    points = opt.number(value, key, "classify", 0, integer=True, low=0, high=1_000_000)
+    if points and (points % LYAPUNOV_BLOCKS or points < 2 * CHECK_MAX_PERIOD):
+        raise JobError(f"{key}.classify", points, f"must be 0 or a multiple of {LYAPUNOV_BLOCKS} of at least "
+                       f"{2 * CHECK_MAX_PERIOD}")
+    if points and not saturate:
+        raise JobError(f"{key}.classify", points, "needs saturate > 0 (the transient before the classification)")
     return (tuple(float(v) for v in values), opt.number(value, key, "periods", 100, integer=True, low=10, high=100_000),
-            opt.number(value, key, "saturate", 0, integer=True, low=0, high=1_000_000))
+            saturate, points)
 
 
 class FamilyCheck(BranchFeature):
@@ -366,6 +379,30 @@ class FamilyCheck(BranchFeature):
             Variable("check_asymmetric_spread", cf, (C, F), "f8", "m",
                      "max - min of the asymmetric w(0.5 Re, 0) over the stroboscopic samples of the last tenth "
                      "of the saturate periods: 0 for a period-one state (NaN without saturate)"),
+            *self._classify_variables(options, cf, (C, F)),
+        ]
+
+    @staticmethod
+    def _classify_variables(options, dims, shape) -> list[Variable]:
+        if not options.check[3]:
+            return []
+        return [
+            Variable("check_lyapunov_exponent", dims, shape, "f8", "s-1",
+                     "largest Lyapunov exponent of the mixed model's stroboscopic map over the family_check "
+                     "classify periods after the saturate periods"),
+            Variable("check_lyapunov_error", dims, shape, "f8", "s-1",
+                     f"statistical error of check_lyapunov_exponent ({LYAPUNOV_BLOCKS} block means)"),
+            Variable("check_lyapunov_sum", dims, shape, "f8", "s-1",
+                     "sum of the Lyapunov exponents: the mean log |det| of the map's Jacobian per period over "
+                     "the period; the flow's is -2 alpha dof under a mass-proportional damping, the RK4 map's "
+                     "lower where its step damps modes it does not resolve (the full model's in-plane ones)"),
+            Variable("check_kind", dims, shape, "i1", "1", "kind of the state reached", -1,
+                     {"flag_values": np.arange(-1, len(RESPONSE_KINDS), dtype=np.int8),
+                      "flag_meanings": " ".join(("not_computed",) + RESPONSE_KINDS)}),
+            Variable("check_kind_period", dims, shape, "i4", "1",
+                     "least period of a periodic state reached in forcing periods (0: not periodic)", -1),
+            Variable("check_rotation_number", dims, shape, "f8", "1",
+                     "rotation number of a quasi-periodic state reached on its invariant circle, in [0, 1/2]"),
         ]
 
     def coords(self, options):
@@ -377,7 +414,7 @@ class FamilyCheck(BranchFeature):
     def compute(self, ctx):
         options, br, fmap = ctx.options, ctx.branch, ctx.fmap
         out = blank_outputs(self.variables(options))
-        values, periods, saturate = options.check
+        values, periods, saturate, points = options.check
         p = options.parameter
         end = resonant_end(br.kind)
         problems = []
@@ -394,14 +431,29 @@ class FamilyCheck(BranchFeature):
                 try:
                     start = (mixed.start if mixed.start is not None
                              else floquet_start(fmap.varied(p, br.value[i]).family_monodromy(br.state[i], fam)))
-                    out["check_growth"][c, j], (low, high) = perturbation_growth(
-                        mixed.fmap.varied(p, br.value[i]), br.state[i], mixed.asymmetric, periods=periods,
-                        saturate=saturate, probe=mixed.probe, start=start, metric=mixed.metric)
+                    at = mixed.fmap.varied(p, br.value[i])
+                    check = perturbation_growth(at, br.state[i], mixed.asymmetric, periods=periods,
+                                                saturate=saturate, probe=mixed.probe, start=start, metric=mixed.metric)
+                    low, high = check.saturated
+                    out["check_growth"][c, j] = check.growth
                     out["check_asymmetric_amplitude"][c, j] = max(abs(low), abs(high))
                     out["check_asymmetric_spread"][c, j] = high - low
+                    if points:
+                        _classify_reached(out, (c, j), at, check.state, points)
                 except ValueError as exc:
                     problems.append(f"family_check n = {fam.n} at {p} = {br.value[i]:.6g}: {exc}")
         return out, "; ".join(problems)
+
+
+def _classify_reached(out, at, fmap, state, points) -> None:
+    # The Lyapunov spectrum over `points` periods from the state the check reached, and its
+    # kind (model.lyapunov), into the check_* outputs at index `at`.
+    record = lyapunov_spectrum(fmap, state, points, LYAPUNOV_BLOCKS)
+    kind = classify(fmap, record, max_period=CHECK_MAX_PERIOD)
+    out["check_lyapunov_exponent"][at] = record.exponents[0]
+    out["check_lyapunov_error"][at] = record.standard_error[0]
+    out["check_lyapunov_sum"][at] = record.log_det / record.period
+    out["check_kind"][at], out["check_kind_period"][at], out["check_rotation_number"][at] = kind
 
 
 def tongues_option(table, section) -> bool:

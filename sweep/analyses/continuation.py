@@ -85,8 +85,8 @@ the axisymmetric block, the responses without the half-period symmetry for at mo
 with the families' multipliers: ``broken_*`` over ``broken_point``
 (:mod:`sweep.analyses.time_symmetry`).
 
-Brute-force check (``family_check = {values = [40, 44], periods = 100, saturate = 0}``, with
-``families``): at the resonant responses (the stretch from ``start`` to the first
+Brute-force check (``family_check = {values = [40, 44], periods = 100, saturate = 0,
+classify = 0}``, with ``families``): at the resonant responses (the stretch from ``start`` to the first
 saddle-node) nearest each value, each family's mixed model is integrated from the orbit plus
 1e-9 m in the family's coordinates (:func:`model.families.perturbation_growth`): the ROM's
 axisymmetric modes plus the family's (2-D quadrature), or the full model on the
@@ -94,7 +94,14 @@ circumferential harmonics 0, n and 2n (:mod:`model.full.harmonic`; families in `
 on all the model's radial functions): ``check_growth`` (``check``,
 ``family``), the growth per period, against ``check_floquet_modulus``; with ``saturate``
 the asymmetric amplitude reached, ``check_asymmetric_amplitude``, and the width of the range
-of its stroboscopic samples, ``check_asymmetric_spread`` (zero for a period-one state).
+of its stroboscopic samples, ``check_asymmetric_spread`` (zero for a period-one state); with
+``classify = L`` (needs ``saturate``) the state reached is iterated L periods more with the
+Lyapunov spectrum of the mixed model's map and classified as a bifurcation diagram's points are
+(:func:`model.lyapunov.classify`, periods up to 16): ``check_lyapunov_exponent`` and
+``check_lyapunov_error`` (the largest exponent, s-1), ``check_lyapunov_sum`` (the sum of all:
+the flow's ``-2 alpha dof`` under a mass-proportional damping, lower on the full model, whose
+RK4 step damps the in-plane modes it does not resolve), ``check_kind`` (flags: periodic,
+quasi-periodic, chaotic, ...), ``check_kind_period`` and ``check_rotation_number``.
 
 Parametric thresholds (``tongues = true``, with ``families``; the ROM): at every point and
 for every family, ``tongue_threshold`` (``point``, ``family``): the smallest scale ``s`` of the
@@ -248,12 +255,14 @@ class ContinuationAnalysis(Analysis):
                           "U, V, W on all its radial functions), with their drift per period and stability; with P >= 20, P periods of time "
                           "integration from the axisymmetric response at the one nearest the middle of the "
                           "family's unstable interval, perturbed towards a standing wave (needs families; default none)",
-        "family_check": "{values = [..], periods = 100, saturate = 0}: brute-force check of the families' "
+        "family_check": "{values = [..], periods = 100, saturate = 0, classify = 0}: brute-force check of the families' "
                         "stability at the resonant responses nearest these parameter values: growth per period of "
                         "a small asymmetric perturbation in the nonlinear mixed model (the ROM: axisymmetric + family "
                         "modes, 2-D quadrature; the full model: circumferential harmonics 0, n, 2n, families in U, V, "
                         "W on all its radial functions) against the Floquet multiplier; with saturate = N, N periods "
-                        "more and the asymmetric amplitude reached (needs families; default none)",
+                        "more and the asymmetric amplitude reached; with classify = L (a multiple of 10, at least 40, "
+                        "needs saturate), L periods more with the Lyapunov spectrum and the kind of the state reached "
+                        "(periodic, quasi-periodic, chaotic, ...) (needs families; default none)",
         "families": "{n = [wave numbers], radial = M}: Floquet multipliers of the asymmetric mode families "
                     "(radial modes 1..M of each n) along the axisymmetric branch; branch points, period "
                     "doublings and Neimark-Sacker points of each family are located (default none; needs "
