@@ -34,10 +34,12 @@ from typing import NamedTuple
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.spatial import cKDTree
 
 from model.fe_annulus import FePrestretch, linear_operators, ray_nodes
 from model.fe_kernels import fe_force
 from model.full import surface
+from model.full.forced import STABLE_STEP
 
 #: Fraction of RK4's stability limit ``2.8 / omega_max`` the time step takes (RK4 damps the
 #: mesh's fastest modes, excited by the lifted start, by about 5 % per step there).
@@ -137,17 +139,23 @@ class FeMotion:
         the units of :meth:`energy`."""
         return 0.5 * float(sum(v @ (self.mass @ v) for v in V)) / self.omega0_2
 
+    def polar_nodes(self) -> tuple[np.ndarray, np.ndarray]:
+        """The scaled undeformed radius and the angle (rad) of every node, ``(N,)`` each."""
+        X = self.basis.doflocs
+        return np.hypot(X[0], X[1]), np.arctan2(X[1], X[0])
+
+    def lift_fields(self, u, v, w):
+        """The field ``(3, N)``: the rest state plus the displacement ``u e_r + v e_theta + w
+        e_z`` given at the nodes (``(N,)`` each, in units of ``Re``; :meth:`polar_nodes`)."""
+        _, theta = self.polar_nodes()
+        cos, sin = np.cos(theta), np.sin(theta)
+        return self.rest + np.stack([u * cos - v * sin, u * sin + v * cos, np.broadcast_to(w, cos.shape)])
+
     def lift(self, u, w):
         """The field ``(3, N)``: the rest state plus the axisymmetric displacement ``u(rho) e_r +
         w(rho) e_z`` (callables of the scaled undeformed radius, in units of ``Re``)."""
-        X = self.basis.doflocs
-        rho = np.hypot(X[0], X[1])
-        D = self.rest.copy()
-        radial = u(rho)
-        D[0] += radial * X[0] / rho
-        D[1] += radial * X[1] / rho
-        D[2] += w(rho)
-        return D
+        rho, _ = self.polar_nodes()
+        return self.lift_fields(u(rho), 0.0, w(rho))
 
     def probe(self, rho) -> sp.csr_matrix:
         """The rows that evaluate a scalar field at the undeformed points ``(rho, 0)`` (scaled;
@@ -293,3 +301,74 @@ def check_free_orbit(motion: FeMotion, free, q0, period: float, periods: int, rh
         spread = float(np.ptp(np.pi / np.diff(np.concatenate([[0.0], times]))))
     return FeOrbitCheck(omega, spread, float(np.abs(w_fe - w_full).max() / np.abs(w_full).max()),
                         float(np.abs(u_fe - u_full).max() / np.abs(u_full).max()), dt)
+
+
+class FeHarmonicCheck(NamedTuple):
+    """The motion on the mesh from rest at a state of the full model on circumferential
+    harmonics, against the harmonics' own motion (:func:`check_harmonic_motion`)."""
+
+    #: ``max |w_fe - w_h|`` over the instants and points, over ``max |w_h|``
+    w_deviation: float
+    #: the same for the odd harmonics' part of ``w``, ``w(rho, theta) - w(rho, theta + pi)``:
+    #: the asymmetric motion of ``n = 1`` (and 3, ...) alone
+    odd_deviation: float
+    #: the same for the in-plane displacements ``(u, v)`` from the pre-stretch (the larger of the two)
+    inplane_deviation: float
+    #: the mesh's time step (s)
+    dt: float
+
+
+def check_harmonic_motion(motion: FeMotion, harmonic, q0, period: float, periods: int,
+                          samples: int = 64) -> FeHarmonicCheck:
+    """Integrate the mesh's motion from rest at the state ``q0`` of the full model on its
+    circumferential harmonics and compare it with the harmonics' own undamped free motion at
+    the mesh's nodes (where a P2 field's values are its coefficients: no interpolation).
+
+    Parameters
+    ----------
+    motion : FeMotion
+    harmonic : model.full.harmonic.HarmonicFull
+    q0 : (dof,) array
+        The start, at rest (over ``Re``).
+    period : float
+        The time unit (s): ``periods`` of it are integrated, ``samples`` compared per unit.
+
+    Returns
+    -------
+    FeHarmonicCheck
+        The odd part compares the nodes whose antipode ``(-x, -y)`` is a node too.  The
+        harmonics' RK4 step is the largest whole fraction of the sampling interval within
+        :data:`model.full.forced.STABLE_STEP` over their highest frequency.
+    """
+    per_sample = int(np.ceil(period / samples * harmonic.highest_frequency() / STABLE_STEP))
+    harmonic_steps = per_sample * samples
+    rho, theta = motion.polar_nodes()
+    cos, sin = np.cos(theta), np.sin(theta)
+    X = motion.basis.doflocs.T
+    distance, antipode = cKDTree(X).query(-X)
+    paired = np.flatnonzero(distance <= 1e-9 * np.abs(X).max())
+    every = int(np.ceil(period / samples / motion.time_step()))
+    fe = []
+
+    def record(step, D, V):
+        if step % every == 0:
+            dx, dy, dz = D - motion.rest
+            fe.append(np.stack([dx * cos + dy * sin, -dx * sin + dy * cos, dz]))
+
+    q0 = np.asarray(q0, float)
+    motion.motion(motion.lift_fields(*harmonic.fields(q0, rho, theta)), period / (samples * every),
+                  periods * samples * every, record)
+    states = harmonic.motion(np.concatenate([q0, np.zeros_like(q0)]), period / harmonic_steps,
+                             periods * harmonic_steps, harmonic_steps // samples)
+    own = np.array([np.stack(harmonic.fields(y[:harmonic.dof], rho, theta)) for y in states])
+    fe = np.array(fe)
+
+    def deviation(a, b):
+        return float(np.abs(a - b).max() / np.abs(b).max())
+
+    def odd(w):
+        return w[:, paired] - w[:, antipode[paired]]
+
+    return FeHarmonicCheck(deviation(fe[:, 2], own[:, 2]), deviation(odd(fe[:, 2]), odd(own[:, 2])),
+                           max(deviation(fe[:, 0], own[:, 0]), deviation(fe[:, 1], own[:, 1])),
+                           period / (samples * every))

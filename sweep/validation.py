@@ -22,7 +22,7 @@ import numpy as np
 
 from model.continuation import (BRANCH_POINT, FOLD, KIND_LABELS, NEIMARK_SACKER, resonant_end,
                                 stable_amplitudes_at, unstable_intervals, unstable_points)
-from sweep.analyses.backbone import FE_AROUND, FE_PERIODS
+from sweep.analyses.backbone import FE_AROUND, FE_HARMONICS, FE_PERIODS
 from sweep.analyses.branch_features import CURVE_DS_MAX
 from sweep.analyses.mode_sets import select
 from sweep.errors import RunError
@@ -1745,12 +1745,15 @@ def _family_check(results: Path) -> list[str]:
 def _check_rows(b, orbit: bool = False) -> tuple[list[str], dict]:
     """The table of a ``family_check`` result at one grid point ``b`` (a continuation in
     Omega; with ``orbit``, a column saying whether the axisymmetric response itself is stable
-    there) and the largest relative difference between integrated growth and Floquet modulus
-    where the family is unstable (key True) and stable (False)."""
+    there; with ``classify``, the kind of the state reached and its largest Lyapunov exponent
+    per period) and the largest relative difference between integrated growth and Floquet
+    modulus where the family is unstable (key True) and stable (False)."""
     omega = b.Omega.values.ravel()
+    classified = "check_kind" in b
     rows = ["| Omega (rad/s) | amplitude (m) |" + (" orbit |" if orbit else "") + " n | Floquet | integrated | "
-            "rel. diff. | max abs w_asym (m) | range width (m) | state reached |",
-            "|---|---|" + ("---|" if orbit else "") + "---|---|---|---|---|---|---|"]
+            "rel. diff. | max abs w_asym (m) | range width (m) | state reached |"
+            + (" Lyapunov: kind | lambda_1 T |" if classified else ""),
+            "|---|---|" + ("---|" if orbit else "") + "---|---|---|---|---|---|---|" + ("---|---|" if classified else "")]
     worst = {True: 0.0, False: 0.0, None: 0}  # None: how many checks have no growth (see the run's message)
     for c, value in enumerate(b.check_Omega.values):
         if not np.isfinite(value):
@@ -1768,8 +1771,57 @@ def _check_rows(b, orbit: bool = False) -> tuple[list[str], dict]:
                      else "period one" if width <= PERIODIC_WIDTH * peak else "not periodic")
             sizes = f"{peak:.2e} | {width:.2e}" if np.isfinite(peak) else "- | -"
             rows.append(f"| {value:.3f} | {float(b.amplitude[i]):.4f} |{own} {int(n)} | {mu:.5f} | {grown:.5f} | "
-                        f"{_rel(grown, mu)} | {sizes} | {state} |")
+                        f"{_rel(grown, mu)} | {sizes} | {state} |" + (_check_kind(b, c, j) if classified else ""))
     return rows, worst
+
+
+def _check_kind(b, c: int, j: int) -> str:
+    """The Lyapunov columns of a classified ``family_check`` row: the kind of the state reached
+    (with its period or rotation number) and ``lambda_1 T +- its error`` per forcing period."""
+    meanings = dict(zip(b.check_kind.attrs["flag_values"].tolist(), b.check_kind.attrs["flag_meanings"].split()))
+    kind = int(b.check_kind[c, j])
+    name = meanings.get(kind, "?").replace("_", "-")
+    if name == "periodic":
+        name += f", period {int(b.check_kind_period[c, j])}"
+    elif name == "quasi-periodic" and np.isfinite(float(b.check_rotation_number[c, j])):
+        name += f", rotation number {float(b.check_rotation_number[c, j]):.4f}"
+    period = 2 * np.pi / float(b.check_Omega[c])
+    lam, err = float(b.check_lyapunov_exponent[c, j]) * period, float(b.check_lyapunov_error[c, j]) * period
+    return f" {name} | {lam:+.2e} +- {err:.1e} |" if np.isfinite(lam) else f" {name} | - |"
+
+
+def _check_classification(b) -> list[str]:
+    """What the Lyapunov columns of a classified ``family_check`` table say, with the run's
+    numbers: the damping's own exponent and, on the full model, the exponents' sum against
+    the flow's."""
+    if "check_kind" not in b:
+        return []
+    period = 2 * np.pi / b.check_Omega.values[:, None]
+    alpha_t = float(b.c) / (2 * float(b.attrs["membrane_Gamma"]) * float(b.attrs["membrane_h"])) * period
+    out = [
+        "The Lyapunov columns (`family_check.classify`, `model.lyapunov`): after the saturate periods the",
+        "state reached is iterated the `classify` periods more with an orthonormal frame of tangent vectors",
+        "(Benettin's method: the QR factorisation of the map's RK4 variational monodromy times the frame,",
+        "every period) and classified as a bifurcation diagram's points are: periodic of period k <= 16",
+        "when the last points recur after k periods and Newton on P^k(y) = y converges to a stable orbit",
+        "the run approaches; otherwise chaotic, quasi-periodic or unsettled as lambda_1 lies above, within",
+        "or below its resolution, the larger of 3 standard errors of its block means (the +- column) and",
+        "0.1 / (N T), N the classify periods. lambda_1 T is per forcing period: the viscous damping alone",
+        f"gives -alpha T = -c T / (2 Gamma h) = {-np.nanmax(alpha_t):.2e} .. {-np.nanmin(alpha_t):.2e}, so a",
+        "state whose lambda_1 T lies within its resolution of zero is told from a slow transient by its",
+        "Poincare points (their rotation number), not by the exponent."]
+    if b.attrs.get("model") == "full" and int(b.attrs.get("model_inplane", 1)):
+        # the mixed map's coordinates: 8 radial functions' worth per order, u, w of harmonic 0 and
+        # u, v, w of harmonics n and 2n
+        dof = 8 * int(b.attrs["model_order"])
+        total = b.check_lyapunov_sum.values * period
+        out += [f"The sum of all {2 * dof} exponents per period, {np.nanmin(total):.3f} .. {np.nanmax(total):.3f},",
+                "is the RK4 map's phase-volume contraction, far below the flow's -2 alpha T dof =",
+                f"{-2 * np.nanmax(alpha_t) * dof:.3f} .. {-2 * np.nanmin(alpha_t) * dof:.3f}: the step, chosen for the "
+                "stability of the fast in-plane",
+                "modes, damps the modes it does not resolve (tests/test_full_harmonic.py checks the sum against",
+                "the closed form of RK4 at rest). Those are the most negative exponents; lambda_1 is not among them."]
+    return out + [""]
 
 
 def _damping_moduli(b) -> str:
@@ -1786,7 +1838,8 @@ def _check_states() -> str:
             "so the family's multipliers, not its nonlinearity, set its size (near the unit circle it\n"
             f"decays over thousands of periods); \"period one\": its samples spread by at most {PERIODIC_WIDTH:g}\n"
             "of their size; otherwise the state is not (or not yet) periodic: a modulated (quasi-periodic)\n"
-            "response, or a transient slower than the light damping lets settle in these periods.")
+            "response, or a transient slower than the light damping lets settle in these periods (the\n"
+            "Lyapunov columns, where computed, tell which).")
 
 
 #: The full model's family checks: (job, the case, its grid point).
@@ -1831,6 +1884,7 @@ def section_full_family_check(results: Path) -> list[str]:
             "the integrated growth agrees to " + (f"{worst[True]:.1e}" if worst[True] else "- (no such point)")
             + f"; where it is stable, to {worst[False]:.1e}{damping}"
             + (f"; {worst[None]} checks have no growth (the run's message says why)" if worst[None] else "") + ".", ""]
+        out += _check_classification(b)
     return out + [_check_states(), ""]
 
 
@@ -2830,6 +2884,53 @@ def section_fe_motion(results: Path) -> list[str]:
             "Two independent discretisations of the same equations -- a radial Legendre-Galerkin basis with the",
             "axisymmetry built in, and a 2-D mesh with none -- agree to the mesh's error, which falls at the",
             "element's order.", ""]
+    if "fe_harmonic_w_deviation" in ds:
+        size = _job_option(results, "validation/fe-free-vibration", "fe_check", "asymmetric", "backbone", 0.0)
+        out += _fe_asymmetric(ds, radial, periods, size)
+    return out
+
+
+def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str]:
+    """The asymmetric half of the finite-element free vibration (``fe_check.asymmetric``)."""
+    meshes = " / ".join(str(r) for r in radial)
+    names = {"w": "fe_harmonic_w_deviation", "odd part": "fe_harmonic_odd_deviation",
+             "u, v": "fe_harmonic_inplane_deviation"}
+    out = ["### Asymmetric motion", "",
+           f"From rest at each orbit's state plus {size:g} m of the lowest n = 1 transverse mode (its largest |w|), the "
+           "same meshes", f"against the full model on the circumferential harmonics {', '.join(map(str, FE_HARMONICS))} "
+           f"(`model/full/harmonic.py`), {periods} periods,",
+           "compared at the mesh's nodes, where a P2 field's values are its coefficients, 64 instants per period",
+           "(`model.fe_motion.check_harmonic_motion`): the largest deviation of w over its largest value, the same",
+           "for its odd harmonics' part w(rho, theta) - w(rho, theta + pi) (the n = 1 motion and what it drives in",
+           "the odd harmonics) and for the in-plane displacements u, v (the larger). The harmonics' truncation is",
+           "no source of the deviations: tests/test_fe_motion.py checks that more harmonics move the motion by",
+           "less than a hundredth of the deviation a mesh of 8 elements across has.", "",
+           f"| delta | A (m) | w deviation, {meshes} | odd part | u, v |", "|---|---|---|---|---|"]
+    orders = {k: [] for k in names}
+    finest = {k: [] for k in names}
+    for d in ds.delta.values:
+        f = _point(ds, delta=d, delta_o=0.2)
+        for j in range(f.sizes["point"]):
+            p = f.isel(point=j)
+            if not np.isfinite(float(p.omega_nl)):
+                continue
+            cells = []
+            for k, name in names.items():
+                v = p[name].values
+                orders[k] += [np.log(v[i] / v[i + 1]) / np.log(radial[i + 1] / radial[i]) for i in range(len(v) - 1)]
+                finest[k].append(v[-1])
+                cells.append(" / ".join(f"{x:.1e}" for x in v))
+            out.append(f"| {float(d):g} | {float(p.amplitude):.3f} | " + " | ".join(cells) + " |")
+    pairs = len(radial) - 1
+    out += ["", "Measured orders between successive meshes:", ""]
+    out += [f"* {k}: " + "; ".join(f"{radial[i]} -> {radial[i + 1]}: {min(orders[k][i::pairs]):.1f} to "
+                                   f"{max(orders[k][i::pairs]):.1f}" for i in range(pairs)) for k in names]
+    out += ["", f"On {radial[-1]} elements across the asymmetric motion deviates by at most "
+            f"{max(finest['odd part']):.1e} of its largest value and w by {max(finest['w']):.1e}: the",
+            "full model's circumferential harmonics, on which its standing and rotating waves and its family",
+            "checks run, integrate the same two-dimensional motion as a mesh with no harmonics, to the mesh's error.",
+            f"The in-plane fields, within {max(finest['u, v']):.1e}, converge more slowly: the start leaves out the "
+            "n = 1 part's in-plane", "response, and the in-plane waves it rings carry the mesh's phase error.", ""]
     return out
 
 

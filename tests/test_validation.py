@@ -70,6 +70,7 @@ def test_the_report_computes_nothing_from_the_model():
                      and (node.module or "").startswith("sweep.") for alias in node.names}
     assert through_sweep <= {("sweep.analyses.branch_features", "CURVE_DS_MAX"), ("sweep.analyses.mode_sets", "select"),
                              ("sweep.analyses.backbone", "FE_AROUND"), ("sweep.analyses.backbone", "FE_PERIODS"),
+                             ("sweep.analyses.backbone", "FE_HARMONICS"),
                              ("sweep.errors", "RunError"), ("sweep.storage.netcdf", "run_attributes")}
     assert imported <= {("model.continuation", name) for name in (
         "KIND_LABELS", "BRANCH_POINT", "NEIMARK_SACKER", "FOLD", "resonant_end", "stable_amplitudes_at",
@@ -178,3 +179,59 @@ def test_what_the_rotating_waves_inherit():
     assert "second point is 1.030000: the n = 4 instability, which they inherit through their harmonic 4" in text
     other = ds.assign(rotating_multiplier_modulus=("rotating_point", [np.nan, 1.2]))
     assert "inherit" not in " ".join(validation._inherited(other, other, 2))
+
+
+def test_the_lyapunov_columns_of_a_family_check():
+    """A classified family check: each row's kind (with its period or rotation number) and
+    lambda_1 T +- its error per forcing period; the text gives the damping's -alpha T and, on
+    the full model, the exponents' sum against the flow's -2 alpha T dof; an unclassified
+    check has neither."""
+    import xarray as xr
+
+    from model.lyapunov import KIND_NAMES
+
+    omega = 2 * np.pi  # T = 1 s
+    flags = {"flag_values": np.arange(-1, len(KIND_NAMES), dtype=np.int8),
+             "flag_meanings": " ".join(("not_computed",) + KIND_NAMES)}
+    cf = ("check", "family")
+    ds = xr.Dataset({"Omega": ("point", [omega]), "amplitude": ("point", [0.1]), "multiplier_modulus": ("point", [0.9]),
+                     "check_Omega": ("check", [omega]), "check_floquet_modulus": (cf, [[1.05, 0.99]]),
+                     "check_growth": (cf, [[1.05, 0.99]]), "check_asymmetric_amplitude": (cf, [[0.02, 1e-9]]),
+                     "check_asymmetric_spread": (cf, [[0.03, 1e-9]]),
+                     "check_kind": (cf, np.array([[2, 1]], dtype=np.int8), flags),
+                     "check_kind_period": (cf, [[0, 1]]), "check_rotation_number": (cf, [[0.0712, np.nan]]),
+                     "check_lyapunov_exponent": (cf, [[1e-4, -2e-3]]), "check_lyapunov_error": (cf, [[3e-4, 1e-4]]),
+                     "check_lyapunov_sum": (cf, [[-10.0, -11.0]]), "c": ((), 0.05)},
+                    coords={"family": [1, 4]},
+                    attrs={"membrane_Gamma": 1.0, "membrane_h": 1.0, "model": "full", "model_order": 8,
+                           "model_inplane": 1})
+    rows, _ = validation._check_rows(ds, orbit=True)
+    assert rows[0].endswith("| Lyapunov: kind | lambda_1 T |") and rows[1].count("---") == 12
+    assert rows[2].endswith("| quasi-periodic, rotation number 0.0712 | +1.00e-04 +- 3.0e-04 |")
+    assert rows[3].endswith("| periodic, period 1 | -2.00e-03 +- 1.0e-04 |")
+    text = " ".join(validation._check_classification(ds))
+    assert "-alpha T = -c T / (2 Gamma h) = -2.50e-02 .. -2.50e-02" in text  # c T / (2 Gamma h) = 0.025
+    assert "all 128 exponents per period, -11.000 .. -10.000" in text and "-3.200 .. -3.200" in text
+    plain = ds.drop_vars([v for v in ds.data_vars if v.startswith(("check_kind", "check_lyap", "check_rot"))])
+    assert "Lyapunov" not in validation._check_rows(plain)[0][0] and validation._check_classification(plain) == []
+
+
+def test_the_asymmetric_finite_element_check():
+    """Each orbit's deviations per mesh, the measured orders between meshes (log of the ratio
+    over log 2 for doubled meshes) and the finest mesh's largest; orbits without a frequency
+    are left out."""
+    import xarray as xr
+
+    fr = ("delta", "delta_o", "point", "fe_radial")
+    w = np.array([[[[8e-3, 1e-3], [1.6e-2, 2e-3]]]])  # order 3 for both orbits
+    ds = xr.Dataset({"omega_nl": (("delta", "delta_o", "point"), [[[30.0, 31.0]]]),
+                     "amplitude": ("point", [0.02, 0.06]), "fe_harmonic_w_deviation": (fr, w),
+                     "fe_harmonic_odd_deviation": (fr, 2 * w), "fe_harmonic_inplane_deviation": (fr, np.sqrt(w))},
+                    coords={"delta": [1.1], "delta_o": [0.2], "fe_radial": [4, 8]})
+    text = "\n".join(validation._fe_asymmetric(ds, [4, 8], 2, 0.01))
+    assert "| 1.1 | 0.020 | 8.0e-03 / 1.0e-03 | 1.6e-02 / 2.0e-03 | 8.9e-02 / 3.2e-02 |" in text
+    assert "* w: 4 -> 8: 3.0 to 3.0" in text and "* u, v: 4 -> 8: 1.5 to 1.5" in text
+    assert "deviates by at most 4.0e-03 of its largest value and w by 2.0e-03" in text
+    assert "0.01 m of the lowest n = 1 transverse mode" in text
+    missing = ds.assign(omega_nl=(("delta", "delta_o", "point"), [[[30.0, np.nan]]]))
+    assert "| 0.060 |" not in "\n".join(validation._fe_asymmetric(missing, [4, 8], 2, 0.01))

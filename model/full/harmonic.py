@@ -146,6 +146,35 @@ class HarmonicFull:
         b = self.blocks.index((int(k), field, parity))
         return slice(b * self.order, (b + 1) * self.order)
 
+    def highest_frequency(self) -> float:
+        """An upper bound of the highest natural frequency (rad s-1) of the harmonics' linear
+        motion about the pre-stretch (it bounds the explicit time step): the largest of their
+        families' in ``U, V, W`` (:attr:`model.full.families.FullFamily.omega_max`; a
+        companion has its cosine block's frequencies)."""
+        from .families import FullFamily
+
+        return max(FullFamily.build(self.model, k).omega_max for k in self.harmonics)
+
+    def fields(self, q, rho, theta) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The displacements ``(u, v, w)`` (over ``Re``; radial, circumferential, transverse)
+        of the coordinates ``q`` (``(dof,)``, over ``Re``) at the undeformed points ``(rho,
+        theta)`` (arrays of one shape; ``rho`` over ``Re``): each block's radial function
+        times its angular factor, ``e`` for ``U`` and ``W``, ``o`` for ``V`` (the class
+        docstring)."""
+        rho, theta = np.broadcast_arrays(np.asarray(rho, float), np.asarray(theta, float))
+        out = {"U": np.zeros(rho.shape), "V": np.zeros(rho.shape), "W": np.zeros(rho.shape)}
+        q = np.asarray(q, float)
+        basis = self.model.state.basis
+        for b, (k, field, parity) in enumerate(self.blocks):
+            radial = basis.evaluate(q[b * self.order:(b + 1) * self.order], rho.ravel())[0].reshape(rho.shape)
+            cos, sin = np.cos(k * theta), np.sin(k * theta)
+            if field == "V":
+                factor = -cos if parity == "odd" else sin
+            else:
+                factor = sin if parity == "odd" else cos
+            out[field] += radial * factor
+        return out["U"], out["V"], out["W"]
+
     @property
     def odd(self) -> np.ndarray:
         """``(dof,)``: which coordinates are the companions' (odd under ``theta -> -theta``)."""

@@ -116,3 +116,15 @@ def inplane_frequencies(state: FullPrestretch, n: int, count: int) -> np.ndarray
     axisymmetric transverse motion drives; the torsional ``n = 0`` modes (``V``, decoupled and
     left alone by it, ``frequencies(state, 0, count, "V")``) are not among them."""
     return frequencies(state, n, count, "U" if n == 0 else "UV")
+
+
+def transverse_mode(state: FullPrestretch, n: int, index: int = 0) -> tuple[float, np.ndarray]:
+    """The transverse mode ``index`` (0: the lowest) of harmonic ``n``: its frequency (rad
+    s-1) and its ``W`` coefficients ``(order,)``, scaled so that the largest ``|W(s)|`` over
+    the radius (on the basis' quadrature points and both edges) is 1 and positive."""
+    K, M = stiffness_mass(state, n, "W")
+    lam, vectors = eigh(K, M, subset_by_index=(index, index))
+    b, m = state.basis, state.membrane
+    values = vectors[:, 0] @ b.phi
+    W = vectors[:, 0] / values[np.argmax(np.abs(values))]
+    return float(np.sqrt(m.C1 / (m.Gamma * m.Re**2) * lam[0])), W

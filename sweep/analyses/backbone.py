@@ -28,6 +28,13 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   rest at each orbit's state; its frequency from the extrema of ``w`` at the probe and the
   range of its half periods' frequencies, and the largest deviations of ``w`` and ``u`` from the orbit along the ray ``theta = 0``
   (:func:`model.fe_motion.check_free_orbit`);
+* ``fe_harmonic_w_deviation``, ``fe_harmonic_odd_deviation``, ``fe_harmonic_inplane_deviation``
+  (``point``, ``fe_radial``) -- with ``fe_check.asymmetric = A`` (m): the same meshes from rest
+  at each orbit's state plus ``A`` times the lowest ``n = 1`` transverse mode (largest ``|w|``
+  of ``A``) against the full model on the circumferential harmonics :data:`FE_HARMONICS`
+  (:mod:`model.full.harmonic`): the largest deviations of ``w``, of its odd harmonics' part
+  ``w(rho, theta) - w(rho, theta + pi)`` (the asymmetric motion) and of ``u``, ``v`` at the
+  mesh's nodes over the instants (:func:`model.fe_motion.check_harmonic_motion`);
 * ``turn_amplitude``, ``turn_omega`` -- where the pseudo-arclength branch of free orbits
   (:func:`model.backbone.backbone_branch`) first turns back in amplitude (an internal
   resonance), NaN when it reaches the largest target without turning; targets beyond it
@@ -64,6 +71,10 @@ from .base import DEFAULT_CONTEXT, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Jo
 DEFAULT_AMPLITUDE = {"start": 1e-3, "stop": 0.4, "num": 40}
 #: ``fe_check``'s defaults: elements around per element across, periods integrated.
 FE_AROUND, FE_PERIODS = 4, 2
+#: The circumferential harmonics of ``fe_check.asymmetric``'s model: n = 1 and what its
+#: square and cube drive (harmonics 0 to 5 move its deviations from the mesh by 1e-4 of
+#: themselves: tests/test_fe_motion.py).
+FE_HARMONICS = (0, 1, 2, 3)
 #: Radii of ``orbit_u`` and ``orbit_w``, equally spaced from the inner to the outer edge (81:
 #: ``rho = 0.55 Re``, the paper's Fig. 8 point, is one of them at ``delta_o = 0.2``).
 ORBIT_RADII = 81
@@ -83,9 +94,9 @@ class BackboneOptions:
     extents: str = ""
     #: instants per period of ``orbit_u``, ``orbit_w`` (0: none)
     orbit_samples: int = 0
-    #: ``fe_check``: the meshes' radial elements, the elements around per radial one and the
-    #: periods integrated; ``((), 0, 0)``: no check
-    fe_check: tuple[tuple[int, ...], int, int] = ((), 0, 0)
+    #: ``fe_check``: the meshes' radial elements, the elements around per radial one, the
+    #: periods integrated and the asymmetric part's size (m; 0: none); ``((), 0, 0, 0.0)``: no check
+    fe_check: tuple[tuple[int, ...], int, int, float] = ((), 0, 0, 0.0)
 
     @property
     def targets(self) -> np.ndarray:
@@ -107,11 +118,14 @@ class BackboneAnalysis(Analysis):
         "peak_damping": "damping c of the decays of the peak-to-peak method (N s/m^3, > 0; default 0.05)",
         "orbit_samples": f"N: u and w over one period of each free orbit at N instants and {ORBIT_RADII} radii, "
                          "orbit_u and orbit_w (Fig. 8; models with in-plane motion; default 0: none)",
-        "fe_check": "{radial = [4, 8, 16], around = 4, periods = 2}: each free orbit's motion on two-dimensional "
-                    "finite-element meshes of radial P2 elements across and around x radial around, integrated "
-                    "for periods periods from rest at the orbit's state; fe_omega, fe_omega_spread, fe_w_deviation, "
-                    "fe_u_deviation (the full model with u free; docs/validation.md, \"The finite-element free "
-                    "vibration\")",
+        "fe_check": "{radial = [4, 8, 16], around = 4, periods = 2, asymmetric = 0}: each free orbit's motion on "
+                    "two-dimensional finite-element meshes of radial P2 elements across and around x radial around, "
+                    "integrated for periods periods from rest at the orbit's state; fe_omega, fe_omega_spread, "
+                    "fe_w_deviation, fe_u_deviation (the full model with u free; docs/validation.md, \"The "
+                    "finite-element free vibration\"); with asymmetric = A (m), the same from the orbit's state plus "
+                    f"A times the lowest n = 1 transverse mode against the full model on the harmonics "
+                    f"{', '.join(map(str, FE_HARMONICS))}: fe_harmonic_w_deviation, fe_harmonic_odd_deviation, "
+                    "fe_harmonic_inplane_deviation",
     }
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
@@ -123,7 +137,7 @@ class BackboneAnalysis(Analysis):
         if samples and not inplane:
             raise JobError(f"{self.name}.orbit_samples", samples, "needs a model with in-plane motion ([model] kind "
                            "= \"full\", inplane = true); this job's model has none")
-        fe_check = _fe_check_option(table.get("fe_check"), context) if "fe_check" in table else ((), 0, 0)
+        fe_check = _fe_check_option(table.get("fe_check"), context) if "fe_check" in table else ((), 0, 0, 0.0)
         return BackboneOptions(
             modes=opt.modes(table, self.name),
             prestretch=opt.prestretch(table, self.name, context),
@@ -243,16 +257,17 @@ def _padded(values) -> np.ndarray:
     return out
 
 
-def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int]:
-    """``fe_check = {radial = [...], around = A, periods = P}`` as ``(radial, A, P)``."""
+def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int, float]:
+    """``fe_check = {radial = [...], around = A, periods = P, asymmetric = S}`` as ``(radial,
+    A, P, S)``."""
     key = "backbone.fe_check"
     if context.model.kind != "full" or not context.model.options.inplane:
         raise JobError(key, value, "a check of the full model's orbits with in-plane motion ([model] kind = "
                        f"\"full\", inplane = true); this job's model is {context.model.kind!r}"
                        + ("" if context.model.kind != "full" else " with u held"))
     if not isinstance(value, dict):
-        raise JobError(key, value, "a table {radial = [4, 8, 16], around = 4, periods = 2}")
-    check_keys(value, key, ("radial", "around", "periods"))
+        raise JobError(key, value, "a table {radial = [4, 8, 16], around = 4, periods = 2, asymmetric = 0}")
+    check_keys(value, key, ("radial", "around", "periods", "asymmetric"))
     radial = value.get("radial", [4, 8, 16])
     what = "a non-empty list of distinct increasing element counts from 1 to 64"
     sizes = (opt.increasing(radial, f"{key}.radial", what, 1, 64) if isinstance(radial, list) else
@@ -261,13 +276,24 @@ def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int]:
     if around * sizes[0] < 8:
         raise JobError(f"{key}.around", around, f"at least {-(-8 // sizes[0])} (8 elements around or more on "
                        f"the coarsest mesh of {sizes[0]} across)")
-    return sizes, around, opt.number(value, key, "periods", FE_PERIODS, low=1, high=100, integer=True)
+    return (sizes, around, opt.number(value, key, "periods", FE_PERIODS, low=1, high=100, integer=True),
+            float(opt.number(value, key, "asymmetric", 0.0, low=0.0, high=1.0)))
 
 
 def _fe_variables(options) -> list[Variable]:
     if not options.fe_check[0]:
         return []
     dims, shape = ("point", "fe_radial"), (options.amplitude[2], len(options.fe_check[0]))
+    harmonics = ", ".join(map(str, FE_HARMONICS))
+    asymmetric = [
+        Variable("fe_harmonic_w_deviation", dims, shape, "f8", "1", "from rest at the orbit's state plus "
+                 "fe_check.asymmetric times the lowest n = 1 transverse mode: largest |w_fe - w| over the instants "
+                 f"and the mesh's nodes, over the largest |w|, w of the full model on the harmonics {harmonics}"),
+        Variable("fe_harmonic_odd_deviation", dims, shape, "f8", "1", "the same for the odd harmonics' part "
+                 "w(rho, theta) - w(rho, theta + pi): the asymmetric motion alone"),
+        Variable("fe_harmonic_inplane_deviation", dims, shape, "f8", "1", "the same for the in-plane displacements "
+                 "u, v (the larger)"),
+    ] if options.fe_check[3] else []
     return [
         Variable("fe_omega", dims, shape, "f8", "rad s-1", "frequency of the motion on the finite-element mesh "
                  "from rest at the free orbit's state, from the instants of the extrema of w at the probe"),
@@ -277,26 +303,43 @@ def _fe_variables(options) -> list[Variable]:
         Variable("fe_w_deviation", dims, shape, "f8", "1", "largest |w_fe - w| over the instants and the radii "
                  "of the ray theta = 0, over the orbit's largest |w| there"),
         Variable("fe_u_deviation", dims, shape, "f8", "1", "the same for the radial displacement u"),
+        *asymmetric,
     ]
 
 
-def _fe_check(point, free, orbits, radial, around, periods) -> dict[str, np.ndarray]:
-    """The outputs of ``fe_check`` (:func:`model.fe_motion.check_free_orbit`) for the
-    converged orbits (NaN elsewhere)."""
-    from model.fe_motion import check_free_orbit
+def _fe_check(point, free, orbits, radial, around, periods, asymmetric) -> dict[str, np.ndarray]:
+    """The outputs of ``fe_check`` (:func:`model.fe_motion.check_free_orbit`, and with
+    ``asymmetric`` :func:`model.fe_motion.check_harmonic_motion`) for the converged orbits
+    (NaN elsewhere)."""
+    from model.fe_motion import check_free_orbit, check_harmonic_motion
+    from model.full.harmonic import HarmonicFull
+    from model.full.linear import transverse_mode
     from sweep.models.fe2d import fe_motion_for
 
     names = ("fe_omega", "fe_omega_spread", "fe_w_deviation", "fe_u_deviation")
-    out = {k: np.full((orbits.omega.size, len(radial)), np.nan) for k in names}
+    harmonic_names = ("fe_harmonic_w_deviation", "fe_harmonic_odd_deviation", "fe_harmonic_inplane_deviation")
+    out = {k: np.full((orbits.omega.size, len(radial)), np.nan)
+           for k in names + (harmonic_names if asymmetric else ())}
     m = point.membrane
     rho = np.linspace(m.Ro, m.Re, ORBIT_RADII)
     converged = np.flatnonzero(orbits.converged)
+    if asymmetric and converged.size:
+        model = free.model
+        harmonic = HarmonicFull(model, FE_HARMONICS)
+        mode = asymmetric / m.Re * transverse_mode(model.state, 1)[1]
     for k, r in enumerate(radial if converged.size else ()):
         motion = fe_motion_for(m, r, around * r)
         for j in converged:
-            check = check_free_orbit(motion, free, orbits.modal[j], 2.0 * np.pi / orbits.omega[j], periods, rho)
+            period = 2.0 * np.pi / orbits.omega[j]
+            check = check_free_orbit(motion, free, orbits.modal[j], period, periods, rho)
             for name, value in zip(names, check):
                 out[name][j, k] = value
+            if asymmetric:
+                q0 = np.zeros(harmonic.dof)
+                q0[harmonic.block(0, "U")], q0[harmonic.block(0, "W")] = np.split(orbits.modal[j], 2)
+                q0[harmonic.block(1, "W")] = mode
+                for name, value in zip(harmonic_names, check_harmonic_motion(motion, harmonic, q0, period, periods)):
+                    out[name][j, k] = value
     return out
 
 
