@@ -1739,7 +1739,7 @@ def _family_check(results: Path) -> list[str]:
                          f"where it is stable, to {worst[False]:.1e}: there several multipliers share the modulus of "
                          "the",
                          f"damping alone, {_damping_moduli(b)} at these Omega, and the fitted rate",
-                         "carries their beats. " + _check_states(), ""]
+                         "carries their beats. " + _check_states(), ""] + _check_classification(b)
 
 
 def _check_rows(b, orbit: bool = False) -> tuple[list[str], dict]:
