@@ -582,7 +582,7 @@ def section_families(results: Path) -> list[str]:
                         + f", from Omega = {lowest:.2f} rad/s on, {om[end - 1] - lowest:.2f} rad/s below its saddle-node")
     out += ["", "BP of a family: a symmetry-breaking pitchfork; NS: a modulated (torus) bifurcation.",
             "A" + "; ".join(lost)[1:] + ".", ""]
-    return out + _switched_branch(ds) + _stability_map(results) + _family_convergence(results) + _family_check(results)
+    return out + _switched_branch(ds) + _stability_map(results) + _family_convergence(results)
 
 
 #: Drift (rad per period) below which a time-integrated pattern counts as standing, and
@@ -1717,8 +1717,9 @@ def _moves(intervals, j: int, counts: int) -> str:
             + (" (converged)" if moves and moves[-1] < SETTLED else " (not converged)"))
 
 
-def _family_check(results: Path) -> list[str]:
-    out = ["### Time integration against the Floquet prediction", "",
+def section_family_check(results: Path) -> list[str]:
+    """The ROM's family_check: growth against Floquet in the mixed ROMs, and the state reached."""
+    out = ["## Time integration against the Floquet prediction on the ROM", "",
            "Nonlinear mixed ROMs with the 2-D quadrature, (1,0) + (1,n) + (2,n), started on the",
            "resonant axisymmetric orbit with 1e-9 m in each asymmetric coordinate (`validation/family-check`,",
            "`family_check`, `model.families.perturbation_growth`): growth per period of the asymmetric part",
@@ -2939,7 +2940,7 @@ SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_mo
             section_backbone_modes, section_backbone_limits, section_full_backbone, section_fig08,
             section_continuation_bruteforce, section_forced_modes, section_full_forced, section_full_families,
             section_cusp,
-            section_families, section_waves, section_tongues, section_family_orbit, section_held_families,
+            section_families, section_family_check, section_waves, section_tongues, section_family_orbit, section_held_families,
             section_time_symmetry,
             section_full_fig14a, section_full_fig14a_light, section_full_family_check, section_full_switching,
             section_full_rotating,

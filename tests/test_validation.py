@@ -17,7 +17,7 @@ def test_missing_results_name_the_jobs(tmp_path):
              + validation.section_basins(tmp_path) + validation.section_backbone_limits(tmp_path)
              + validation.section_cusp(tmp_path) + validation.section_basins_modes(tmp_path)
              + validation.section_linear_convergence(tmp_path) + validation.section_forced_modes(tmp_path)
-             + validation._family_convergence(tmp_path) + validation._family_check(tmp_path)
+             + validation._family_convergence(tmp_path) + validation.section_family_check(tmp_path)
              + validation.section_full_model(tmp_path) + validation.section_fe_check(tmp_path)
              + validation.section_full_backbone(tmp_path) + validation.section_bruteforce_diagram(tmp_path)
              + validation.section_full_forced(tmp_path) + validation.section_full_families(tmp_path)
