@@ -434,6 +434,11 @@ def floquet_start(block) -> np.ndarray:
     return np.real(v / x[np.argmax(np.abs(x))])
 
 
+#: The largest displacement (m) of a perturbation that :func:`perturbation_growth` fits as
+#: linear: past it the family's nonlinearity, not its multipliers, sets the growth.
+GROWTH_LIMIT = 1e-5
+
+
 class PerturbationGrowth(NamedTuple):
     """What :func:`perturbation_growth` measured.
 
@@ -456,7 +461,7 @@ class PerturbationGrowth(NamedTuple):
 
 
 def perturbation_growth(fmap, state, asymmetric, periods: int = 100, settle: int = 20,
-                        size: float = 1e-9, limit: float = 1e-5, saturate: int = 0,
+                        size: float = 1e-9, limit: float = GROWTH_LIMIT, saturate: int = 0,
                         probe=None, start=None, metric=None) -> PerturbationGrowth:
     """Growth per period of a small asymmetric perturbation, by integrating the nonlinear ROM.
 

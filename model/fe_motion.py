@@ -40,6 +40,7 @@ from model.fe_annulus import FePrestretch, linear_operators, ray_nodes
 from model.fe_kernels import fe_force
 from model.full import surface
 from model.full.forced import STABLE_STEP
+from model.full.linear import transverse_mode
 
 #: Fraction of RK4's stability limit ``2.8 / omega_max`` the time step takes (RK4 damps the
 #: mesh's fastest modes, excited by the lifted start, by about 5 % per step there).
@@ -303,14 +304,57 @@ def check_free_orbit(motion: FeMotion, free, q0, period: float, periods: int, rh
                         float(np.abs(u_fe - u_full).max() / np.abs(u_full).max()), dt)
 
 
+class HarmonicReference(NamedTuple):
+    """The full model's undamped free motion on its circumferential harmonics from rest at a
+    state (:func:`harmonic_reference`): what :func:`check_harmonic_motion` compares a mesh with."""
+
+    #: the :class:`model.full.harmonic.HarmonicFull` it ran on
+    harmonic: object
+    #: the coordinates ``(samples periods + 1, dof)`` (over ``Re``) at ``t = k period / samples``
+    coordinates: np.ndarray
+    #: the time unit (s), the periods integrated and the samples per period
+    period: float
+    periods: int
+    samples: int
+    #: the RK4 step (s)
+    dt: float
+
+
+def asymmetric_start(harmonic, q, size: float) -> np.ndarray:
+    """``(dof,)``: the coordinates (over ``Re``) on ``harmonic``
+    (:class:`model.full.harmonic.HarmonicFull`) of the axisymmetric state ``q`` (``(U, W)``, over
+    ``Re``: a free orbit's of :class:`model.full.free.FreeFull`) plus ``size`` (m) of the lowest
+    ``n = 1`` transverse mode about the pre-stretch (its largest ``|w|``;
+    :func:`model.full.linear.transverse_mode`) on the harmonic 1."""
+    model = harmonic.model
+    out = np.zeros(harmonic.dof)
+    out[harmonic.block(0, "U")], out[harmonic.block(0, "W")] = np.split(np.asarray(q, float), 2)
+    out[harmonic.block(1, "W")] = size / model.membrane.Re * transverse_mode(model.state, 1)[1]
+    return out
+
+
+def harmonic_reference(harmonic, q0, period: float, periods: int, samples: int = 64,
+                       step: float = STABLE_STEP) -> HarmonicReference:
+    """The undamped free motion of ``harmonic`` (:class:`model.full.harmonic.HarmonicFull`)
+    from rest at ``q0`` (``(dof,)``, over ``Re``) for ``periods`` of ``period`` (s), sampled
+    ``samples`` times per period, by RK4 with the largest whole fraction of the sampling
+    interval whose product with the harmonics' highest frequency is at most ``step``
+    (default :data:`model.full.forced.STABLE_STEP`; RK4 is stable below 2.8)."""
+    per_sample = int(np.ceil(period / samples * harmonic.highest_frequency() / step))
+    dt = period / (samples * per_sample)
+    q0 = np.asarray(q0, float)
+    states = harmonic.motion(np.concatenate([q0, np.zeros_like(q0)]), dt, periods * samples * per_sample, per_sample)
+    return HarmonicReference(harmonic, states[:, :harmonic.dof], float(period), int(periods), int(samples), dt)
+
+
 class FeHarmonicCheck(NamedTuple):
     """The motion on the mesh from rest at a state of the full model on circumferential
     harmonics, against the harmonics' own motion (:func:`check_harmonic_motion`)."""
 
-    #: ``max |w_fe - w_h|`` over the instants and points, over ``max |w_h|``
+    #: ``max |w_fe - w_h|`` over the instants and the nodes, over ``max |w_h|``
     w_deviation: float
-    #: the same for the odd harmonics' part of ``w``, ``w(rho, theta) - w(rho, theta + pi)``:
-    #: the asymmetric motion of ``n = 1`` (and 3, ...) alone
+    #: the same for ``w(rho, theta) - w(rho, theta + pi)``, twice the odd harmonics' part of
+    #: ``w``: the asymmetric motion of ``n = 1`` (and 3, ...) alone
     odd_deviation: float
     #: the same for the in-plane displacements ``(u, v)`` from the pre-stretch (the larger of the two)
     inplane_deviation: float
@@ -318,36 +362,28 @@ class FeHarmonicCheck(NamedTuple):
     dt: float
 
 
-def check_harmonic_motion(motion: FeMotion, harmonic, q0, period: float, periods: int,
-                          samples: int = 64) -> FeHarmonicCheck:
-    """Integrate the mesh's motion from rest at the state ``q0`` of the full model on its
-    circumferential harmonics and compare it with the harmonics' own undamped free motion at
-    the mesh's nodes (where a P2 field's values are its coefficients: no interpolation).
-
-    Parameters
-    ----------
-    motion : FeMotion
-    harmonic : model.full.harmonic.HarmonicFull
-    q0 : (dof,) array
-        The start, at rest (over ``Re``).
-    period : float
-        The time unit (s): ``periods`` of it are integrated, ``samples`` compared per unit.
+def check_harmonic_motion(motion: FeMotion, reference: HarmonicReference, step_fraction: float = STABILITY_FRACTION
+                          ) -> FeHarmonicCheck:
+    """Integrate the mesh's motion from rest at the start of ``reference`` (the full model on
+    its circumferential harmonics, :func:`harmonic_reference`) and compare the two at the
+    mesh's nodes, where a P2 field's values are its coefficients (no interpolation), at the
+    reference's samples.  The mesh's step is the largest whole fraction of the sampling
+    interval within ``step_fraction`` of RK4's stability limit ``2.8 / omega_max``.
 
     Returns
     -------
     FeHarmonicCheck
-        The odd part compares the nodes whose antipode ``(-x, -y)`` is a node too.  The
-        harmonics' RK4 step is the largest whole fraction of the sampling interval within
-        :data:`model.full.forced.STABLE_STEP` over their highest frequency.
+        The odd part compares every node with the node at ``(-x, -y)``; ValueError when a node
+        has none (:meth:`model.fe_annulus.AnnulusMesh.build` places nodes in opposite pairs).
     """
-    per_sample = int(np.ceil(period / samples * harmonic.highest_frequency() / STABLE_STEP))
-    harmonic_steps = per_sample * samples
+    harmonic, period, samples = reference.harmonic, reference.period, reference.samples
     rho, theta = motion.polar_nodes()
     cos, sin = np.cos(theta), np.sin(theta)
     X = motion.basis.doflocs.T
     distance, antipode = cKDTree(X).query(-X)
-    paired = np.flatnonzero(distance <= 1e-9 * np.abs(X).max())
-    every = int(np.ceil(period / samples / motion.time_step()))
+    if np.any(distance > 1e-9 * np.abs(X).max()):
+        raise ValueError("motion is invalid here: a node of its mesh has no node opposite it at (-x, -y)")
+    every = int(np.ceil(period / samples / (step_fraction * 2.8 / motion.omega_max)))
     fe = []
 
     def record(step, D, V):
@@ -355,19 +391,16 @@ def check_harmonic_motion(motion: FeMotion, harmonic, q0, period: float, periods
             dx, dy, dz = D - motion.rest
             fe.append(np.stack([dx * cos + dy * sin, -dx * sin + dy * cos, dz]))
 
-    q0 = np.asarray(q0, float)
-    motion.motion(motion.lift_fields(*harmonic.fields(q0, rho, theta)), period / (samples * every),
-                  periods * samples * every, record)
-    states = harmonic.motion(np.concatenate([q0, np.zeros_like(q0)]), period / harmonic_steps,
-                             periods * harmonic_steps, harmonic_steps // samples)
-    own = np.array([np.stack(harmonic.fields(y[:harmonic.dof], rho, theta)) for y in states])
+    motion.motion(motion.lift_fields(*harmonic.fields(reference.coordinates[0], rho, theta)),
+                  period / (samples * every), reference.periods * samples * every, record)
+    own = np.array([np.stack(harmonic.fields(q, rho, theta)) for q in reference.coordinates])
     fe = np.array(fe)
 
     def deviation(a, b):
         return float(np.abs(a - b).max() / np.abs(b).max())
 
     def odd(w):
-        return w[:, paired] - w[:, antipode[paired]]
+        return w - w[:, antipode]
 
     return FeHarmonicCheck(deviation(fe[:, 2], own[:, 2]), deviation(odd(fe[:, 2]), odd(own[:, 2])),
                            max(deviation(fe[:, 0], own[:, 0]), deviation(fe[:, 1], own[:, 1])),

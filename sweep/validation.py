@@ -22,8 +22,8 @@ import numpy as np
 
 from model.continuation import (BRANCH_POINT, FOLD, KIND_LABELS, NEIMARK_SACKER, resonant_end,
                                 stable_amplitudes_at, unstable_intervals, unstable_points)
-from sweep.analyses.backbone import FE_AROUND, FE_HARMONICS, FE_PERIODS
-from sweep.analyses.branch_features import CURVE_DS_MAX
+from sweep.analyses.backbone import FE_AROUND, FE_HARMONICS, FE_PERIODS, FE_SAMPLES
+from sweep.analyses.branch_features import CHECK_MAX_PERIOD, CHECK_SIGMAS, CURVE_DS_MAX
 from sweep.analyses.mode_sets import select
 from sweep.errors import RunError
 from sweep.storage.netcdf import run_attributes
@@ -1793,35 +1793,40 @@ def _check_kind(b, c: int, j: int) -> str:
 
 def _check_classification(b) -> list[str]:
     """What the Lyapunov columns of a classified ``family_check`` table say, with the run's
-    numbers: the damping's own exponent and, on the full model, the exponents' sum against
-    the flow's."""
+    numbers: the viscous damping's own exponent, and the exponents' sum against the flow's."""
     if "check_kind" not in b:
         return []
-    period = 2 * np.pi / b.check_Omega.values[:, None]
-    alpha_t = float(b.c) / (2 * float(b.attrs["membrane_Gamma"]) * float(b.attrs["membrane_h"])) * period
     out = [
         "The Lyapunov columns (`family_check.classify`, `model.lyapunov`): after the saturate periods the",
         "state reached is iterated the `classify` periods more with an orthonormal frame of tangent vectors",
         "(Benettin's method: the QR factorisation of the map's RK4 variational monodromy times the frame,",
-        "every period) and classified as a bifurcation diagram's points are: periodic of period k <= 16",
+        f"every period) and classified as a bifurcation diagram's points are: periodic of period k <= {CHECK_MAX_PERIOD}",
         "when the last points recur after k periods and Newton on P^k(y) = y converges to a stable orbit",
         "the run approaches; otherwise chaotic, quasi-periodic or unsettled as lambda_1 lies above, within",
-        "or below its resolution, the larger of 3 standard errors of its block means (the +- column) and",
-        "0.1 / (N T), N the classify periods. lambda_1 T is per forcing period: the viscous damping alone",
-        f"gives -alpha T = -c T / (2 Gamma h) = {-np.nanmax(alpha_t):.2e} .. {-np.nanmin(alpha_t):.2e}, so a",
-        "state whose lambda_1 T lies within its resolution of zero is told from a slow transient by its",
-        "Poincare points (their rotation number), not by the exponent."]
-    if b.attrs.get("model") == "full" and int(b.attrs.get("model_inplane", 1)):
-        # the mixed map's coordinates: 8 radial functions' worth per order, u, w of harmonic 0 and
-        # u, v, w of harmonics n and 2n
-        dof = 8 * int(b.attrs["model_order"])
+        f"or below its resolution, the larger of {CHECK_SIGMAS:g} standard errors of its block means and 0.1 / (N T),",
+        "N the classify periods (the +- column is one standard error, per forcing period like lambda_1 T).",
+        "A perturbation still below the growth fit's limit on an unstable family is unsettled whatever",
+        "its exponent: it is still leaving the unstable orbit."]
+    period = 2 * np.pi / b.check_Omega.values[:, None]
+    if b.attrs.get("damping_law", "viscous") == "viscous" and "c" in b:
+        alpha_t = float(b.c) / (2 * float(b.attrs["membrane_Gamma"]) * float(b.attrs["membrane_h"])) * period
+        out += [f"The viscous damping alone gives -alpha T = -c T / (2 Gamma h) = {-np.nanmax(alpha_t):.2e} .. "
+                f"{-np.nanmin(alpha_t):.2e}: where",
+                "lambda_1 T lies within its resolution of zero and that resolution is wider than alpha T, the",
+                "Poincare points (the Newton test, the rotation number), not the exponent, tell a slowly settling",
+                "spiral from an invariant circle."]
+        flow = -alpha_t * b.check_state_size.values[None, :]  # -2 alpha T per coordinate pair
         total = b.check_lyapunov_sum.values * period
-        out += [f"The sum of all {2 * dof} exponents per period, {np.nanmin(total):.3f} .. {np.nanmax(total):.3f},",
-                "is the RK4 map's phase-volume contraction, far below the flow's -2 alpha T dof =",
-                f"{-2 * np.nanmax(alpha_t) * dof:.3f} .. {-2 * np.nanmin(alpha_t) * dof:.3f}: the step, chosen for the "
-                "stability of the fast in-plane",
-                "modes, damps the modes it does not resolve (tests/test_full_harmonic.py checks the sum against",
-                "the closed form of RK4 at rest). Those are the most negative exponents; lambda_1 is not among them."]
+        ratio = total / flow
+        if np.any(np.isfinite(ratio)):
+            low, high = np.nanmin(ratio), np.nanmax(ratio)
+            out += [f"The sum of all exponents per period is {low:.3g} to {high:.3g} times the flow's -2 alpha T "
+                    "per coordinate pair"
+                    + (" (Liouville's contraction: the map resolves its modes)." if high < 1.01 and low > 0.99 else
+                       ": the RK4 map contracts phase volume faster than the flow, because its step, chosen for the "
+                       "stability of the fastest modes, damps the modes it does not resolve (the full model's "
+                       "in-plane ones; tests/test_full_harmonic.py checks the sum against the closed form of RK4 "
+                       "at rest).")]
     return out + [""]
 
 
@@ -2836,8 +2841,8 @@ def section_fe_motion(results: Path) -> list[str]:
             f"at each orbit's state, the membrane on P2 meshes of {meshes} elements across ({around} times as many "
             "around;", f"Cartesian components, no polar reduction; `model/fe_motion.py`) integrated by RK4 for "
             f"{periods} periods.",
-            "Columns per mesh: the largest deviations of w and u from the orbit along the ray theta = 0 (81 radii, 64",
-            "instants per period) over the orbit's largest |w|, |u| there; the relative difference of the mesh's",
+            "Columns per mesh: the largest deviations of w and u from the orbit along the ray theta = 0 (81 radii, "
+            f"{FE_SAMPLES}", "instants per period) over the orbit's largest |w|, |u| there; the relative difference of the mesh's",
             "frequency (from the extrema of w(0.5 Re, 0)) from the orbit's, and in brackets the range of its half",
             "periods' frequencies (relative): the motion from the orbit's fields interpolated at the nodes also",
             "carries the mesh's other modes, and a difference below that range is not resolved.", "",
@@ -2900,13 +2905,14 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
            f"From rest at each orbit's state plus {size:g} m of the lowest n = 1 transverse mode (its largest |w|), the "
            "same meshes", f"against the full model on the circumferential harmonics {', '.join(map(str, FE_HARMONICS))} "
            f"(`model/full/harmonic.py`), {periods} periods,",
-           "compared at the mesh's nodes, where a P2 field's values are its coefficients, 64 instants per period",
-           "(`model.fe_motion.check_harmonic_motion`): the largest deviation of w over its largest value, the same",
-           "for its odd harmonics' part w(rho, theta) - w(rho, theta + pi) (the n = 1 motion and what it drives in",
-           "the odd harmonics) and for the in-plane displacements u, v (the larger). The harmonics' truncation is",
-           "no source of the deviations: tests/test_fe_motion.py checks that more harmonics move the motion by",
-           "less than a hundredth of the deviation a mesh of 8 elements across has.", "",
-           f"| delta | A (m) | w deviation, {meshes} | odd part | u, v |", "|---|---|---|---|---|"]
+           f"compared at the mesh's nodes, where a P2 field's values are its coefficients, {FE_SAMPLES} instants per "
+           "period", "(`model.fe_motion.check_harmonic_motion`): the largest deviation of w over its largest value, the "
+           "same", "for w(rho, theta) - w(rho, theta + pi), twice its odd harmonics' part (the n = 1 motion and what it "
+           "drives", "in the odd harmonics), and for the in-plane displacements u, v (the larger). Neither the "
+           "harmonics' truncation", "nor the time steps are sources of the deviations (tests/test_fe_motion.py: the "
+           "harmonics 4 and 5", "move the odd part by less than a hundredth of a mesh of 8 elements across's "
+           "deviation; halving both", "time steps moves the deviations by less than 1 %).", "",
+           f"| delta | amplitude (m) | w deviation, {meshes} | odd part | u, v |", "|---|---|---|---|---|"]
     orders = {k: [] for k in names}
     finest = {k: [] for k in names}
     for d in ds.delta.values:
@@ -2918,20 +2924,36 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
             cells = []
             for k, name in names.items():
                 v = p[name].values
-                orders[k] += [np.log(v[i] / v[i + 1]) / np.log(radial[i + 1] / radial[i]) for i in range(len(v) - 1)]
+                orders[k].append([np.log(v[i] / v[i + 1]) / np.log(radial[i + 1] / radial[i])
+                                  for i in range(len(v) - 1)])
                 finest[k].append(v[-1])
                 cells.append(" / ".join(f"{x:.1e}" for x in v))
             out.append(f"| {float(d):g} | {float(p.amplitude):.3f} | " + " | ".join(cells) + " |")
     pairs = len(radial) - 1
-    out += ["", "Measured orders between successive meshes:", ""]
-    out += [f"* {k}: " + "; ".join(f"{radial[i]} -> {radial[i + 1]}: {min(orders[k][i::pairs]):.1f} to "
-                                   f"{max(orders[k][i::pairs]):.1f}" for i in range(pairs)) for k in names]
+    if not finest["w"] or not pairs:
+        return out + ["", "No converged orbit, or one mesh: no orders to measure.", ""]
+    orders = {k: np.array(v) for k, v in orders.items()}  # (orbits, pairs)
+
+    def span(k, i):
+        x = orders[k][:, i][np.isfinite(orders[k][:, i])]
+        return f"{x.min():.1f} to {x.max():.1f}" if x.size else "-"
+
+    out += ["", "Measured orders between successive meshes (quadratic elements: 3 for displacements):", ""]
+    out += [f"* {k}: " + "; ".join(f"{radial[i]} -> {radial[i + 1]}: {span(k, i)}" for i in range(pairs)) for k in names]
+    last = {k: orders[k][:, -1][np.isfinite(orders[k][:, -1])] for k in names}
+    at_order = all(last[k].size and last[k].min() > 2.5 for k in ("w", "odd part"))
+    slower = last["u, v"].size and last["w"].size and last["u, v"].max() < last["w"].min()
     out += ["", f"On {radial[-1]} elements across the asymmetric motion deviates by at most "
-            f"{max(finest['odd part']):.1e} of its largest value and w by {max(finest['w']):.1e}: the",
-            "full model's circumferential harmonics, on which its standing and rotating waves and its family",
-            "checks run, integrate the same two-dimensional motion as a mesh with no harmonics, to the mesh's error.",
-            f"The in-plane fields, within {max(finest['u, v']):.1e}, converge more slowly: the start leaves out the "
-            "n = 1 part's in-plane", "response, and the in-plane waves it rings carry the mesh's phase error.", ""]
+            f"{max(finest['odd part']):.1e} of its largest value and w by {max(finest['w']):.1e}"
+            + (": the full model's circumferential harmonics, on which its standing and rotating waves and its family "
+               "checks run, integrate the same two-dimensional motion as a mesh with no harmonics, to the mesh's "
+               "error, which falls at the element's order (above 2.5 between the two finest meshes)."
+               if at_order else ", but between the two finest meshes the order of w or of the odd part is 2.5 or "
+               "less at some orbit: not yet at the element's order there."),
+            f"The in-plane fields deviate by up to {max(finest['u, v']):.1e}"
+            + (" and converge more slowly than w at every orbit (orders "
+               f"{last['u, v'].min():.1f} to {last['u, v'].max():.1f} between the two finest meshes), for a reason "
+               "these runs do not establish (not the time steps)." if slower else "."), ""]
     return out
 
 

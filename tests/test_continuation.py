@@ -9,7 +9,8 @@ from model.free import FreeRom
 from model.continuation import (FOLD, REGULAR, continue_orbits, cusp_from_folds, resonant_end, stable_amplitudes_at,
                                 unstable_intervals)
 from model.forced import DEFAULT_STEPS, ForcedMap
-from model.lyapunov import PERIODIC
+from model.families import GROWTH_LIMIT
+from model.lyapunov import PERIODIC, UNSETTLED
 from model.params import Loading, Membrane
 from model.prestretch import solve_prestretch
 from model.rom import build_rom, force_jacobian
@@ -142,7 +143,12 @@ MEMBRANE = Membrane()
      "continuation.family_check.values = [nan] is invalid: must be a list of 1 to 16 finite numbers"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
       "family_check": {"values": [0.5], "saturate": 100, "classify": 45}}, GRID,
-     "continuation.family_check.classify = 45 is invalid: must be 0 or a multiple of 10 of at least 32"),
+     "continuation.family_check.classify = 45 is invalid: must be 0 or a multiple of 10 from 40 (twice the longest "
+     "period looked for, 16)"),
+    ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
+      "family_check": {"values": [0.5], "classfy": 40}}, GRID,
+     "continuation.family_check.classfy = 40 is invalid: unknown key; the keys of [continuation.family_check] are "
+     "values, periods, saturate, classify"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
       "family_check": {"values": [0.5], "classify": 40}}, GRID,
      "continuation.family_check.classify = 40 is invalid: needs saturate > 0 (the transient before the "
@@ -380,6 +386,20 @@ def test_family_check_classifies_the_state_reached():
     alpha = 0.05 / (2 * MEMBRANE.Gamma * MEMBRANE.h)
     assert out["check_lyapunov_sum"][0, 0] == pytest.approx(-2 * 3 * alpha, rel=1e-3)
     assert out["check_lyapunov_error"][0, 0] > 0
+
+
+def test_a_perturbation_still_leaving_an_unstable_orbit_is_unsettled():
+    # Just past the n = 1 branch point (41.88 rad/s, multiplier 1.076) one saturate period
+    # leaves the perturbation below GROWTH_LIMIT: the run still leaves the unstable orbit,
+    # with a positive exponent, and is reported unsettled, neither chaotic nor periodic.
+    grid = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "P0": np.array([1.0]), "c": np.array([0.05])}
+    check = {"values": [41.88], "periods": 100, "saturate": 1, "classify": 40}
+    options = CONTINUATION.parse_options(
+        {"parameter": "Omega", "start": 25.0, "stop": 55.0, "max_points": 600, "ds_max": 0.3,
+         "families": {"n": [1], "radial": 2}, "family_check": check}, grid, MEMBRANE)
+    out = CONTINUATION.compute(grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "P0": 1.0, "c": 0.05}), options, 0)
+    assert out["check_floquet_modulus"][0, 0] > 1.05 and out["check_asymmetric_amplitude"][0, 0] < GROWTH_LIMIT
+    assert out["check_kind"][0, 0] == UNSETTLED and out["check_lyapunov_exponent"][0, 0] > 0
 
 
 def test_sine_companions_do_not_duplicate_located_points():

@@ -8,16 +8,17 @@ import pytest
 
 from model.backbone import continue_free_orbits
 from model.fe_annulus import AnnulusMesh, fe_modes, ray_nodes, solve_fe_prestretch
-from model.fe_motion import FeMotion, check_free_orbit, check_harmonic_motion, extremum_times
+from model.fe_motion import (STABILITY_FRACTION, FeMotion, asymmetric_start, check_free_orbit, check_harmonic_motion,
+                              extremum_times, harmonic_reference)
 from model.full import surface
 from model.full.axisymmetric import AxisymmetricFull
 from model.full.forced import STABLE_STEP
 from model.full.free import FreeFull
 from model.full.harmonic import HarmonicFull
-from model.full.linear import transverse_mode
 from model.full.static import solve_full_prestretch
 from model.params import Membrane
 from sweep import cli
+from sweep.analyses.backbone import FE_HARMONICS
 from tests.test_full_jobs import JOBS, _run
 
 MEMBRANE = Membrane(delta=1.5, delta_o=0.2)
@@ -154,38 +155,52 @@ def test_the_mesh_follows_the_full_models_orbit_converging_at_the_elements_order
 
 def test_the_mesh_follows_the_harmonics_asymmetric_motion_converging_at_the_elements_order(orbit, coarse):
     """The 5 cm orbit plus 1 cm of the lowest n = 1 transverse mode, on the full model's
-    harmonics 0, 1, 2 (model/full/harmonic.py) and on the 4 x 16 and 8 x 32 meshes (Cartesian
-    components, no harmonics), two periods, compared at the mesh's nodes: w and its odd part
-    (the asymmetric motion) fall at the element's order (measured 3.8 and 3.7; the bound of the
-    axisymmetric check above, 2.5).  The in-plane fields converge more slowly (measured order
-    1.9, and 1.7 from 8 to 16 elements): the start leaves out the n = 1 part's in-plane
-    response, and the in-plane waves it rings carry the mesh's phase error; asserted: they fall
-    (order > 1, a regression bound).  The harmonics' truncation is negligible against what is
-    measured: with the harmonics 0 to 4 the motion moves by 2e-6 of the largest |w|, below a
-    hundredth of the finer mesh's deviation of the odd part."""
+    harmonics FE_HARMONICS (model/full/harmonic.py) and on the 4 x 16 and 8 x 32 meshes
+    (Cartesian components, no harmonics), two periods, compared at the mesh's nodes: w and its
+    odd part (the asymmetric motion) fall at the element's order (measured 3.8 and 3.7; the
+    bound of the axisymmetric check above, 2.5).  The in-plane fields converge more slowly
+    (measured order 1.9, and 1.7 from 8 to 16 elements); asserted: they fall (order > 1, a
+    regression bound).  Neither time step is a source: halving both moves every deviation of
+    the coarse mesh by less than 1 % of itself.  Nor are the harmonics: with the harmonics 4
+    and 5 the odd part moves by less than a hundredth of the finer mesh's deviation of it."""
     free, q, period = orbit
-    model = free.model
-    mode = transverse_mode(model.state, 1)[1]
-
-    def start(harmonic):
-        q0 = np.zeros(harmonic.dof)
-        q0[harmonic.block(0, "U")], q0[harmonic.block(0, "W")] = np.split(q, 2)
-        q0[harmonic.block(1, "W")] = 0.01 * mode
-        return q0
-
-    harmonic = HarmonicFull(model, (0, 1, 2))
+    harmonic = HarmonicFull(free.model, FE_HARMONICS)
+    reference = harmonic_reference(harmonic, asymmetric_start(harmonic, q, 0.01), period, 2)
     fine = FeMotion.build(solve_fe_prestretch(AnnulusMesh.build(MEMBRANE, 8, 32)))
-    checks = [check_harmonic_motion(m, harmonic, start(harmonic), period, 2) for m in (coarse, fine)]
+    checks = [check_harmonic_motion(m, reference) for m in (coarse, fine)]
     assert np.log2(checks[0].w_deviation / checks[1].w_deviation) > 2.5
     assert np.log2(checks[0].odd_deviation / checks[1].odd_deviation) > 2.5
     assert np.log2(checks[0].inplane_deviation / checks[1].inplane_deviation) > 1.0
-    more = HarmonicFull(model, (0, 1, 2, 3, 4))
+    halved = check_harmonic_motion(coarse, harmonic_reference(harmonic, reference.coordinates[0], period, 2,
+                                                              step=STABLE_STEP / 2),
+                                   step_fraction=STABILITY_FRACTION / 2)
+    assert halved.dt < 0.7 * checks[0].dt and reference.dt * harmonic.highest_frequency() > STABLE_STEP / 2
+    for a, b in zip(halved[:3], checks[0][:3]):
+        assert abs(a - b) < 0.01 * b
+    more = HarmonicFull(free.model, FE_HARMONICS + (4, 5))
     rho, theta = fine.polar_nodes()
-    steps = int(np.ceil(period / 64 * more.highest_frequency() / STABLE_STEP))
-    w = [np.array([h.fields(y[:h.dof], rho, theta)[2]
-                   for y in h.motion(np.concatenate([start(h), np.zeros(h.dof)]), period / (64 * steps), 128 * steps,
-                                     steps)]) for h in (harmonic, more)]
-    assert np.abs(w[0] - w[1]).max() / np.abs(w[1]).max() < 0.01 * checks[1].odd_deviation
+    odd = [np.array([h.fields(c, rho, theta)[2] - h.fields(c, rho, theta + np.pi)[2] for c in r.coordinates])
+           for h, r in ((harmonic, reference),
+                        (more, harmonic_reference(more, asymmetric_start(more, q, 0.01), period, 2)))]
+    assert np.abs(odd[0] - odd[1]).max() / np.abs(odd[1]).max() < 0.01 * checks[1].odd_deviation
+
+
+def test_the_asymmetric_start_has_the_size_asked_in_metres():
+    """On a membrane of Re = 2 m: the harmonic 1 of the start has its largest |w| (m) equal to
+    the size asked (to 2e-5, the error of a maximum on this grid of 401 radii: its spacing
+    squared times the shape's curvature), and the axisymmetric state's fields are the state's."""
+    membrane = Membrane(delta=1.5, delta_o=0.2, Re=2.0)
+    model = AxisymmetricFull(solve_full_prestretch(membrane, 8))
+    harmonic = HarmonicFull(model, (0, 1))
+    q = np.linspace(0.01, 0.02, 2 * model.order)
+    start = asymmetric_start(harmonic, q, 0.03)
+    rho = np.linspace(membrane.Ro, membrane.Re, 401) / membrane.Re
+    u0, _, w0 = harmonic.fields(start, rho, 0.0 * rho)
+    u_pi, _, w_pi = harmonic.fields(start, rho, np.pi + 0.0 * rho)
+    assert membrane.Re * np.abs(w0 - w_pi).max() / 2 == pytest.approx(0.03, rel=2e-5)
+    b = model.state.basis
+    assert (w0 + w_pi) / 2 == pytest.approx(b.evaluate(q[model.order:], rho)[0], abs=1e-15)
+    assert (u0 + u_pi) / 2 == pytest.approx(b.evaluate(q[:model.order], rho)[0], abs=1e-15)
 
 
 def test_the_backbone_fe_check_option_writes_the_mesh_study(tmp_path):
@@ -212,6 +227,8 @@ def test_the_backbone_fe_check_option_writes_the_mesh_study(tmp_path):
      "backbone.fe_check.radial = [8, 4] is invalid: a non-empty list of distinct increasing"),
     ("validation/fe-free-vibration.toml", ("around = 4", "around = 1"),
      "backbone.fe_check.around = 1 is invalid: at least 2"),
+    ("validation/fe-free-vibration.toml", ("asymmetric = 0.01", "asymmetric = -0.01"),
+     "backbone.fe_check.asymmetric = -0.01 is invalid"),
     ("validation/fe-free-vibration.toml", ('kind = "full"', 'kind = "full"\ninplane = false'),
      "a check of the full model's orbits with in-plane motion"),
 ])

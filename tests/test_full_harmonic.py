@@ -271,8 +271,8 @@ def test_growth_of_a_perturbation_is_the_largest_multiplier(model, orbit):
     # axisymmetric orbit, of period one
     record = lyapunov_spectrum(mixed.fmap, reached, 10, blocks=2)
     assert classify(mixed.fmap, record, max_period=4) == (PERIODIC, 1, pytest.approx(np.nan, nan_ok=True))
-    # The sum of the exponents is not Liouville's -rate per coordinate of the flow (-1.09 s-1
-    # here) but the RK4 map's: its step (|lambda h| up to 0.82) damps the fast in-plane modes.
+    # The sum of the exponents is not the flow's Liouville contraction, -rate per coordinate
+    # (-rate dof = -1.09 s-1 here), but the RK4 map's: its step (|lambda h| up to 0.82) damps the fast in-plane modes.
     # At rest the map is linear and its determinant per step is prod |R(lambda h)|^2, R the
     # RK4 polynomial, over the damped linear motion's eigenvalues lambda: exactly the sum.  On
     # the orbit the stiffness modulation moves it by 1.2e-4 of itself; the bound 1e-3 is a

@@ -70,7 +70,9 @@ def test_the_report_computes_nothing_from_the_model():
                      and (node.module or "").startswith("sweep.") for alias in node.names}
     assert through_sweep <= {("sweep.analyses.branch_features", "CURVE_DS_MAX"), ("sweep.analyses.mode_sets", "select"),
                              ("sweep.analyses.backbone", "FE_AROUND"), ("sweep.analyses.backbone", "FE_PERIODS"),
-                             ("sweep.analyses.backbone", "FE_HARMONICS"),
+                             ("sweep.analyses.backbone", "FE_HARMONICS"), ("sweep.analyses.backbone", "FE_SAMPLES"),
+                             ("sweep.analyses.branch_features", "CHECK_MAX_PERIOD"),
+                             ("sweep.analyses.branch_features", "CHECK_SIGMAS"),
                              ("sweep.errors", "RunError"), ("sweep.storage.netcdf", "run_attributes")}
     assert imported <= {("model.continuation", name) for name in (
         "KIND_LABELS", "BRANCH_POINT", "NEIMARK_SACKER", "FOLD", "resonant_end", "stable_amplitudes_at",
@@ -183,9 +185,9 @@ def test_what_the_rotating_waves_inherit():
 
 def test_the_lyapunov_columns_of_a_family_check():
     """A classified family check: each row's kind (with its period or rotation number) and
-    lambda_1 T +- its error per forcing period; the text gives the damping's -alpha T and, on
-    the full model, the exponents' sum against the flow's -2 alpha T dof; an unclassified
-    check has neither."""
+    lambda_1 T +- its error per forcing period; the text gives the viscous damping's -alpha T
+    and the exponents' sum against the flow's -2 alpha T per coordinate pair, saying which
+    way it lies; an unclassified check has neither."""
     import xarray as xr
 
     from model.lyapunov import KIND_NAMES
@@ -194,6 +196,7 @@ def test_the_lyapunov_columns_of_a_family_check():
     flags = {"flag_values": np.arange(-1, len(KIND_NAMES), dtype=np.int8),
              "flag_meanings": " ".join(("not_computed",) + KIND_NAMES)}
     cf = ("check", "family")
+    # alpha T = c T / (2 Gamma h) = 0.025; 128 coordinates: the flow's sum is -3.2 per period
     ds = xr.Dataset({"Omega": ("point", [omega]), "amplitude": ("point", [0.1]), "multiplier_modulus": ("point", [0.9]),
                      "check_Omega": ("check", [omega]), "check_floquet_modulus": (cf, [[1.05, 0.99]]),
                      "check_growth": (cf, [[1.05, 0.99]]), "check_asymmetric_amplitude": (cf, [[0.02, 1e-9]]),
@@ -201,18 +204,23 @@ def test_the_lyapunov_columns_of_a_family_check():
                      "check_kind": (cf, np.array([[2, 1]], dtype=np.int8), flags),
                      "check_kind_period": (cf, [[0, 1]]), "check_rotation_number": (cf, [[0.0712, np.nan]]),
                      "check_lyapunov_exponent": (cf, [[1e-4, -2e-3]]), "check_lyapunov_error": (cf, [[3e-4, 1e-4]]),
-                     "check_lyapunov_sum": (cf, [[-10.0, -11.0]]), "c": ((), 0.05)},
+                     "check_lyapunov_sum": (cf, [[-32.0, -35.2]]), "check_state_size": ("family", [128, 128]),
+                     "c": ((), 0.05)},
                     coords={"family": [1, 4]},
-                    attrs={"membrane_Gamma": 1.0, "membrane_h": 1.0, "model": "full", "model_order": 8,
-                           "model_inplane": 1})
+                    attrs={"membrane_Gamma": 1.0, "membrane_h": 1.0, "damping_law": "viscous"})
     rows, _ = validation._check_rows(ds, orbit=True)
     assert rows[0].endswith("| Lyapunov: kind | lambda_1 T |") and rows[1].count("---") == 12
     assert rows[2].endswith("| quasi-periodic, rotation number 0.0712 | +1.00e-04 +- 3.0e-04 |")
     assert rows[3].endswith("| periodic, period 1 | -2.00e-03 +- 1.0e-04 |")
     text = " ".join(validation._check_classification(ds))
-    assert "-alpha T = -c T / (2 Gamma h) = -2.50e-02 .. -2.50e-02" in text  # c T / (2 Gamma h) = 0.025
-    assert "all 128 exponents per period, -11.000 .. -10.000" in text and "-3.200 .. -3.200" in text
-    plain = ds.drop_vars([v for v in ds.data_vars if v.startswith(("check_kind", "check_lyap", "check_rot"))])
+    assert "-alpha T = -c T / (2 Gamma h) = -2.50e-02 .. -2.50e-02" in text
+    assert "is 10 to 11 times the flow's" in text and "faster than the flow" in text
+    liouville = " ".join(validation._check_classification(ds.assign(check_lyapunov_sum=(cf, [[-3.2, -3.2]]))))
+    assert "is 1 to 1 times the flow's" in liouville and "Liouville's contraction" in liouville
+    modal = " ".join(validation._check_classification(ds.assign_attrs(damping_law="modal")))
+    assert "alpha" not in modal and "periodic of period k <= 16" in modal
+    plain = ds.drop_vars([v for v in ds.data_vars if v.startswith(("check_kind", "check_lyap", "check_rot",
+                                                                   "check_state"))])
     assert "Lyapunov" not in validation._check_rows(plain)[0][0] and validation._check_classification(plain) == []
 
 
@@ -231,7 +239,10 @@ def test_the_asymmetric_finite_element_check():
     text = "\n".join(validation._fe_asymmetric(ds, [4, 8], 2, 0.01))
     assert "| 1.1 | 0.020 | 8.0e-03 / 1.0e-03 | 1.6e-02 / 2.0e-03 | 8.9e-02 / 3.2e-02 |" in text
     assert "* w: 4 -> 8: 3.0 to 3.0" in text and "* u, v: 4 -> 8: 1.5 to 1.5" in text
-    assert "deviates by at most 4.0e-03 of its largest value and w by 2.0e-03" in text
-    assert "0.01 m of the lowest n = 1 transverse mode" in text
+    assert "deviates by at most 4.0e-03 of its largest value and w by 2.0e-03: the full model's" in text
+    assert "0.01 m of the lowest n = 1 transverse mode" in text and "converge more slowly than w" in text
+    # an order of 2.5 or less between the finest meshes is said so
+    slow = ds.assign(fe_harmonic_odd_deviation=(fr, 2 * np.sqrt(w)))
+    assert "not yet at the element's order there" in "\n".join(validation._fe_asymmetric(slow, [4, 8], 2, 0.01))
     missing = ds.assign(omega_nl=(("delta", "delta_o", "point"), [[[30.0, np.nan]]]))
     assert "| 0.060 |" not in "\n".join(validation._fe_asymmetric(missing, [4, 8], 2, 0.01))

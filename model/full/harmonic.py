@@ -91,6 +91,7 @@ class HarmonicFull:
             raise ValueError(f"theta_points = {theta_points!r} is invalid: at least 2 max(harmonics) + 1 = "
                              f"{2 * ks[-1] + 1}")
         self.model = model
+        self._highest = None  # highest_frequency(), when first asked
         self.harmonics = tuple(ks)
         self.order = model.order
         self.companions = bool(companions)
@@ -153,7 +154,9 @@ class HarmonicFull:
         companion has its cosine block's frequencies)."""
         from .families import FullFamily
 
-        return max(FullFamily.build(self.model, k).omega_max for k in self.harmonics)
+        if self._highest is None:
+            self._highest = max(FullFamily.build(self.model, k).omega_max for k in self.harmonics)
+        return self._highest
 
     def fields(self, q, rho, theta) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The displacements ``(u, v, w)`` (over ``Re``; radial, circumferential, transverse)

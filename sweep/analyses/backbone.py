@@ -71,9 +71,11 @@ from .base import DEFAULT_CONTEXT, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, Jo
 DEFAULT_AMPLITUDE = {"start": 1e-3, "stop": 0.4, "num": 40}
 #: ``fe_check``'s defaults: elements around per element across, periods integrated.
 FE_AROUND, FE_PERIODS = 4, 2
+#: Instants per period at which ``fe_check`` compares the mesh with the full model.
+FE_SAMPLES = 64
 #: The circumferential harmonics of ``fe_check.asymmetric``'s model: n = 1 and what its
-#: square and cube drive (harmonics 0 to 5 move its deviations from the mesh by 1e-4 of
-#: themselves: tests/test_fe_motion.py).
+#: square and cube drive (tests/test_fe_motion.py: the harmonics 4 and 5 move its motion by
+#: less than a hundredth of the finer mesh's deviation).
 FE_HARMONICS = (0, 1, 2, 3)
 #: Radii of ``orbit_u`` and ``orbit_w``, equally spaced from the inner to the outer edge (81:
 #: ``rho = 0.55 Re``, the paper's Fig. 8 point, is one of them at ``delta_o = 0.2``).
@@ -277,7 +279,7 @@ def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int, float]:
         raise JobError(f"{key}.around", around, f"at least {-(-8 // sizes[0])} (8 elements around or more on "
                        f"the coarsest mesh of {sizes[0]} across)")
     return (sizes, around, opt.number(value, key, "periods", FE_PERIODS, low=1, high=100, integer=True),
-            float(opt.number(value, key, "asymmetric", 0.0, low=0.0, high=1.0)))
+            opt.number(value, key, "asymmetric", 0.0, low=0.0, high=1.0))
 
 
 def _fe_variables(options) -> list[Variable]:
@@ -309,11 +311,10 @@ def _fe_variables(options) -> list[Variable]:
 
 def _fe_check(point, free, orbits, radial, around, periods, asymmetric) -> dict[str, np.ndarray]:
     """The outputs of ``fe_check`` (:func:`model.fe_motion.check_free_orbit`, and with
-    ``asymmetric`` :func:`model.fe_motion.check_harmonic_motion`) for the converged orbits
-    (NaN elsewhere)."""
-    from model.fe_motion import check_free_orbit, check_harmonic_motion
+    ``asymmetric`` :func:`model.fe_motion.check_harmonic_motion` against the harmonics' motion
+    from each orbit's state, computed once per orbit) for the converged orbits (NaN elsewhere)."""
+    from model.fe_motion import asymmetric_start, check_free_orbit, check_harmonic_motion, harmonic_reference
     from model.full.harmonic import HarmonicFull
-    from model.full.linear import transverse_mode
     from sweep.models.fe2d import fe_motion_for
 
     names = ("fe_omega", "fe_omega_spread", "fe_w_deviation", "fe_u_deviation")
@@ -323,22 +324,20 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric) -> dict[
     m = point.membrane
     rho = np.linspace(m.Ro, m.Re, ORBIT_RADII)
     converged = np.flatnonzero(orbits.converged)
-    if asymmetric and converged.size:
-        model = free.model
-        harmonic = HarmonicFull(model, FE_HARMONICS)
-        mode = asymmetric / m.Re * transverse_mode(model.state, 1)[1]
+    references = {}
+    if asymmetric:
+        harmonic = HarmonicFull(free.model, FE_HARMONICS)
+        references = {j: harmonic_reference(harmonic, asymmetric_start(harmonic, orbits.modal[j], asymmetric),
+                                            2.0 * np.pi / orbits.omega[j], periods, FE_SAMPLES) for j in converged}
     for k, r in enumerate(radial if converged.size else ()):
         motion = fe_motion_for(m, r, around * r)
         for j in converged:
-            period = 2.0 * np.pi / orbits.omega[j]
-            check = check_free_orbit(motion, free, orbits.modal[j], period, periods, rho)
+            check = check_free_orbit(motion, free, orbits.modal[j], 2.0 * np.pi / orbits.omega[j], periods, rho,
+                                     FE_SAMPLES)
             for name, value in zip(names, check):
                 out[name][j, k] = value
-            if asymmetric:
-                q0 = np.zeros(harmonic.dof)
-                q0[harmonic.block(0, "U")], q0[harmonic.block(0, "W")] = np.split(orbits.modal[j], 2)
-                q0[harmonic.block(1, "W")] = mode
-                for name, value in zip(harmonic_names, check_harmonic_motion(motion, harmonic, q0, period, periods)):
+            if j in references:
+                for name, value in zip(harmonic_names, check_harmonic_motion(motion, references[j])):
                     out[name][j, k] = value
     return out
 

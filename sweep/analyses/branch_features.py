@@ -33,13 +33,13 @@ import numpy as np
 
 from model.codim2 import continue_curve, continue_folds
 from model.continuation import KIND_NAMES, resonant_end
-from model.families import floquet_start, perturbation_growth, symmetry_blocks
-from model.lyapunov import KIND_NAMES as RESPONSE_KINDS, classify, lyapunov_spectrum
+from model.families import GROWTH_LIMIT, floquet_start, perturbation_growth, symmetry_blocks
+from model.lyapunov import DIVERGED, KIND_NAMES as RESPONSE_KINDS, UNSETTLED, Classification, classify, lyapunov_spectrum
 from model.response import LYAPUNOV_BLOCKS
 from model.tongues import family_tongue
 
 from . import options as opt
-from .base import GRID_KEYS, JobError, Variable, blank_outputs
+from .base import GRID_KEYS, JobError, Variable, blank_outputs, check_keys
 
 #: Length of the ``cusp`` dimension (cusps of the fold curve, NaN padded).
 MAX_CUSPS = 4
@@ -54,6 +54,9 @@ MAX_CHECKS = 16
 #: Longest period (forcing periods) the classification of ``family_check.classify`` looks
 #: for (:func:`model.lyapunov.classify`); ``classify`` is at least twice it.
 CHECK_MAX_PERIOD = 16
+#: Standard errors by which the largest Lyapunov exponent of ``family_check.classify`` must
+#: differ from zero to count as nonzero (:func:`model.lyapunov.classify`).
+CHECK_SIGMAS = 3.0
 
 
 def kind_attrs() -> dict:
@@ -335,9 +338,9 @@ def family_check_option(table, section):
     if value is None:
         return None
     key = f"{section}.family_check"
-    allowed = {"values", "periods", "saturate", "classify"}
-    if not isinstance(value, dict) or not {"values"} <= set(value) <= allowed:
+    if not isinstance(value, dict) or "values" not in value:
         raise JobError(key, value, "must be a table {values = [..], periods = N, saturate = N, classify = N}")
+    check_keys(value, key, ("values", "periods", "saturate", "classify"))
     if table.get("families") is None:
         raise JobError(key, value, "needs continuation.families")
     values = value["values"]
@@ -346,9 +349,10 @@ def family_check_option(table, section):
         raise JobError(f"{key}.values", values, f"must be a list of 1 to {MAX_CHECKS} finite numbers")
     saturate = opt.number(value, key, "saturate", 0, integer=True, low=0, high=1_000_000)
     points = opt.number(value, key, "classify", 0, integer=True, low=0, high=1_000_000)
-    if points and (points % LYAPUNOV_BLOCKS or points < 2 * CHECK_MAX_PERIOD):
-        raise JobError(f"{key}.classify", points, f"must be 0 or a multiple of {LYAPUNOV_BLOCKS} of at least "
-                       f"{2 * CHECK_MAX_PERIOD}")
+    least = -(-2 * CHECK_MAX_PERIOD // LYAPUNOV_BLOCKS) * LYAPUNOV_BLOCKS  # twice the longest period, rounded up
+    if points and (points % LYAPUNOV_BLOCKS or points < least):
+        raise JobError(f"{key}.classify", points, f"must be 0 or a multiple of {LYAPUNOV_BLOCKS} from {least} (twice "
+                       f"the longest period looked for, {CHECK_MAX_PERIOD})")
     if points and not saturate:
         raise JobError(f"{key}.classify", points, "needs saturate > 0 (the transient before the classification)")
     return (tuple(float(v) for v in values), opt.number(value, key, "periods", 100, integer=True, low=10, high=100_000),
@@ -387,6 +391,9 @@ class FamilyCheck(BranchFeature):
         if not options.check[3]:
             return []
         return [
+            Variable("check_state_size", ("family",), shape[1:], "i4", "1",
+                     "coordinates of the state of the family's mixed model (2 dof): how many Lyapunov exponents "
+                     "check_lyapunov_sum adds", -1),
             Variable("check_lyapunov_exponent", dims, shape, "f8", "s-1",
                      "largest Lyapunov exponent of the mixed model's stroboscopic map over the family_check "
                      "classify periods after the saturate periods"),
@@ -432,6 +439,8 @@ class FamilyCheck(BranchFeature):
                     start = (mixed.start if mixed.start is not None
                              else floquet_start(fmap.varied(p, br.value[i]).family_monodromy(br.state[i], fam)))
                     at = mixed.fmap.varied(p, br.value[i])
+                    if points:
+                        out["check_state_size"][j] = 2 * at.dof
                     check = perturbation_growth(at, br.state[i], mixed.asymmetric, periods=periods,
                                                 saturate=saturate, probe=mixed.probe, start=start, metric=mixed.metric)
                     low, high = check.saturated
@@ -439,21 +448,29 @@ class FamilyCheck(BranchFeature):
                     out["check_asymmetric_amplitude"][c, j] = max(abs(low), abs(high))
                     out["check_asymmetric_spread"][c, j] = high - low
                     if points:
-                        _classify_reached(out, (c, j), at, check.state, points)
+                        # the family unstable and the perturbation still linear: it has not
+                        # reached its state yet
+                        growing = (out["check_floquet_modulus"][c, j] > 1.0
+                                   and max(abs(low), abs(high)) < GROWTH_LIMIT)
+                        _classify_reached(out, (c, j), at, check.state, points, growing)
                 except ValueError as exc:
                     problems.append(f"family_check n = {fam.n} at {p} = {br.value[i]:.6g}: {exc}")
         return out, "; ".join(problems)
 
 
-def _classify_reached(out, at, fmap, state, points) -> None:
+def _classify_reached(out, index, fmap, state, points: int, growing: bool) -> None:
     # The Lyapunov spectrum over `points` periods from the state the check reached, and its
-    # kind (model.lyapunov), into the check_* outputs at index `at`.
+    # kind (model.lyapunov), into the check_* outputs at `index`; a perturbation still
+    # linear and growing is `unsettled` whatever its exponent (it is still leaving an
+    # unstable orbit, not on a chaotic attractor).
     record = lyapunov_spectrum(fmap, state, points, LYAPUNOV_BLOCKS)
-    kind = classify(fmap, record, max_period=CHECK_MAX_PERIOD)
-    out["check_lyapunov_exponent"][at] = record.exponents[0]
-    out["check_lyapunov_error"][at] = record.standard_error[0]
-    out["check_lyapunov_sum"][at] = record.log_det / record.period
-    out["check_kind"][at], out["check_kind_period"][at], out["check_rotation_number"][at] = kind
+    kind = classify(fmap, record, max_period=CHECK_MAX_PERIOD, sigmas=CHECK_SIGMAS)
+    if growing and kind.kind != DIVERGED:
+        kind = Classification(UNSETTLED, 0, np.nan)
+    out["check_lyapunov_exponent"][index] = record.exponents[0]
+    out["check_lyapunov_error"][index] = record.standard_error[0]
+    out["check_lyapunov_sum"][index] = record.log_det / record.period
+    out["check_kind"][index], out["check_kind_period"][index], out["check_rotation_number"][index] = kind
 
 
 def tongues_option(table, section) -> bool:
