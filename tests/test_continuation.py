@@ -351,18 +351,22 @@ def test_family_check_compares_time_integration_with_floquet():
     # rate; outside (~ 36) it decays.  Beats between equal-modulus multipliers limit the
     # agreement where the family is stable (docs/validation.md: 8e-4 for n = 1 at 36 rad/s over
     # 100 periods); the bound 1.5e-3 stays inside the 2e-3 between them and the stability limit.
-    grid = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "P0": np.array([1.0]), "c": np.array([0.05])}
-    options = CONTINUATION.parse_options(
-        {"parameter": "Omega", "start": 25.0, "stop": 55.0, "max_points": 600, "ds_max": 0.3,
-         "families": {"n": [1], "radial": 2}, "family_check": {"values": [36.0, 44.0], "periods": 100}},
-        grid, MEMBRANE)
-    point = grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "P0": 1.0, "c": 0.05})
-    out = CONTINUATION.compute(point, options, 0)
+    out = _fig14a_check({"values": [36.0, 44.0], "periods": 100})
     assert out["status"] == 0 and out["check_Omega"] == pytest.approx([36.0, 44.0], abs=0.2)
     floquet, growth = out["check_floquet_modulus"][:, 0], out["check_growth"][:, 0]
     assert floquet[0] < 1.0 and growth[0] < 1.0 and growth[0] == pytest.approx(floquet[0], rel=1.5e-3)
     assert floquet[1] > 1.3 and growth[1] == pytest.approx(floquet[1], rel=1e-4)
     assert np.isnan(out["check_asymmetric_amplitude"]).all()
+
+
+def _fig14a_check(check) -> dict:
+    """The continuation of Fig. 14a (delta = 1.1, the n = 1 family on 2 radial modes) with
+    ``family_check = check``: the task's outputs."""
+    grid = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "P0": np.array([1.0]), "c": np.array([0.05])}
+    options = CONTINUATION.parse_options(
+        {"parameter": "Omega", "start": 25.0, "stop": 55.0, "max_points": 600, "ds_max": 0.3,
+         "families": {"n": [1], "radial": 2}, "family_check": check}, grid, MEMBRANE)
+    return CONTINUATION.compute(grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "P0": 1.0, "c": 0.05}), options, 0)
 
 
 def test_family_check_classifies_the_state_reached():
@@ -373,13 +377,7 @@ def test_family_check_classifies_the_state_reached():
     # (alpha T = 2e-3 per period) leaves a transient of a few hundred periods: 600 saturate
     # periods.  The sum of the exponents is Liouville's -2 K alpha of the viscous law for K = 3
     # coordinates, to RK4's error of the determinant (the bound of tests/test_lyapunov.py).
-    grid = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "P0": np.array([1.0]), "c": np.array([0.05])}
-    check = {"values": [44.0], "periods": 100, "saturate": 600, "classify": 40}
-    options = CONTINUATION.parse_options(
-        {"parameter": "Omega", "start": 25.0, "stop": 55.0, "max_points": 600, "ds_max": 0.3,
-         "families": {"n": [1], "radial": 2}, "family_check": check}, grid, MEMBRANE)
-    point = grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "P0": 1.0, "c": 0.05})
-    out = CONTINUATION.compute(point, options, 0)
+    out = _fig14a_check({"values": [44.0], "periods": 100, "saturate": 600, "classify": 40})
     assert out["status"] == 0 and out["check_floquet_modulus"][0, 0] > 1.3
     assert out["check_kind"][0, 0] == PERIODIC and out["check_kind_period"][0, 0] == 1
     assert np.isnan(out["check_rotation_number"][0, 0]) and out["check_asymmetric_amplitude"][0, 0] > 1e-3
@@ -392,12 +390,7 @@ def test_a_perturbation_still_leaving_an_unstable_orbit_is_unsettled():
     # Just past the n = 1 branch point (41.88 rad/s, multiplier 1.076) one saturate period
     # leaves the perturbation below GROWTH_LIMIT: the run still leaves the unstable orbit,
     # with a positive exponent, and is reported unsettled, neither chaotic nor periodic.
-    grid = {"delta": np.array([1.1]), "delta_o": np.array([0.2]), "P0": np.array([1.0]), "c": np.array([0.05])}
-    check = {"values": [41.88], "periods": 100, "saturate": 1, "classify": 40}
-    options = CONTINUATION.parse_options(
-        {"parameter": "Omega", "start": 25.0, "stop": 55.0, "max_points": 600, "ds_max": 0.3,
-         "families": {"n": [1], "radial": 2}, "family_check": check}, grid, MEMBRANE)
-    out = CONTINUATION.compute(grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "P0": 1.0, "c": 0.05}), options, 0)
+    out = _fig14a_check({"values": [41.88], "periods": 100, "saturate": 1, "classify": 40})
     assert out["check_floquet_modulus"][0, 0] > 1.05 and out["check_asymmetric_amplitude"][0, 0] < GROWTH_LIMIT
     assert out["check_kind"][0, 0] == UNSETTLED and out["check_lyapunov_exponent"][0, 0] > 0
 

@@ -34,12 +34,13 @@ import numpy as np
 from model.codim2 import continue_curve, continue_folds
 from model.continuation import KIND_NAMES, resonant_end
 from model.families import GROWTH_LIMIT, floquet_start, perturbation_growth, symmetry_blocks
-from model.lyapunov import DIVERGED, KIND_NAMES as RESPONSE_KINDS, UNSETTLED, Classification, classify, lyapunov_spectrum
+from model.lyapunov import DIVERGED, UNSETTLED, Classification, classify, lyapunov_spectrum
 from model.response import LYAPUNOV_BLOCKS
 from model.tongues import family_tongue
 
 from . import options as opt
 from .base import GRID_KEYS, JobError, Variable, blank_outputs, check_keys
+from .response import response_kind_attrs
 
 #: Length of the ``cusp`` dimension (cusps of the fold curve, NaN padded).
 MAX_CUSPS = 4
@@ -403,9 +404,7 @@ class FamilyCheck(BranchFeature):
                      "sum of the Lyapunov exponents: the mean log |det| of the map's Jacobian per period over "
                      "the period; the flow's is -2 alpha dof under a mass-proportional damping, the RK4 map's "
                      "lower where its step damps modes it does not resolve (the full model's in-plane ones)"),
-            Variable("check_kind", dims, shape, "i1", "1", "kind of the state reached", -1,
-                     {"flag_values": np.arange(-1, len(RESPONSE_KINDS), dtype=np.int8),
-                      "flag_meanings": " ".join(("not_computed",) + RESPONSE_KINDS)}),
+            Variable("check_kind", dims, shape, "i1", "1", "kind of the state reached", -1, response_kind_attrs()),
             Variable("check_kind_period", dims, shape, "i4", "1",
                      "least period of a periodic state reached in forcing periods (0: not periodic)", -1),
             Variable("check_rotation_number", dims, shape, "f8", "1",

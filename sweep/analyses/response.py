@@ -42,6 +42,13 @@ from .base import (DEFAULT_CONTEXT, GRID_KEYS, STATUS_NOT_CONVERGED, STATUS_OK, 
                    check_keys)
 
 
+def response_kind_attrs() -> dict:
+    """The CF flag attributes of a variable holding :data:`model.lyapunov.KIND_NAMES` indices
+    (-1: not computed)."""
+    return {"flag_values": np.arange(-1, len(KIND_NAMES), dtype=np.int8),
+            "flag_meanings": " ".join(("not_computed",) + KIND_NAMES)}
+
+
 @dataclass(frozen=True)
 class ResponseOptions:
     parameter: str
@@ -154,8 +161,7 @@ class ResponseAnalysis(Analysis):
             Variable("lyapunov_error", (*dims, "exponent"), (*shape, 2 * K), "f8", "s-1",
                      f"statistical error of the Lyapunov exponents ({LYAPUNOV_BLOCKS} block means)"),
             Variable("response_kind", dims, shape, "i1", "1", "kind of the response after the transient", -1,
-                     {"flag_values": np.arange(-1, len(KIND_NAMES), dtype=np.int8),
-                      "flag_meanings": " ".join(("not_computed",) + KIND_NAMES)}),
+                     response_kind_attrs()),
             Variable("response_period", dims, shape, "i4", "1",
                      "least period of a periodic response in forcing periods (0: not periodic)", -1),
             Variable("rotation_number", dims, shape, "f8", "1",
