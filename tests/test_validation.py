@@ -214,9 +214,11 @@ def test_the_lyapunov_columns_of_a_family_check():
     assert rows[3].endswith("| periodic, period 1 | -2.00e-03 +- 1.0e-04 |")
     text = " ".join(validation._check_classification(ds))
     assert "-alpha T = -c T / (2 Gamma h) = -2.50e-02 .. -2.50e-02" in text
-    assert "is 10 to 11 times the flow's" in text and "faster than the flow" in text
+    assert "is 10.0000 to 11.0000 times the flow's" in text and "faster than the flow" in text
+    # the periodic row's lambda_1 T = -2e-3 lies 0.023 above -alpha T, 230 standard errors
+    assert "up to 2.3e-02 per period above -alpha T" in text and "beyond its standard errors" in text
     liouville = " ".join(validation._check_classification(ds.assign(check_lyapunov_sum=(cf, [[-3.2, -3.2]]))))
-    assert "is 1 to 1 times the flow's" in liouville and "Liouville's contraction" in liouville
+    assert "is 1.0000 to 1.0000 times the flow's" in liouville and "Liouville's contraction" in liouville
     modal = " ".join(validation._check_classification(ds.assign_attrs(damping_law="modal")))
     assert "alpha" not in modal and "periodic of period k <= 16" in modal
     plain = ds.drop_vars([v for v in ds.data_vars if v.startswith(("check_kind", "check_lyap", "check_rot",
