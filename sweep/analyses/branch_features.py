@@ -34,7 +34,7 @@ import numpy as np
 from model.codim2 import continue_curve, continue_folds
 from model.continuation import KIND_NAMES, resonant_end
 from model.families import GROWTH_LIMIT, floquet_start, perturbation_growth, symmetry_blocks
-from model.lyapunov import DIVERGED, UNSETTLED, Classification, classify, lyapunov_spectrum
+from model.lyapunov import UNSETTLED, Classification, classify, lyapunov_spectrum
 from model.response import LYAPUNOV_BLOCKS
 from model.tongues import family_tongue
 
@@ -461,11 +461,12 @@ def _classify_reached(out, index, fmap, state, points: int, growing: bool) -> No
     # The Lyapunov spectrum over `points` periods from the state the check reached, and its
     # kind (model.lyapunov), into the check_* outputs at `index`; a perturbation still
     # linear and growing is `unsettled` whatever its exponent (it is still leaving an
-    # unstable orbit, not on a chaotic attractor).
+    # unstable orbit, not on a chaotic attractor), without the search for periodic orbits.
     record = lyapunov_spectrum(fmap, state, points, LYAPUNOV_BLOCKS)
-    kind = classify(fmap, record, max_period=CHECK_MAX_PERIOD, sigmas=CHECK_SIGMAS)
-    if growing and kind.kind != DIVERGED:
+    if growing and record.finite:
         kind = Classification(UNSETTLED, 0, np.nan)
+    else:
+        kind = classify(fmap, record, max_period=CHECK_MAX_PERIOD, sigmas=CHECK_SIGMAS)
     out["check_lyapunov_exponent"][index] = record.exponents[0]
     out["check_lyapunov_error"][index] = record.standard_error[0]
     out["check_lyapunov_sum"][index] = record.log_det / record.period
