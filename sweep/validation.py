@@ -2922,8 +2922,8 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
            "same", "for w(rho, theta) - w(rho, theta + pi), twice its odd harmonics' part (the n = 1 motion and what it "
            "drives", "in the odd harmonics), and for the in-plane displacements u, v (the larger). Neither the "
            "harmonics' truncation", "nor the time steps are sources of the deviations (tests/test_fe_motion.py: the "
-           "harmonics 4 and 5", "move the odd part by less than a hundredth of a mesh of 8 elements across's "
-           "deviation; halving both", "time steps moves the deviations by less than 1 %).", "",
+           "harmonics 4 and 5", "move the odd part by less than a hundredth of its deviation on a mesh of 8 "
+           "elements across;", "halving both time steps moves the deviations by less than 1 %).", "",
            f"| delta | amplitude (m) | w deviation, {meshes} | odd part | u, v |", "|---|---|---|---|---|"]
     orders = {k: [] for k in names}
     finest = {k: [] for k in names}
@@ -2962,10 +2962,10 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
                "error, which falls at the element's order (above 2.5 between the two finest meshes)."
                if at_order else ", but between the two finest meshes the order of w or of the odd part is 2.5 or "
                "less at some orbit: not yet at the element's order there."),
-            f"The in-plane fields deviate by up to {max(finest['u, v']):.1e}"
-            + (" and converge more slowly than w at every orbit (orders "
-               f"{last['u, v'].min():.1f} to {last['u, v'].max():.1f} between the two finest meshes), for a reason "
-               "these runs do not establish (not the time steps)." if slower else "."), ""]
+            f"The in-plane fields deviate by up to {max(finest['u, v']):.1e}, with orders {span('u, v', pairs - 1)} "
+            "between the two finest meshes"
+            + (", more slowly than w at every orbit, for a reason these runs do not establish (not the time steps)."
+               if slower else "."), ""]
     return out
 
 
