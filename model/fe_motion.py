@@ -356,8 +356,10 @@ class FeHarmonicCheck(NamedTuple):
     #: the same for ``w(rho, theta) - w(rho, theta + pi)``, twice the odd harmonics' part of
     #: ``w``: the asymmetric motion of ``n = 1`` (and 3, ...) alone
     odd_deviation: float
-    #: the same for the in-plane displacements ``(u, v)`` from the pre-stretch (the larger of the two)
-    inplane_deviation: float
+    #: the same for the radial displacement ``u`` from the pre-stretch
+    u_deviation: float
+    #: the same for the circumferential displacement ``v``
+    v_deviation: float
     #: the mesh's time step (s)
     dt: float
 
@@ -373,8 +375,13 @@ def check_harmonic_motion(motion: FeMotion, reference: HarmonicReference, step_f
     Returns
     -------
     FeHarmonicCheck
-        The odd part compares every node with the node at ``(-x, -y)``; ValueError when a node
-        has none (:meth:`model.fe_annulus.AnnulusMesh.build` places nodes in opposite pairs).
+        The odd part compares every node with the node at ``(-x, -y)``.
+
+    Raises
+    ------
+    ValueError
+        When a node has no node opposite it (:meth:`model.fe_annulus.AnnulusMesh.build`
+        places them in pairs).
     """
     harmonic, period, samples = reference.harmonic, reference.period, reference.samples
     rho, theta = motion.polar_nodes()
@@ -396,12 +403,38 @@ def check_harmonic_motion(motion: FeMotion, reference: HarmonicReference, step_f
     own = np.array([np.stack(harmonic.fields(q, rho, theta)) for q in reference.coordinates])
     fe = np.array(fe)
 
-    def deviation(a, b):
-        return float(np.abs(a - b).max() / np.abs(b).max())
-
     def odd(w):
         return w - w[:, antipode]
 
-    return FeHarmonicCheck(deviation(fe[:, 2], own[:, 2]), deviation(odd(fe[:, 2]), odd(own[:, 2])),
-                           max(deviation(fe[:, 0], own[:, 0]), deviation(fe[:, 1], own[:, 1])),
+    return FeHarmonicCheck(_deviation(fe[:, 2], own[:, 2]), _deviation(odd(fe[:, 2]), odd(own[:, 2])),
+                           _deviation(fe[:, 0], own[:, 0]), _deviation(fe[:, 1], own[:, 1]),
                            period / (samples * every))
+
+
+def _deviation(a, b) -> float:
+    # max |a - b| over max |b|
+    return float(np.abs(a - b).max() / np.abs(b).max())
+
+
+#: Radii (scaled, from edge to edge) and angles of the polar grid on which
+#: :func:`reference_error` compares two harmonic motions.
+REFERENCE_GRID = (41, 64)
+
+
+def reference_error(reference: HarmonicReference, finer: HarmonicReference) -> tuple[float, float]:
+    """How far ``reference`` moves when its discretisation is refined: the largest
+    ``|w - w_finer|`` over the instants and a polar grid (:data:`REFERENCE_GRID`, angles
+    ``2 pi j / 64``) over the largest ``|w_finer|``, and the same for ``w(rho, theta) - w(rho,
+    theta + pi)`` -- the measures of :class:`FeHarmonicCheck` -- against ``finer``, the same
+    start on more harmonics or with a smaller step (:func:`harmonic_reference`), sampled at the
+    same instants."""
+    m = reference.harmonic.model.membrane
+    radii, angles = REFERENCE_GRID
+    rho, theta = np.meshgrid(np.linspace(m.Ro / m.Re, 1.0, radii), 2.0 * np.pi * np.arange(angles) / angles,
+                             indexing="ij")
+    w = [np.array([r.harmonic.fields(q, rho, theta)[2] for q in r.coordinates]) for r in (reference, finer)]
+
+    def odd(x):
+        return x - np.roll(x, -angles // 2, axis=2)
+
+    return _deviation(w[0], w[1]), _deviation(odd(w[0]), odd(w[1]))

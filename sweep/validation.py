@@ -22,8 +22,8 @@ import numpy as np
 
 from model.continuation import (BRANCH_POINT, FOLD, KIND_LABELS, NEIMARK_SACKER, resonant_end,
                                 stable_amplitudes_at, unstable_intervals, unstable_points)
-from sweep.analyses.backbone import FE_AROUND, FE_HARMONICS, FE_PERIODS, FE_SAMPLES
-from sweep.analyses.branch_features import CHECK_MAX_PERIOD, CHECK_SIGMAS, CURVE_DS_MAX
+from sweep.analyses.backbone import FE_AROUND, FE_HARMONICS, FE_MORE_HARMONICS, FE_PERIODS, FE_SAMPLES
+from sweep.analyses.branch_features import CHECK_MAX_PERIOD, CHECK_SIGMAS, CURVE_DS_MAX, GROWTH_LIMIT
 from sweep.analyses.mode_sets import select
 from sweep.errors import RunError
 from sweep.storage.netcdf import run_attributes
@@ -530,9 +530,6 @@ FAMILY_STUDIES = tuple(f"validation/families-{level}{law}" for level in ("", "1p
 #: Intervals whose ends move by less than this (rad/s) from M to 2M radial modes count as
 #: converged.
 SETTLED = 0.05
-#: Largest asymmetric displacement (m) of the family check's growth fit: below it the
-#: perturbation is still linear (model.families.perturbation_growth, ``limit``).
-LINEAR_LIMIT = 1e-5
 #: A saturated state whose stroboscopic samples spread by at most this fraction of their
 #: size counts as period one (the samples of an exact period-one orbit spread by rounding).
 PERIODIC_WIDTH = 1e-6
@@ -1768,7 +1765,7 @@ def _check_rows(b, orbit: bool = False) -> tuple[list[str], dict]:
                 worst[mu > 1] = max(worst[mu > 1], abs(grown / mu - 1))
             else:
                 worst[None] += 1
-            state = ("no saturate periods" if not np.isfinite(peak) else "still linear" if peak < LINEAR_LIMIT
+            state = ("no saturate periods" if not np.isfinite(peak) else "still linear" if peak < GROWTH_LIMIT
                      else "period one" if width <= PERIODIC_WIDTH * peak else "not periodic")
             sizes = f"{peak:.2e} | {width:.2e}" if np.isfinite(peak) else "- | -"
             rows.append(f"| {value:.3f} | {float(b.amplitude[i]):.4f} |{own} {int(n)} | {mu:.5f} | {grown:.5f} | "
@@ -1793,7 +1790,8 @@ def _check_kind(b, c: int, j: int) -> str:
 
 def _check_classification(b) -> list[str]:
     """What the Lyapunov columns of a classified ``family_check`` table say, with the run's
-    numbers: the viscous damping's own exponent, and the exponents' sum against the flow's."""
+    numbers: the viscous damping's own exponent, how far the estimates lie from the exact
+    exponent where it is known, and the exponents' sum against the flow's."""
     if "check_kind" not in b:
         return []
     out = [
@@ -1805,40 +1803,54 @@ def _check_classification(b) -> list[str]:
         "the run approaches; otherwise chaotic, quasi-periodic or unsettled as lambda_1 lies above, within",
         f"or below its resolution, the larger of {CHECK_SIGMAS:g} standard errors of its block means and 0.1 / (N T),",
         "N the classify periods (the +- column is one standard error, per forcing period like lambda_1 T).",
-        "A perturbation still below the growth fit's limit on an unstable family is unsettled whatever",
-        "its exponent: it is still leaving the unstable orbit."]
+        "A perturbation whose coordinates are still below the growth fit's limit on an unstable family is",
+        "unsettled whatever its exponent: it is still leaving the unstable orbit."]
     period = 2 * np.pi / b.check_Omega.values[:, None]
+    lam, err = b.check_lyapunov_exponent.values * period, b.check_lyapunov_error.values * period
+    meanings = dict(zip(b.check_kind.attrs["flag_meanings"].split(), b.check_kind.attrs["flag_values"].tolist()))
+    # where the perturbation decayed back to the axisymmetric orbit (periodic, still linear, the
+    # family stable) lambda_1 T is exactly the log of the mixed model's largest multiplier there:
+    # the orbit's own or the family's
+    omega = b.Omega.values.ravel()
+    rows = [int(np.flatnonzero(omega == v)[0]) if np.isfinite(v) else -1 for v in b.check_Omega.values]
+    own = np.array([float(b.multiplier_modulus[i]) if i >= 0 else np.nan for i in rows])[:, None]
+    exact = np.log(np.maximum(own, b.check_floquet_modulus.values))
+    back = ((b.check_kind.values == meanings["periodic"]) & (b.check_asymmetric_amplitude.values < GROWTH_LIMIT)
+            & (b.check_floquet_modulus.values < 1.0) & np.isfinite(exact))
+    if back.any():
+        offset = (lam - exact)[back]
+        sigmas = offset / err[back]
+        out += [f"Where the perturbation decayed back to the axisymmetric orbit ({int(back.sum())} checks) the exact "
+                "lambda_1 T is the log of",
+                "the largest multiplier modulus there (the orbit's or the family's); the estimates lie "
+                f"{offset.min():+.1e} to {offset.max():+.1e} from it,",
+                f"{sigmas.min():+.1f} to {sigmas.max():+.1f} standard errors"
+                + (": the block error does not cover the finite run's bias, so an exponent within a few times that "
+                   "offset of zero is not resolved by these runs." if np.abs(sigmas).max() > CHECK_SIGMAS else
+                   ", within the resolution.")]
     if b.attrs.get("damping_law", "viscous") == "viscous" and "c" in b:
         alpha_t = float(b.c) / (2 * float(b.attrs["membrane_Gamma"]) * float(b.attrs["membrane_h"])) * period
         out += [f"The viscous damping alone gives -alpha T = -c T / (2 Gamma h) = {-np.nanmax(alpha_t):.2e} .. "
-                f"{-np.nanmin(alpha_t):.2e}: where",
-                "lambda_1 T lies within its resolution of zero and that resolution is wider than alpha T, the",
-                "Poincare points (the Newton test, the rotation number), not the exponent, tell a slowly settling",
-                "spiral from an invariant circle."]
-        meanings = dict(zip(b.check_kind.attrs["flag_meanings"].split(), b.check_kind.attrs["flag_values"].tolist()))
-        periodic = b.check_kind.values == meanings["periodic"]
-        if periodic.any():
-            # a periodic state's true lambda_1 T is -alpha T or below; what a run shows above it is
-            # the finite run's bias (the frame's first alignment, O(1 / N))
-            above = float(np.nanmax((b.check_lyapunov_exponent.values * period + alpha_t)[periodic]))
-            error = float(np.nanmax((b.check_lyapunov_error.values * period)[periodic]))
-            out += [f"At the periodic states the estimate lies up to {above:.1e} per period above -alpha T, the error of "
-                    "a finite run",
-                    "(the frame's first alignment, its swings within the blocks)"
-                    + (f", within {CHECK_SIGMAS:g} standard errors." if above < CHECK_SIGMAS * error
-                       else ", beyond its standard errors.")]
+                f"{-np.nanmin(alpha_t):.2e}, and",
+                "under it the flow's exponents pair to -2 alpha T (conformally symplectic), so lambda_1 T >= -alpha T:",
+                "a state's lambda_1 T near zero within its resolution tells a slowly settling spiral from an",
+                "invariant circle only through its Poincare points (the Newton test, the rotation number)."]
         flow = -alpha_t * b.check_state_size.values[None, :]  # -2 alpha T per coordinate pair
-        total = b.check_lyapunov_sum.values * period
-        ratio = total / flow
+        ratio = b.check_lyapunov_sum.values * period / flow
         if np.any(np.isfinite(ratio)):
             low, high = np.nanmin(ratio), np.nanmax(ratio)
-            out += [f"The sum of all exponents per period is {low:.4f} to {high:.4f} times the flow's -2 alpha T "
-                    "per coordinate pair"
-                    + (" (Liouville's contraction: the map resolves its modes)." if high < 1.01 and low > 0.99 else
-                       ": the RK4 map contracts phase volume faster than the flow, because its step, chosen for the "
-                       "stability of the fastest modes, damps the modes it does not resolve (the full model's "
-                       "in-plane ones; tests/test_full_harmonic.py checks the sum against the closed form of RK4 "
-                       "at rest).")]
+            text = f"The sum of all exponents per period is {low:.4f} to {high:.4f} times the flow's -2 alpha T per " \
+                   "coordinate pair"
+            if 0.99 < low and high < 1.01:
+                text += " (Liouville's contraction: the map resolves its modes)."
+            elif low > 1.01:
+                text += (": the RK4 map contracts phase volume faster than the flow, because its step, chosen for "
+                         "the stability of the fastest modes, damps the modes it does not resolve"
+                         + (" (the in-plane ones; tests/test_full_harmonic.py checks the sum against the closed "
+                            "form of RK4 at rest)." if b.attrs.get("model") == "full" else "."))
+            else:
+                text += ": not the flow's contraction; the map's determinant departs from Liouville's."
+            out.append(text)
     return out + [""]
 
 
@@ -1852,7 +1864,7 @@ def _damping_moduli(b) -> str:
 
 def _check_states() -> str:
     """What the last column of a ``family_check`` table says."""
-    return (f"\"Still linear\": the asymmetric displacement stayed below {LINEAR_LIMIT:g} m,\n"
+    return (f"\"Still linear\": the asymmetric displacement stayed below {GROWTH_LIMIT:g} m,\n"
             "so the family's multipliers, not its nonlinearity, set its size (near the unit circle it\n"
             f"decays over thousands of periods); \"period one\": its samples spread by at most {PERIODIC_WIDTH:g}\n"
             "of their size; otherwise the state is not (or not yet) periodic: a modulated (quasi-periodic)\n"
@@ -2911,8 +2923,8 @@ def section_fe_motion(results: Path) -> list[str]:
 def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str]:
     """The asymmetric half of the finite-element free vibration (``fe_check.asymmetric``)."""
     meshes = " / ".join(str(r) for r in radial)
-    names = {"w": "fe_harmonic_w_deviation", "odd part": "fe_harmonic_odd_deviation",
-             "u, v": "fe_harmonic_inplane_deviation"}
+    names = {"w": "fe_harmonic_w_deviation", "odd part": "fe_harmonic_odd_deviation", "u": "fe_harmonic_u_deviation",
+             "v": "fe_harmonic_v_deviation"}
     out = ["### Asymmetric motion", "",
            f"From rest at each orbit's state plus {size:g} m of the lowest n = 1 transverse mode (its largest |w|), the "
            "same meshes", f"against the full model on the circumferential harmonics {', '.join(map(str, FE_HARMONICS))} "
@@ -2920,13 +2932,13 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
            f"compared at the mesh's nodes, where a P2 field's values are its coefficients, {FE_SAMPLES} instants per "
            "period", "(`model.fe_motion.check_harmonic_motion`): the largest deviation of w over its largest value, the "
            "same", "for w(rho, theta) - w(rho, theta + pi), twice its odd harmonics' part (the n = 1 motion and what it "
-           "drives", "in the odd harmonics), and for the in-plane displacements u, v (the larger). Neither the "
-           "harmonics' truncation", "nor the time steps are sources of the deviations (tests/test_fe_motion.py: the "
-           "harmonics 4 and 5", "move the odd part by less than a hundredth of its deviation on a mesh of 8 "
-           "elements across;", "halving both time steps moves the deviations by less than 1 %).", "",
-           f"| delta | amplitude (m) | w deviation, {meshes} | odd part | u, v |", "|---|---|---|---|---|"]
+           "drives", "in the odd harmonics), and for u and v. \"Reference\": how far the harmonics' own motion moves "
+           "with the", f"harmonics {', '.join(map(str, FE_MORE_HARMONICS))} added and half its step (w / odd part, on a "
+           "polar grid; `model.fe_motion.reference_error`).", "",
+           f"| delta | amplitude (m) | w deviation, {meshes} | odd part | u | v | reference |", "|---|---|---|---|---|---|---|"]
     orders = {k: [] for k in names}
     finest = {k: [] for k in names}
+    own = []
     for d in ds.delta.values:
         f = _point(ds, delta=d, delta_o=0.2)
         for j in range(f.sizes["point"]):
@@ -2940,6 +2952,10 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
                                   for i in range(len(v) - 1)])
                 finest[k].append(v[-1])
                 cells.append(" / ".join(f"{x:.1e}" for x in v))
+            reference = (float(p.fe_harmonic_reference_w_error), float(p.fe_harmonic_reference_odd_error))
+            own.append(max(reference[0] / _nonzero_or_nan(finest["w"][-1]),
+                           reference[1] / _nonzero_or_nan(finest["odd part"][-1])))
+            cells.append(f"{reference[0]:.1e} / {reference[1]:.1e}")
             out.append(f"| {float(d):g} | {float(p.amplitude):.3f} | " + " | ".join(cells) + " |")
     pairs = len(radial) - 1
     if not finest["w"] or not pairs:
@@ -2954,19 +2970,27 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
     out += [f"* {k}: " + "; ".join(f"{radial[i]} -> {radial[i + 1]}: {span(k, i)}" for i in range(pairs)) for k in names]
     last = {k: orders[k][:, -1][np.isfinite(orders[k][:, -1])] for k in names}
     at_order = all(last[k].size and last[k].min() > 2.5 for k in ("w", "odd part"))
-    slower = last["u, v"].size and last["w"].size and last["u, v"].max() < last["w"].min()
-    out += ["", f"On {radial[-1]} elements across the asymmetric motion deviates by at most "
-            f"{max(finest['odd part']):.1e} of its largest value and w by {max(finest['w']):.1e}"
-            + (": the full model's circumferential harmonics, on which its standing and rotating waves and its family "
-               "checks run, integrate the same two-dimensional motion as a mesh with no harmonics, to the mesh's "
-               "error, which falls at the element's order (above 2.5 between the two finest meshes)."
-               if at_order else ", but between the two finest meshes the order of w or of the odd part is 2.5 or "
-               "less at some orbit: not yet at the element's order there."),
-            f"The in-plane fields deviate by up to {max(finest['u, v']):.1e}, with orders {span('u, v', pairs - 1)} "
-            "between the two finest meshes"
-            + (", more slowly than w at every orbit, for a reason these runs do not establish (not the time steps)."
-               if slower else "."), ""]
+    largest = {k: float(np.nanmax(v)) for k, v in finest.items()}
+    out += ["", f"The harmonics' own error is at most {np.nanmax(own):.1e} of the finest mesh's deviations (w, odd part): "
+            + ("the deviations are the mesh's." if np.nanmax(own) < 0.1 else "not negligible against them."),
+            f"On {radial[-1]} elements across w deviates by at most {largest['w']:.1e} of its largest value and its "
+            f"odd part by {largest['odd part']:.1e}"
+            + (": the full model's circumferential harmonics integrate the n = 1 transverse motion as a mesh with no "
+               "harmonics does, to the mesh's error, which falls at the element's order (above 2.5 between the two "
+               "finest meshes)." if at_order else ", but between the two finest meshes the order of w or of the odd "
+               "part is 2.5 or less at some orbit: not yet at the element's order there."),
+            f"u deviates by at most {largest['u']:.1e} (orders {span('u', pairs - 1)} between the two finest meshes) "
+            f"and v, the n = 1 part's circumferential displacement, by {largest['v']:.1e} (orders "
+            f"{span('v', pairs - 1)})"
+            + (": v converges more slowly than w at every orbit, for a reason these runs do not establish (not the "
+               "time steps, not the harmonics)." if last["v"].size and last["w"].size and last["v"].max()
+               < last["w"].min() else "."), ""]
     return out
+
+
+def _nonzero_or_nan(x) -> float:
+    """``x``, or NaN where it is zero (a ratio's denominator)."""
+    return float(x) if x else np.nan
 
 
 SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_model, section_fe_check,

@@ -71,8 +71,10 @@ def test_the_report_computes_nothing_from_the_model():
     assert through_sweep <= {("sweep.analyses.branch_features", "CURVE_DS_MAX"), ("sweep.analyses.mode_sets", "select"),
                              ("sweep.analyses.backbone", "FE_AROUND"), ("sweep.analyses.backbone", "FE_PERIODS"),
                              ("sweep.analyses.backbone", "FE_HARMONICS"), ("sweep.analyses.backbone", "FE_SAMPLES"),
+                             ("sweep.analyses.backbone", "FE_MORE_HARMONICS"),
                              ("sweep.analyses.branch_features", "CHECK_MAX_PERIOD"),
                              ("sweep.analyses.branch_features", "CHECK_SIGMAS"),
+                             ("sweep.analyses.branch_features", "GROWTH_LIMIT"),
                              ("sweep.errors", "RunError"), ("sweep.storage.netcdf", "run_attributes")}
     assert imported <= {("model.continuation", name) for name in (
         "KIND_LABELS", "BRANCH_POINT", "NEIMARK_SACKER", "FOLD", "resonant_end", "stable_amplitudes_at",
@@ -215,8 +217,11 @@ def test_the_lyapunov_columns_of_a_family_check():
     text = " ".join(validation._check_classification(ds))
     assert "-alpha T = -c T / (2 Gamma h) = -2.50e-02 .. -2.50e-02" in text
     assert "is 10.0000 to 11.0000 times the flow's" in text and "faster than the flow" in text
-    # the periodic row's lambda_1 T = -2e-3 lies 0.023 above -alpha T, 230 standard errors
-    assert "up to 2.3e-02 per period above -alpha T" in text and "beyond its standard errors" in text
+    # the periodic row decayed back to the orbit (1e-9 m, family stable): exact lambda_1 T = log 0.99
+    # (the family's multiplier, above the orbit's 0.9); the estimate -2e-3 lies 8.05e-3 above it,
+    # 80 standard errors
+    assert "back to the axisymmetric orbit (1 checks)" in text and "+8.1e-03 to +8.1e-03 from it" in text
+    assert "+80.5 to +80.5 standard errors: the block error does not cover" in text
     liouville = " ".join(validation._check_classification(ds.assign(check_lyapunov_sum=(cf, [[-3.2, -3.2]]))))
     assert "is 1.0000 to 1.0000 times the flow's" in liouville and "Liouville's contraction" in liouville
     modal = " ".join(validation._check_classification(ds.assign_attrs(damping_law="modal")))
@@ -227,25 +232,33 @@ def test_the_lyapunov_columns_of_a_family_check():
 
 
 def test_the_asymmetric_finite_element_check():
-    """Each orbit's deviations per mesh, the measured orders between meshes (log of the ratio
-    over log 2 for doubled meshes) and the finest mesh's largest; orbits without a frequency
-    are left out."""
+    """Each orbit's deviations per mesh and the harmonics' own error, the measured orders
+    between meshes (log of the ratio over log 2 for doubled meshes), the finest mesh's
+    largest, and what they allow one to say; orbits without a frequency are left out."""
     import xarray as xr
 
     fr = ("delta", "delta_o", "point", "fe_radial")
+    pt = ("delta", "delta_o", "point")
     w = np.array([[[[8e-3, 1e-3], [1.6e-2, 2e-3]]]])  # order 3 for both orbits
-    ds = xr.Dataset({"omega_nl": (("delta", "delta_o", "point"), [[[30.0, 31.0]]]),
+    ds = xr.Dataset({"omega_nl": (pt, [[[30.0, 31.0]]]),
                      "amplitude": ("point", [0.02, 0.06]), "fe_harmonic_w_deviation": (fr, w),
-                     "fe_harmonic_odd_deviation": (fr, 2 * w), "fe_harmonic_inplane_deviation": (fr, np.sqrt(w))},
+                     "fe_harmonic_odd_deviation": (fr, 2 * w), "fe_harmonic_u_deviation": (fr, w ** (2 / 3)),
+                     "fe_harmonic_v_deviation": (fr, np.sqrt(w)),
+                     "fe_harmonic_reference_w_error": (pt, [[[1e-6, 2e-6]]]),
+                     "fe_harmonic_reference_odd_error": (pt, [[[4e-6, 8e-5]]])},
                     coords={"delta": [1.1], "delta_o": [0.2], "fe_radial": [4, 8]})
     text = "\n".join(validation._fe_asymmetric(ds, [4, 8], 2, 0.01))
-    assert "| 1.1 | 0.020 | 8.0e-03 / 1.0e-03 | 1.6e-02 / 2.0e-03 | 8.9e-02 / 3.2e-02 |" in text
-    assert "* w: 4 -> 8: 3.0 to 3.0" in text and "* u, v: 4 -> 8: 1.5 to 1.5" in text
-    assert "deviates by at most 4.0e-03 of its largest value and w by 2.0e-03: the full model's" in text
-    assert "0.01 m of the lowest n = 1 transverse mode" in text and "more slowly than w at every orbit" in text
-    assert "The in-plane fields deviate by up to 4.5e-02, with orders 1.5 to 1.5 between" in text
-    # an order of 2.5 or less between the finest meshes is said so
-    slow = ds.assign(fe_harmonic_odd_deviation=(fr, 2 * np.sqrt(w)))
-    assert "not yet at the element's order there" in "\n".join(validation._fe_asymmetric(slow, [4, 8], 2, 0.01))
-    missing = ds.assign(omega_nl=(("delta", "delta_o", "point"), [[[30.0, np.nan]]]))
+    assert ("| 1.1 | 0.020 | 8.0e-03 / 1.0e-03 | 1.6e-02 / 2.0e-03 | 4.0e-02 / 1.0e-02 | 8.9e-02 / 3.2e-02 | "
+            "1.0e-06 / 4.0e-06 |") in text
+    assert "* w: 4 -> 8: 3.0 to 3.0" in text and "* u: 4 -> 8: 2.0 to 2.0" in text and "* v: 4 -> 8: 1.5 to 1.5" in text
+    # the harmonics' own error: 8e-5 of the second orbit's odd part, 4e-3, is 2e-2 of it
+    assert "at most 2.0e-02 of the finest mesh's deviations (w, odd part): the deviations are the mesh's." in text
+    assert "w deviates by at most 2.0e-03 of its largest value and its odd part by 4.0e-03: the full model's" in text
+    assert "0.01 m of the lowest n = 1 transverse mode" in text and "v converges more slowly than w" in text
+    # an order of 2.5 or less between the finest meshes is said so, and a large own error
+    slow = ds.assign(fe_harmonic_odd_deviation=(fr, 2 * np.sqrt(w)),
+                     fe_harmonic_reference_odd_error=(pt, [[[4e-6, 2e-2]]]))
+    text = "\n".join(validation._fe_asymmetric(slow, [4, 8], 2, 0.01))
+    assert "not yet at the element's order there" in text and "not negligible against them" in text
+    missing = ds.assign(omega_nl=(pt, [[[30.0, np.nan]]]))
     assert "| 0.060 |" not in "\n".join(validation._fe_asymmetric(missing, [4, 8], 2, 0.01))

@@ -28,13 +28,17 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   rest at each orbit's state; its frequency from the extrema of ``w`` at the probe and the
   range of its half periods' frequencies, and the largest deviations of ``w`` and ``u`` from the orbit along the ray ``theta = 0``
   (:func:`model.fe_motion.check_free_orbit`);
-* ``fe_harmonic_w_deviation``, ``fe_harmonic_odd_deviation``, ``fe_harmonic_inplane_deviation``
-  (``point``, ``fe_radial``) -- with ``fe_check.asymmetric = A`` (m): the same meshes from rest
-  at each orbit's state plus ``A`` times the lowest ``n = 1`` transverse mode (largest ``|w|``
-  of ``A``) against the full model on the circumferential harmonics :data:`FE_HARMONICS`
-  (:mod:`model.full.harmonic`): the largest deviations of ``w``, of its odd harmonics' part
-  ``w(rho, theta) - w(rho, theta + pi)`` (the asymmetric motion) and of ``u``, ``v`` at the
-  mesh's nodes over the instants (:func:`model.fe_motion.check_harmonic_motion`);
+* ``fe_harmonic_w_deviation``, ``fe_harmonic_odd_deviation``, ``fe_harmonic_u_deviation``,
+  ``fe_harmonic_v_deviation`` (``point``, ``fe_radial``) -- with ``fe_check.asymmetric = A``
+  (m): the same meshes from rest at each orbit's state plus ``A`` times the lowest ``n = 1``
+  transverse mode (largest ``|w|`` of ``A``) against the full model on the circumferential
+  harmonics :data:`FE_HARMONICS` (:mod:`model.full.harmonic`): the largest deviations of
+  ``w``, of ``w(rho, theta) - w(rho, theta + pi)`` (twice its odd harmonics' part: the
+  asymmetric motion), of ``u`` and of ``v`` at the mesh's nodes over the instants
+  (:func:`model.fe_motion.check_harmonic_motion`); and ``fe_harmonic_reference_w_error``,
+  ``fe_harmonic_reference_odd_error`` (``point``): how far the harmonics' motion moves with
+  the harmonics 4 and 5 added and half its step (:func:`model.fe_motion.reference_error`),
+  to be read against the finest mesh's deviations;
 * ``turn_amplitude``, ``turn_omega`` -- where the pseudo-arclength branch of free orbits
   (:func:`model.backbone.backbone_branch`) first turns back in amplitude (an internal
   resonance), NaN when it reaches the largest target without turning; targets beyond it
@@ -74,9 +78,10 @@ FE_AROUND, FE_PERIODS = 4, 2
 #: Instants per period at which ``fe_check`` compares the mesh with the full model.
 FE_SAMPLES = 64
 #: The circumferential harmonics of ``fe_check.asymmetric``'s model: n = 1 and what its
-#: square and cube drive (tests/test_fe_motion.py: the harmonics 4 and 5 move its motion by
-#: less than a hundredth of the finer mesh's deviation).
+#: square and cube drive; the check refines them with :data:`FE_MORE_HARMONICS` and half the
+#: step to measure what the truncation and the step contribute.
 FE_HARMONICS = (0, 1, 2, 3)
+FE_MORE_HARMONICS = (4, 5)
 #: Radii of ``orbit_u`` and ``orbit_w``, equally spaced from the inner to the outer edge (81:
 #: ``rho = 0.55 Re``, the paper's Fig. 8 point, is one of them at ``delta_o = 0.2``).
 ORBIT_RADII = 81
@@ -127,7 +132,8 @@ class BackboneAnalysis(Analysis):
                     "finite-element free vibration\"); with asymmetric = A (m), the same from the orbit's state plus "
                     f"A times the lowest n = 1 transverse mode against the full model on the harmonics "
                     f"{', '.join(map(str, FE_HARMONICS))}: fe_harmonic_w_deviation, fe_harmonic_odd_deviation, "
-                    "fe_harmonic_inplane_deviation",
+                    "fe_harmonic_u_deviation, fe_harmonic_v_deviation, and the harmonics' own error, "
+                    "fe_harmonic_reference_w_error, fe_harmonic_reference_odd_error (A in m; 0: no asymmetric check)",
     }
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
@@ -293,8 +299,14 @@ def _fe_variables(options) -> list[Variable]:
                  f"and the mesh's nodes, over the largest |w|, w of the full model on the harmonics {harmonics}"),
         Variable("fe_harmonic_odd_deviation", dims, shape, "f8", "1", "the same for the odd harmonics' part "
                  "w(rho, theta) - w(rho, theta + pi): the asymmetric motion alone"),
-        Variable("fe_harmonic_inplane_deviation", dims, shape, "f8", "1", "the same for the in-plane displacements "
-                 "u, v (the larger)"),
+        Variable("fe_harmonic_u_deviation", dims, shape, "f8", "1", "the same for the radial displacement u"),
+        Variable("fe_harmonic_v_deviation", dims, shape, "f8", "1", "the same for the circumferential "
+                 "displacement v"),
+        Variable("fe_harmonic_reference_w_error", ("point",), shape[:1], "f8", "1", "largest change of w over "
+                 f"the instants and a polar grid, over the largest |w|, when the harmonics {FE_MORE_HARMONICS} are "
+                 "added and the step halved: the full model's own error in the fe_harmonic_* comparisons"),
+        Variable("fe_harmonic_reference_odd_error", ("point",), shape[:1], "f8", "1", "the same for "
+                 "w(rho, theta) - w(rho, theta + pi)"),
     ] if options.fe_check[3] else []
     return [
         Variable("fe_omega", dims, shape, "f8", "rad s-1", "frequency of the motion on the finite-element mesh "
@@ -313,12 +325,15 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric) -> dict[
     """The outputs of ``fe_check`` (:func:`model.fe_motion.check_free_orbit`, and with
     ``asymmetric`` :func:`model.fe_motion.check_harmonic_motion` against the harmonics' motion
     from each orbit's state, computed once per orbit) for the converged orbits (NaN elsewhere)."""
-    from model.fe_motion import asymmetric_start, check_free_orbit, check_harmonic_motion, harmonic_reference
+    from model.fe_motion import (asymmetric_start, check_free_orbit, check_harmonic_motion, harmonic_reference,
+                                 reference_error)
+    from model.full.forced import STABLE_STEP
     from model.full.harmonic import HarmonicFull
     from sweep.models.fe2d import fe_motion_for
 
     names = ("fe_omega", "fe_omega_spread", "fe_w_deviation", "fe_u_deviation")
-    harmonic_names = ("fe_harmonic_w_deviation", "fe_harmonic_odd_deviation", "fe_harmonic_inplane_deviation")
+    harmonic_names = ("fe_harmonic_w_deviation", "fe_harmonic_odd_deviation", "fe_harmonic_u_deviation",
+                      "fe_harmonic_v_deviation")
     out = {k: np.full((orbits.omega.size, len(radial)), np.nan)
            for k in names + (harmonic_names if asymmetric else ())}
     m = point.membrane
@@ -326,9 +341,18 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric) -> dict[
     converged = np.flatnonzero(orbits.converged)
     references = {}
     if asymmetric:
+        errors = ("fe_harmonic_reference_w_error", "fe_harmonic_reference_odd_error")
+        out.update({k: np.full(orbits.omega.size, np.nan) for k in errors})
         harmonic = HarmonicFull(free.model, FE_HARMONICS)
-        references = {j: harmonic_reference(harmonic, asymmetric_start(harmonic, orbits.modal[j], asymmetric),
-                                            2.0 * np.pi / orbits.omega[j], periods, FE_SAMPLES) for j in converged}
+        finer = HarmonicFull(free.model, FE_HARMONICS + FE_MORE_HARMONICS)
+        for j in converged:
+            period = 2.0 * np.pi / orbits.omega[j]
+            references[j] = harmonic_reference(harmonic, asymmetric_start(harmonic, orbits.modal[j], asymmetric),
+                                               period, periods, FE_SAMPLES)
+            refined = harmonic_reference(finer, asymmetric_start(finer, orbits.modal[j], asymmetric), period, periods,
+                                         FE_SAMPLES, step=STABLE_STEP / 2)
+            for name, value in zip(errors, reference_error(references[j], refined)):
+                out[name][j] = value
     for k, r in enumerate(radial if converged.size else ()):
         motion = fe_motion_for(m, r, around * r)
         for j in converged:

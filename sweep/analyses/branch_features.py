@@ -450,7 +450,7 @@ class FamilyCheck(BranchFeature):
                         # the family unstable and the perturbation still linear: it has not
                         # reached its state yet
                         growing = (out["check_floquet_modulus"][c, j] > 1.0
-                                   and max(abs(low), abs(high)) < GROWTH_LIMIT)
+                                   and np.abs(check.state[list(mixed.asymmetric)]).max() < GROWTH_LIMIT)
                         _classify_reached(out, (c, j), at, check.state, points, growing)
                 except ValueError as exc:
                     problems.append(f"family_check n = {fam.n} at {p} = {br.value[i]:.6g}: {exc}")
