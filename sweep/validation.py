@@ -1781,8 +1781,10 @@ def _check_kind(b, c: int, j: int) -> str:
     name = meanings.get(kind, "?").replace("_", "-")
     if name == "periodic":
         name += f", period {int(b.check_kind_period[c, j])}"
-    elif name == "quasi-periodic" and np.isfinite(float(b.check_rotation_number[c, j])):
-        name += f", rotation number {float(b.check_rotation_number[c, j]):.4f}"
+    elif name == "quasi-periodic":
+        rho = float(b.check_rotation_number[c, j])
+        name = f"quasi-periodic, rotation number {rho:.4f}" if np.isfinite(rho) else \
+            "lambda_1 ~ 0, no invariant circle found"
     period = 2 * np.pi / float(b.check_Omega[c])
     lam, err = float(b.check_lyapunov_exponent[c, j]) * period, float(b.check_lyapunov_error[c, j]) * period
     return f" {name} | {lam:+.2e} +- {err:.1e} |" if np.isfinite(lam) else f" {name} | - |"
@@ -1820,9 +1822,12 @@ def _check_classification(b) -> list[str]:
     if back.any():
         offset = (lam - exact)[back]
         sigmas = offset / err[back]
+        bound = b.attrs.get("model") == "full"  # the harmonic 2n's multipliers are not stored
         out += [f"Where the perturbation decayed back to the axisymmetric orbit ({int(back.sum())} checks) the exact "
                 "lambda_1 T is the log of",
-                "the largest multiplier modulus there (the orbit's or the family's); the estimates lie "
+                "the largest multiplier modulus there (the orbit's or the family's"
+                + ("; on the full model the harmonic 2n, not stored, could raise it: the offsets are upper bounds"
+                   if bound else "") + "); the estimates lie "
                 f"{offset.min():+.1e} to {offset.max():+.1e} from it,",
                 f"{sigmas.min():+.1f} to {sigmas.max():+.1f} standard errors"
                 + (": the block error does not cover the finite run's bias, so an exponent within a few times that "
@@ -1832,14 +1837,15 @@ def _check_classification(b) -> list[str]:
         alpha_t = float(b.c) / (2 * float(b.attrs["membrane_Gamma"]) * float(b.attrs["membrane_h"])) * period
         out += [f"The viscous damping alone gives -alpha T = -c T / (2 Gamma h) = {-np.nanmax(alpha_t):.2e} .. "
                 f"{-np.nanmin(alpha_t):.2e}, and",
-                "under it the flow's exponents pair to -2 alpha T (conformally symplectic), so lambda_1 T >= -alpha T:",
+                "under it the flow's exponents pair to -2 alpha T (conformally symplectic; the RK4 map's only on "
+                "the modes its step resolves), so lambda_1 T >= -alpha T:",
                 "a state's lambda_1 T near zero within its resolution tells a slowly settling spiral from an",
                 "invariant circle only through its Poincare points (the Newton test, the rotation number)."]
         flow = -alpha_t * b.check_state_size.values[None, :]  # -2 alpha T per coordinate pair
         ratio = b.check_lyapunov_sum.values * period / flow
         if np.any(np.isfinite(ratio)):
             low, high = np.nanmin(ratio), np.nanmax(ratio)
-            text = f"The sum of all exponents per period is {low:.4f} to {high:.4f} times the flow's -2 alpha T per " \
+            text = f"The sum of all exponents per period is {low:.4g} to {high:.4g} times the flow's -2 alpha T per " \
                    "coordinate pair"
             if 0.99 < low and high < 1.01:
                 text += " (Liouville's contraction: the map resolves its modes)."
@@ -1869,7 +1875,8 @@ def _check_states() -> str:
             f"decays over thousands of periods); \"period one\": its samples spread by at most {PERIODIC_WIDTH:g}\n"
             "of their size; otherwise the state is not (or not yet) periodic: a modulated (quasi-periodic)\n"
             "response, or a transient slower than the light damping lets settle in these periods (the\n"
-            "Lyapunov columns, where computed, tell which).")
+            "Lyapunov columns, where computed, tell periodic and chaotic states apart; an exponent zero within\n"
+            "its resolution with no invariant circle found may be either of the two).")
 
 
 #: The full model's family checks: (job, the case, its grid point).
@@ -2953,8 +2960,8 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
                 finest[k].append(v[-1])
                 cells.append(" / ".join(f"{x:.1e}" for x in v))
             reference = (float(p.fe_harmonic_reference_w_error), float(p.fe_harmonic_reference_odd_error))
-            own.append(max(reference[0] / _nonzero_or_nan(finest["w"][-1]),
-                           reference[1] / _nonzero_or_nan(finest["odd part"][-1])))
+            own.append(np.fmax(reference[0] / _nonzero_or_nan(finest["w"][-1]),
+                               reference[1] / _nonzero_or_nan(finest["odd part"][-1])))
             cells.append(f"{reference[0]:.1e} / {reference[1]:.1e}")
             out.append(f"| {float(d):g} | {float(p.amplitude):.3f} | " + " | ".join(cells) + " |")
     pairs = len(radial) - 1
@@ -2983,7 +2990,7 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
             f"and v, the n = 1 part's circumferential displacement, by {largest['v']:.1e} (orders "
             f"{span('v', pairs - 1)})"
             + (": v converges more slowly than w at every orbit, for a reason these runs do not establish (not the "
-               "time steps, not the harmonics)." if last["v"].size and last["w"].size and last["v"].max()
+               "time steps)." if last["v"].size and last["w"].size and last["v"].max()
                < last["w"].min() else "."), ""]
     return out
 
