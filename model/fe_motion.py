@@ -400,7 +400,7 @@ def check_harmonic_motion(motion: FeMotion, reference: HarmonicReference, step_f
 
     motion.motion(motion.lift_fields(*harmonic.fields(reference.coordinates[0], rho, theta)),
                   period / (samples * every), reference.periods * samples * every, record)
-    own = np.array([np.stack(harmonic.fields(q, rho, theta)) for q in reference.coordinates])
+    own = np.stack(harmonic.fields(reference.coordinates, rho, theta), axis=1)
     fe = np.array(fe)
 
     def odd(w):
@@ -432,7 +432,7 @@ def reference_error(reference: HarmonicReference, finer: HarmonicReference) -> t
     radii, angles = REFERENCE_GRID
     rho, theta = np.meshgrid(np.linspace(m.Ro / m.Re, 1.0, radii), 2.0 * np.pi * np.arange(angles) / angles,
                              indexing="ij")
-    w = [np.array([r.harmonic.fields(q, rho, theta)[2] for q in r.coordinates]) for r in (reference, finer)]
+    w = [r.harmonic.fields(r.coordinates, rho, theta)[2] for r in (reference, finer)]
 
     def odd(x):
         return x - np.roll(x, -angles // 2, axis=2)

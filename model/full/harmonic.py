@@ -160,23 +160,23 @@ class HarmonicFull:
 
     def fields(self, q, rho, theta) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The displacements ``(u, v, w)`` (over ``Re``; radial, circumferential, transverse)
-        of the coordinates ``q`` (``(dof,)``, over ``Re``) at the undeformed points ``(rho,
-        theta)`` (arrays of one shape; ``rho`` over ``Re``): each block's radial function
-        times its angular factor, ``e`` for ``U`` and ``W``, ``o`` for ``V`` (the class
-        docstring)."""
+        of the coordinates ``q`` (``(..., dof)``, over ``Re``: one state or many, e.g. a
+        motion's samples) at the undeformed points ``(rho, theta)`` (arrays of one shape;
+        ``rho`` over ``Re``), each ``(..., *rho.shape)``: each block's radial function times
+        its angular factor, ``e`` for ``U`` and ``W``, ``o`` for ``V`` (the class docstring).
+        The radial basis is evaluated once for all states and blocks."""
         rho, theta = np.broadcast_arrays(np.asarray(rho, float), np.asarray(theta, float))
-        out = {"U": np.zeros(rho.shape), "V": np.zeros(rho.shape), "W": np.zeros(rho.shape)}
         q = np.asarray(q, float)
-        basis = self.model.state.basis
-        for b, (k, field, parity) in enumerate(self.blocks):
-            radial = basis.evaluate(q[b * self.order:(b + 1) * self.order], rho.ravel())[0].reshape(rho.shape)
-            cos, sin = np.cos(k * theta), np.sin(k * theta)
-            if field == "V":
-                factor = -cos if parity == "odd" else sin
-            else:
-                factor = sin if parity == "odd" else cos
-            out[field] += radial * factor
-        return out["U"], out["V"], out["W"]
+        blocks = q.reshape(q.shape[:-1] + (len(self.blocks), self.order))
+        radial = self.model.state.basis.evaluate(blocks, rho.ravel())[0]  # (..., blocks, points)
+        kt = np.outer(self._wave, theta.ravel())
+        odd = np.array([parity == "odd" for _, _, parity in self.blocks])[:, None]
+        v = self._fields == FIELD_V
+        factor = np.where(v[:, None], np.where(odd, -np.cos(kt), np.sin(kt)), np.where(odd, np.sin(kt), np.cos(kt)))
+        terms = radial * factor
+        shape = q.shape[:-1] + rho.shape
+        return tuple((terms[..., self._fields == code, :].sum(axis=-2)).reshape(shape)
+                     for code in (FIELD_U, FIELD_V, FIELD_W))
 
     @property
     def odd(self) -> np.ndarray:

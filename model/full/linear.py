@@ -103,7 +103,11 @@ def frequencies(state: FullPrestretch, n: int, count: int, fields: str) -> np.nd
     if count > K.shape[0]:
         raise ValueError(f"count = {count} is invalid: must be <= {K.shape[0]} unknowns of order "
                          f"{state.basis.order}")
-    lam = eigh(K, M, eigvals_only=True, subset_by_index=(0, count - 1))
+    return _frequency(state, eigh(K, M, eigvals_only=True, subset_by_index=(0, count - 1)))
+
+
+def _frequency(state: FullPrestretch, lam):
+    """``omega = sqrt(C1 / (Gamma Re^2) lambda)`` (rad s-1) of the Galerkin eigenvalues ``lambda``."""
     m = state.membrane
     return np.sqrt(m.C1 / (m.Gamma * m.Re**2) * lam)
 
@@ -130,4 +134,4 @@ def transverse_mode(state: FullPrestretch, n: int, index: int = 0) -> tuple[floa
     b, m = state.basis, state.membrane
     values = b.evaluate(vectors[:, 0], np.linspace(m.Ro / m.Re, 1.0, MODE_POINTS))[0]
     W = vectors[:, 0] / values[np.argmax(np.abs(values))]
-    return float(np.sqrt(m.C1 / (m.Gamma * m.Re**2) * lam[0])), W
+    return float(_frequency(state, lam[0])), W
