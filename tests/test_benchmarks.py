@@ -184,12 +184,12 @@ def test_families():
 @pytest.mark.mpi
 def test_basins():
     """Fig. 19a basins on 1 and 2 ranks, cold and warm: identical labels; the quickstart job
-    cold and warm."""
+    (on a 10 x 10 lattice) cold and warm."""
     out = smoke("bench_basins")
     assert "label arrays of all 3 runs (1 and 2 ranks) identical: True" in out
     assert re.search(r"agreement on 20 random points: [0-9.]+", out)
     assert re.search(r"^\(d\) 12 x 12 .*peak RSS per rank", out, re.M)
-    assert re.search(r"^\(e\) jobs/quickstart.toml on 2 ranks: cold [0-9.]+ s, warm [0-9.]+ s", out, re.M)
+    assert re.search(r"^\(e\) jobs/quickstart.toml on 10 x 10 on 2 ranks: cold [0-9.]+ s, warm [0-9.]+ s", out, re.M)
 
 
 @pytest.mark.mpi

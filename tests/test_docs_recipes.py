@@ -19,10 +19,11 @@ RESULTS = {
     "fig02-03-static.nc": ("fig02-03-static", {"num = 161": "num = 17"}),
     "fig14-bifurcation-omega.nc": ("fig14-bifurcation-omega", {"delta = [1.1, 1.5, 2.0]": "delta = [1.1]",
                                                                "ds_max = 0.3": "ds_max = 0.5"}),
-    "fig10-11-backbone.nc": ("fig10-11-backbone", {"delta = [1.1, 1.2, 1.5, 2.0]": "delta = [1.1, 2.0]",
+    "fig10-11-backbone.nc": ("fig10-11-backbone", {"delta = [1.1, 1.2, 1.5, 2.0]": "delta = [1.1, 1.5, 2.0]",
                                                    "num = 40": "num = 6"}),
     "fig09-modes.nc": ("fig09-modes", {"num = 60": "num = 8"}),
-    "fig10-full-backbone.nc": ("fig10-full-backbone", {"delta = [1.1, 1.5, 2.0]": "delta = [1.1, 2.0]",
+    # delta 1.1 left out: its branch turns at an internal resonance, which costs 13 s of continuation
+    "fig10-full-backbone.nc": ("fig10-full-backbone", {"delta = [1.1, 1.5, 2.0]": "delta = [1.5, 2.0]",
                                                       "num = 40": "num = 6", "order = 16": "order = 8"}),
     "erosion-profile.nc": ("erosion-profile", {"num = 8": "num = 2", "num = 60": "num = 12"}),
     "backbone-a.nc": ("fig10-11-backbone", {"delta = [1.1, 1.2, 1.5, 2.0]": "delta = [1.1]", "num = 40": "num = 4"}),
