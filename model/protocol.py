@@ -35,7 +35,9 @@ back without them:
 ``perturbed_family(family)``
     :class:`PerturbedFamily`: the nonlinear model in which a family's perturbations grow
     from an axisymmetric orbit, to check the family's multipliers by time integration
-    (continuation ``family_check``, :func:`model.families.perturbation_growth`).
+    (continuation ``family_check``, :func:`model.families.perturbation_growth`).  A model
+    whose choice of that nonlinear model is open takes it as keywords (the full model's
+    ``harmonics``).
 ``companions(family)``
     :class:`Companions`: the model of ``perturbed_family`` with the family's sine
     companions (the group O(2)), where a standing wave of the family has its stability

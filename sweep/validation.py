@@ -1773,12 +1773,16 @@ def _check_rows(b, orbit: bool = False) -> tuple[list[str], dict]:
     return rows, worst
 
 
+def _check_kind_name(b, c: int, j: int) -> str:
+    """The kind of the state a classified ``family_check`` reached (its flag's meaning)."""
+    meanings = dict(zip(b.check_kind.attrs["flag_values"].tolist(), b.check_kind.attrs["flag_meanings"].split()))
+    return meanings.get(int(b.check_kind[c, j]), "?").replace("_", "-")
+
+
 def _check_kind(b, c: int, j: int) -> str:
     """The Lyapunov columns of a classified ``family_check`` row: the kind of the state reached
     (with its period or rotation number) and ``lambda_1 T +- its error`` per forcing period."""
-    meanings = dict(zip(b.check_kind.attrs["flag_values"].tolist(), b.check_kind.attrs["flag_meanings"].split()))
-    kind = int(b.check_kind[c, j])
-    name = meanings.get(kind, "?").replace("_", "-")
+    name = _check_kind_name(b, c, j)
     if name == "periodic":
         name += f", period {int(b.check_kind_period[c, j])}"
     elif name == "quasi-periodic":
@@ -1922,7 +1926,58 @@ def section_full_family_check(results: Path) -> list[str]:
             + f"; where it is stable, to {worst[False]:.1e}{damping}"
             + (f"; {worst[None]} checks have no growth (the run's message says why)" if worst[None] else "") + ".", ""]
         out += _check_classification(b)
-    return out + [_check_states(), ""]
+    return out + [_check_states(), ""] + _harmonic_convergence(results, runs[FULL_CHECKS[0][0]])
+
+
+#: The checks of FULL_CHECKS[0] on the harmonics 0, n, 2n, 3n: one job per family.
+FULL_HARMONIC_CHECKS = ("validation/family-check-full-3n-n1", "validation/family-check-full-3n-n4")
+
+
+def _harmonic_convergence(results: Path, base) -> list[str]:
+    """The subsection comparing the states the full model's family checks reach on the
+    harmonics 0, n, 2n (``base``, the run of FULL_CHECKS[0]) with those on 0, n, 2n, 3n."""
+    out = ["### The states reached on more harmonics", "",
+           f"The same checks on the harmonics 0, n, 2n and 3n (`family_check.harmonics = 3`;",
+           f"{', '.join(f'`{name}`' for name in FULL_HARMONIC_CHECKS)}: the same branch, one job per family) at",
+           "the responses where the harmonics 0, n, 2n reach states called chaotic. Whether a state's kind",
+           "is a property of the membrane or of the truncation in theta shows in whether it survives the",
+           "harmonic 3n. \"Size\": the largest asymmetric |w(0.5 Re, 0)| over the last tenth of the saturate",
+           "periods.", ""]
+    runs = [_open(results, name) for name in FULL_HARMONIC_CHECKS]
+    if base is None or "check_kind" not in base or any(ds is None or "check_kind" not in ds for ds in runs):
+        return out + _missing(*FULL_HARMONIC_CHECKS)
+    b = _point(base, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
+    out += ["| n | Omega (rad/s) | 0, n, 2n: kind | lambda_1 T | size (m) | 0, n, 2n, 3n: kind | lambda_1 T | size (m) |",
+            "|---|---|---|---|---|---|---|---|"]
+    chaotic, changed = [], []
+    for ds in runs:
+        h = _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
+        for j, n in enumerate(h.family.values):
+            jb = np.flatnonzero(b.family.values == n)
+            if int(h.check_highest_harmonic[j]) != 3 * int(n) or jb.size == 0:
+                continue  # not this subsection's check (a changed job file)
+            for c, value in enumerate(h.check_Omega.values):
+                cb = np.flatnonzero(b.check_Omega.values == value)  # the same branch: the same responses
+                if not np.isfinite(value) or cb.size == 0:
+                    continue
+                cb, jb0 = int(cb[0]), int(jb[0])
+                out.append(f"| {int(n)} | {value:.3f} |{_check_kind(b, cb, jb0)} "
+                           f"{float(b.check_asymmetric_amplitude[cb, jb0]):.2e} |{_check_kind(h, c, j)} "
+                           f"{float(h.check_asymmetric_amplitude[c, j]):.2e} |")
+                if _check_kind_name(b, cb, jb0) == "chaotic":
+                    after = _check_kind_name(h, c, j)
+                    (chaotic if after == "chaotic" else changed).append(
+                        f"{value:.2f} rad/s (n = {int(n)}" + ("" if after == "chaotic" else f": {after}") + ")")
+    total = len(chaotic) + len(changed)
+    out += ["", f"Of the {total} states called chaotic on the harmonics 0, n, 2n, {len(chaotic)} "
+            f"{'is' if len(chaotic) == 1 else 'are'} still chaotic with the harmonic 3n"
+            + (f" ({', '.join(chaotic)})" if chaotic else "") + (f"; {len(changed)} changed kind: {', '.join(changed)}"
+                                                                 if changed else "") + ". "
+            + ("The kind of these states is not converged in the circumferential harmonics: which responses of the "
+               "full model are chaotic at this resolution is open." if changed else
+               "Their kind holds with one harmonic more (not a convergence study: 4n and beyond are not checked)."),
+            ""]
+    return out
 
 
 #: The standing-wave runs of the full model: (job, radial functions per field).

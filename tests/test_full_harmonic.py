@@ -351,29 +351,55 @@ def test_perturbed_family_needs_the_whole_family(model, orbit):
 
 # the continuation of tests/test_full_families.py (order 6, P0 from 0 to 0.5 Pa at 36 rad/s) with
 # the families on RADIAL functions and the check at its end
-JOB = FAMILIES_JOB.replace("radial = 4INPLANE}", "radial = RADIAL}\nfamily_check = {values = [0.5], periods = 60}")
+JOB = FAMILIES_JOB.replace("radial = 4INPLANE}", "radial = RADIAL}\n"
+                           "family_check = {values = [0.5], periods = 60HARMONICS}")
 
 
 def test_family_check_job_on_the_full_model(tmp_path):
+    # on the harmonics 0, n, 2n, 3n (family_check.harmonics = 3)
     job = tmp_path / "check.toml"
-    job.write_text(JOB.replace("RADIAL", "6"))
+    job.write_text(JOB.replace("RADIAL", "6").replace("HARMONICS", ", harmonics = 3"))
     out = tmp_path / "check.nc"
     assert cli.main(["run", str(job), "-o", str(out)]) == 0
     ds = xr.load_dataset(out).squeeze()
     assert int(ds.status) == 0 and float(ds.check_P0) == pytest.approx(0.5)
+    assert ds.check_highest_harmonic.values.tolist() == [3, 9]  # the families n = 1 and 3
     floquet, growth = ds.check_floquet_modulus.values.ravel(), ds.check_growth.values.ravel()
     # both families stable at this small response (viscous damping alone: 0.998); the same bound
     # as above
     assert (floquet < 1).all() and np.abs(growth - floquet).max() <= 2e-4
 
 
+def test_a_linear_perturbation_grows_alike_on_more_harmonics(model, orbit):
+    # At first order in the perturbation the harmonic n couples only to the axisymmetric
+    # orbit: 2n and 3n enter at the perturbation's square and cube (1e-9 m times its size), so
+    # the fitted growth on 0, n, 2n, 3n is the growth on 0, n, 2n to a relative 1e-9 or so
+    # (bound 1e-7); the probe sums w over the harmonics n, 2n, 3n
+    fmap, y = orbit
+    fam = FullFamily.build(model, 1)
+    start = floquet_start(fmap.family_monodromy(y, fam))
+    growth = {}
+    for k in (2, 3):
+        mixed = fmap.perturbed_family(fam, harmonics=k)
+        assert mixed.fmap.model.harmonics == tuple(range(k + 1))
+        np.testing.assert_array_equal(mixed.probe, mixed.fmap.probe_vector(fmap.probe_rho, range(1, k + 1)))
+        growth[k] = perturbation_growth(mixed.fmap, y, mixed.asymmetric, periods=30, start=start,
+                                        metric=mixed.metric).growth
+    assert growth[3] == pytest.approx(growth[2], rel=1e-7)
+    with pytest.raises(ValueError, match="harmonics = 1 is invalid: at least 2"):
+        fmap.perturbed_family(fam, harmonics=1)
+
+
 def test_family_check_refuses_part_of_a_family():
     with pytest.raises(JobError, match=r"continuation.family_check = .* is invalid: needs on this model the "
                                        r"families in U, V, W on all its radial functions \(continuation.families: "
                                        r"radial = 6, inplane = true\)"):
-        parse_job(JOB.replace("RADIAL", "4"))
+        parse_job(JOB.replace("RADIAL", "4").replace("HARMONICS", ""))
     with pytest.raises(JobError, match="continuation.family_check = .* is invalid: needs on this model"):
-        parse_job(JOB.replace("RADIAL", "6, inplane = false"))
+        parse_job(JOB.replace("RADIAL", "6, inplane = false").replace("HARMONICS", ""))
+    for k in ("1", "7", "2.5"):
+        with pytest.raises(JobError, match=f"continuation.family_check.harmonics = {k} is invalid"):
+            parse_job(JOB.replace("RADIAL", "6").replace("HARMONICS", f", harmonics = {k}"))
 
 
 @pytest.fixture(scope="module")

@@ -233,6 +233,57 @@ def test_the_lyapunov_columns_of_a_family_check():
     assert "Lyapunov" not in validation._check_rows(plain)[0][0] and validation._check_classification(plain) == []
 
 
+def test_the_states_reached_on_more_harmonics(tmp_path):
+    """The checks on 0, n, 2n against those on 0, n, 2n, 3n (one file per family), matched by
+    family and response: both kinds and exponents per row, and the count of chaotic verdicts
+    that survive, naming those that changed; missing files are named."""
+    import xarray as xr
+
+    from model.lyapunov import KIND_NAMES
+
+    omega = 2 * np.pi * np.array([1.0, 1.1, 1.2])
+    flags = {"flag_values": np.arange(-1, len(KIND_NAMES), dtype=np.int8),
+             "flag_meanings": " ".join(("not_computed",) + KIND_NAMES)}
+    code = {name: i for i, name in enumerate(KIND_NAMES)}
+    cf = ("check", "family")
+
+    def run(families, checks, kinds, highest):
+        shape = (len(checks), len(families))
+        return xr.Dataset({"check_Omega": ("check", omega[checks]),
+                           "check_kind": (cf, np.array([[code[k] for k in row] for row in kinds], np.int8), flags),
+                           "check_kind_period": (cf, np.ones(shape, int)),
+                           "check_rotation_number": (cf, np.full(shape, np.nan)),
+                           "check_lyapunov_exponent": (cf, np.full(shape, 0.05)),
+                           "check_lyapunov_error": (cf, np.full(shape, 0.005)),
+                           "check_asymmetric_amplitude": (cf, np.full(shape, 0.01)),
+                           "check_highest_harmonic": ("family", np.array(highest, np.int32))},
+                          coords={"family": families})
+
+    base = run([1, 4], [0, 1, 2], [["chaotic", "quasi_periodic"], ["periodic", "chaotic"], ["periodic", "chaotic"]],
+               [2, 8])
+    assert "*Not available: run `jobs/validation/family-check-full-3n-n1.toml`, `jobs/validation/family-check-full-3n-n4" \
+           in " ".join(validation._harmonic_convergence(tmp_path, base))
+    (tmp_path / "validation").mkdir()
+    run([1], [0, 1, 2], [["chaotic"], ["periodic"], ["periodic"]], [3]).to_netcdf(
+        tmp_path / "validation" / "family-check-full-3n-n1.nc")
+    run([4], [1, 2], [["periodic"], ["chaotic"]], [12]).to_netcdf(tmp_path / "validation" / "family-check-full-3n-n4.nc")
+    lines = validation._harmonic_convergence(tmp_path, base)
+    # lambda_1 T = 0.05 s-1 times T = 1, 1 / 1.1, 1 / 1.2 s
+    rows = [line for line in lines if line.startswith("| 1 |") or line.startswith("| 4 |")]
+    assert rows == ["| 1 | 6.283 | chaotic | +5.00e-02 +- 5.0e-03 | 1.00e-02 | chaotic | +5.00e-02 +- 5.0e-03 | 1.00e-02 |",
+                    "| 1 | 6.912 | periodic, period 1 | +4.55e-02 +- 4.5e-03 | 1.00e-02 | periodic, period 1 | "
+                    "+4.55e-02 +- 4.5e-03 | 1.00e-02 |",
+                    "| 1 | 7.540 | periodic, period 1 | +4.17e-02 +- 4.2e-03 | 1.00e-02 | periodic, period 1 | "
+                    "+4.17e-02 +- 4.2e-03 | 1.00e-02 |",
+                    "| 4 | 6.912 | chaotic | +4.55e-02 +- 4.5e-03 | 1.00e-02 | periodic, period 1 | +4.55e-02 +- 4.5e-03 "
+                    "| 1.00e-02 |",
+                    "| 4 | 7.540 | chaotic | +4.17e-02 +- 4.2e-03 | 1.00e-02 | chaotic | +4.17e-02 +- 4.2e-03 | 1.00e-02 |"]
+    text = " ".join(lines)
+    assert ("Of the 3 states called chaotic on the harmonics 0, n, 2n, 2 are still chaotic with the harmonic 3n "
+            "(6.28 rad/s (n = 1), 7.54 rad/s (n = 4)); 1 changed kind: 6.91 rad/s (n = 4: periodic)") in text
+    assert "is not converged in the circumferential harmonics" in text
+
+
 def test_the_asymmetric_finite_element_check():
     """Each orbit's deviations per mesh and the harmonics' own error, the measured orders
     between meshes (log of the ratio over log 2 for doubled meshes), the finest mesh's

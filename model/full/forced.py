@@ -339,21 +339,25 @@ class ForcedFull:
                                 matrix if np.any(matrix) else np.zeros((0, 0)), eigenvalues=np.concatenate(spectra))
         return replace(forced, probe=forced.probe_vector(self.probe_rho))
 
-    def perturbed_family(self, fam: FullFamily) -> PerturbedFamily:
+    def perturbed_family(self, fam: FullFamily, harmonics: int = 2) -> PerturbedFamily:
         """What :func:`model.families.perturbation_growth` integrates to check ``fam``'s
         multipliers (the optional capability of :mod:`model.protocol`): :meth:`harmonic_map`
-        on the harmonics ``0, n, 2n`` (the family's own harmonic and the one its square
-        feeds); the perturbation starts along the family's dominant Floquet mode (``start``
+        on the harmonics ``0, n, ..., harmonics n`` (by default ``0, n, 2n``: the family's own
+        harmonic and the one its square feeds; more to see whether a saturated state
+        converges in them); the perturbation starts along the family's dominant Floquet mode (``start``
         None) and is measured in the energy norm of its linear problem about the pre-stretch,
         ``x^T K0 x + x'^T M x'`` (a start in every coefficient puts most of its energy in fast
         in-plane modes, more damped, that would dominate the fitted periods; the lowest linear
         mode shares its energy with pairs at the damping's modulus, perturbation_growth); the
         asymmetric displacement is ``w(probe_rho, 0) - w_0(probe_rho)``.  The family must carry
         ``U, V, W`` on all the model's radial functions (the harmonics' blocks)."""
-        forced = self.harmonic_map(self._family_harmonics(fam))
+        if harmonics < 2:
+            raise ValueError(f"harmonics = {harmonics} is invalid: at least 2 (the harmonic 2 n that the family's "
+                             "square feeds)")
+        forced = self.harmonic_map(self._family_harmonics(fam, harmonics))
         n = forced.model.block(fam.n, "U").start, forced.model.block(fam.n, "W").stop
         mass, stiffness = fam.linear_system()
-        probe = forced.probe_vector(self.probe_rho, (fam.n, 2 * fam.n))
+        probe = forced.probe_vector(self.probe_rho, forced.model.harmonics[1:])
         return PerturbedFamily(forced, replace(forced, probe=probe), tuple(range(*n)), probe, None,
                                block_diag(stiffness, mass))
 
@@ -369,13 +373,13 @@ class ForcedFull:
                         for parity in ("even", "odd"))
         return Companions(forced, np.tile(h.odd, 2), h.rotation_generator(), h.rotation, cosine, sine)
 
-    def _family_harmonics(self, fam: FullFamily) -> tuple[int, int, int]:
+    def _family_harmonics(self, fam: FullFamily, multiples: int = 2) -> tuple[int, ...]:
         if fam.model is not self.model:
             raise ValueError("fam is invalid here: a family of another model (build it on this map's model)")
         if fam.fields != "UVW" or fam.radial != self.model.order:
             raise ValueError(f"fam is invalid here: the nonlinear model needs the family in U, V, W on all "
                              f"{self.model.order} radial functions; it has {fam.fields} on {fam.radial}")
-        return 0, fam.n, 2 * fam.n
+        return tuple(k * fam.n for k in range(multiples + 1))
 
     def modal_section(self, states) -> np.ndarray:
         """The ROM's modal coordinates and velocities ``(..., 2K)`` (m, m s-1) of the states

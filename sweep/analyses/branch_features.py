@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -50,6 +50,9 @@ MAX_CUSPS = 4
 CURVE_DS_MAX = 0.5
 #: Length of the ``curve`` dimension (bifurcation curves, NaN padded).
 MAX_CURVES = 16
+#: Largest ``family_check.harmonics``: the mixed model on 0, n, ..., 6 n (its cost grows
+#: with the square of the harmonics: the variational monodromies of the classification).
+MAX_CHECK_HARMONICS = 6
 #: Largest number of values of ``family_check``.
 MAX_CHECKS = 16
 #: Longest period (forcing periods) the classification of ``family_check.classify`` looks
@@ -332,16 +335,37 @@ class BifurcationCurves(BranchFeature):
         return out, "; ".join(problems)
 
 
-def family_check_option(table, section):
-    """The ``family_check = {values, periods, saturate, classify}`` option: ``(values,
-    periods, saturate, classify)`` or None."""
+class FamilyCheckOption(NamedTuple):
+    """The ``family_check`` option."""
+
+    #: the parameter values whose nearest resonant responses are checked
+    values: tuple[float, ...]
+    #: periods of the growth fit
+    periods: int
+    #: periods more, to the state the perturbation saturates at (0: none)
+    saturate: int
+    #: periods more, with the Lyapunov spectrum and the classification (0: none)
+    classify: int
+    #: the full model's mixed model on the harmonics 0, n, ..., harmonics n (None: the
+    #: model's default, :meth:`model.full.forced.ForcedFull.perturbed_family`)
+    harmonics: int | None = None
+
+
+def family_check_option(table, section, rom: bool) -> FamilyCheckOption | None:
+    """The ``family_check = {values, periods, saturate, classify, harmonics}`` option, or
+    None; ``rom``: the job's model is the ROM, whose mixed model has no harmonics to choose."""
     value = table.get("family_check")
     if value is None:
         return None
     key = f"{section}.family_check"
     if not isinstance(value, dict) or "values" not in value:
         raise JobError(key, value, "must be a table {values = [..], periods = N, saturate = N, classify = N}")
-    check_keys(value, key, ("values", "periods", "saturate", "classify"))
+    check_keys(value, key, ("values", "periods", "saturate", "classify", "harmonics"))
+    if "harmonics" in value and rom:
+        raise JobError(f"{key}.harmonics", value["harmonics"], "needs a model with circumferential harmonics ([model] "
+                       "kind = \"full\"); the ROM's mixed model is its axisymmetric and family modes")
+    harmonics = (opt.number(value, key, "harmonics", 2, integer=True, low=2, high=MAX_CHECK_HARMONICS)
+                 if "harmonics" in value else None)
     if table.get("families") is None:
         raise JobError(key, value, "needs continuation.families")
     values = value["values"]
@@ -356,8 +380,9 @@ def family_check_option(table, section):
                        f"the longest period looked for, {CHECK_MAX_PERIOD})")
     if points and not saturate:
         raise JobError(f"{key}.classify", points, "needs saturate > 0 (the transient before the classification)")
-    return (tuple(float(v) for v in values), opt.number(value, key, "periods", 100, integer=True, low=10, high=100_000),
-            saturate, points)
+    return FamilyCheckOption(tuple(float(v) for v in values),
+                             opt.number(value, key, "periods", 100, integer=True, low=10, high=100_000),
+                             saturate, points, harmonics)
 
 
 class FamilyCheck(BranchFeature):
@@ -385,11 +410,14 @@ class FamilyCheck(BranchFeature):
                      "max - min of the asymmetric w(0.5 Re, 0) over the stroboscopic samples of the last tenth "
                      "of the saturate periods: 0 for a period-one state (NaN without saturate)"),
             *self._classify_variables(options, cf, (C, F)),
+            *([Variable("check_highest_harmonic", ("family",), (F,), "i4", "1",
+                        "highest circumferential harmonic of the family's mixed model (its harmonics: 0, n, 2n, ..., "
+                        "this)", -1)] if not options.rom_features else []),
         ]
 
     @staticmethod
     def _classify_variables(options, dims, shape) -> list[Variable]:
-        if not options.check[3]:
+        if not options.check.classify:
             return []
         return [
             Variable("check_state_size", ("family",), shape[1:], "i4", "1",
@@ -420,16 +448,19 @@ class FamilyCheck(BranchFeature):
     def compute(self, ctx):
         options, br, fmap = ctx.options, ctx.branch, ctx.fmap
         out = blank_outputs(self.variables(options))
-        values, periods, saturate, points = options.check
+        values, periods, saturate, points, harmonics = options.check
         p = options.parameter
         end = resonant_end(br.kind)
         problems = []
         for j, fam in enumerate(ctx.families):
             try:
-                mixed = fmap.perturbed_family(fam)
+                mixed = (fmap.perturbed_family(fam) if harmonics is None
+                         else fmap.perturbed_family(fam, harmonics=harmonics))
             except ValueError as exc:
                 problems.append(f"family_check n = {fam.n}: {exc}")
                 continue
+            if not options.rom_features:
+                out["check_highest_harmonic"][j] = mixed.fmap.model.harmonics[-1]
             for c, v in enumerate(values):
                 i = int(np.argmin(np.abs(br.value[:end] - v)))
                 out[f"check_{p}"][c] = br.value[i]

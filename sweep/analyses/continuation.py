@@ -91,7 +91,8 @@ saddle-node) nearest each value, each family's mixed model is integrated from th
 1e-9 m in the family's coordinates (:func:`model.families.perturbation_growth`): the ROM's
 axisymmetric modes plus the family's (2-D quadrature), or the full model on the
 circumferential harmonics 0, n and 2n (:mod:`model.full.harmonic`; families in ``U, V, W``
-on all the model's radial functions): ``check_growth`` (``check``,
+on all the model's radial functions), or on 0, n, ..., K n with ``harmonics = K`` (2 to 6;
+``check_highest_harmonic``, ``family``, says which): ``check_growth`` (``check``,
 ``family``), the growth per period, against ``check_floquet_modulus``; with ``saturate``
 the asymmetric amplitude reached, ``check_asymmetric_amplitude``, and the width of the range
 of its stroboscopic samples, ``check_asymmetric_spread`` (zero for a period-one state); with
@@ -159,8 +160,8 @@ from sweep.models.rom import rom_for
 from . import options as opt
 from .base import (DEFAULT_CONTEXT, GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
                    blank_outputs, check_keys)
-from .branch_features import (BRANCH_FEATURES, BranchContext, by_symmetry, curves_option, family_check_option,
-                              family_radials, second_parameter, tongues_option)
+from .branch_features import (BRANCH_FEATURES, BranchContext, FamilyCheckOption, by_symmetry, curves_option,
+                              family_check_option, family_radials, second_parameter, tongues_option)
 from .time_symmetry import TIME_SYMMETRY_FEATURES, symmetry_breaking_option
 from .wave_features import WAVE_FEATURES, rotating_option, switching_option
 
@@ -191,7 +192,7 @@ class ContinuationOptions:
     switch_family: int = 0
     #: periods of the time integration from a perturbed standing wave (0: none)
     switch_periods: int = 0
-    check: tuple[tuple[float, ...], int, int] | None = None
+    check: FamilyCheckOption | None = None
     #: the families' parametric thresholds at every point (``tongues = true``)
     tongues: bool = False
     #: the job's material law (``[membrane] law``): the warmups compile its kernels
@@ -258,8 +259,8 @@ class ContinuationAnalysis(Analysis):
         "family_check": "{values = [..], periods = 100, saturate = 0, classify = 0}: brute-force check of the families' "
                         "stability at the resonant responses nearest these parameter values: growth per period of "
                         "a small asymmetric perturbation in the nonlinear mixed model (the ROM: axisymmetric + family "
-                        "modes, 2-D quadrature; the full model: circumferential harmonics 0, n, 2n, families in U, V, "
-                        "W on all its radial functions) against the Floquet multiplier; with saturate = N, N periods "
+                        "modes, 2-D quadrature; the full model: circumferential harmonics 0, n, 2n, or 0, n, ..., K n "
+                        "with harmonics = K (2 to 6), families in U, V, W on all its radial functions) against the Floquet multiplier; with saturate = N, N periods "
                         "more and the asymmetric amplitude reached; with classify = L (a multiple of 10, at least 40, "
                         "needs saturate), L periods more with the Lyapunov spectrum and the kind of the state reached "
                         "(periodic, quasi-periodic, chaotic, ...) (needs families; default none)",
@@ -329,7 +330,7 @@ class ContinuationAnalysis(Analysis):
             opt.steps(table, s, DEFAULT_STEPS, low=16),
             second_parameter(table, s, parameter, context.damping), families,
             curves, *switching_option(table, s, families),
-            family_check_option(table, s), tongues_option(table, s), membrane.law,
+            family_check_option(table, s, rom), tongues_option(table, s), membrane.law,
             rotating_option(table, s, families), symmetry_breaking_option(table, s), rom,
             context.model.model().state_size(context.model.options))
 
