@@ -1779,16 +1779,24 @@ def _check_kind_name(b, c: int, j: int) -> str:
     return meanings.get(int(b.check_kind[c, j]), "?").replace("_", "-")
 
 
-def _check_kind(b, c: int, j: int) -> str:
-    """The Lyapunov columns of a classified ``family_check`` row: the kind of the state reached
-    (with its period or rotation number) and ``lambda_1 T +- its error`` per forcing period."""
+def _check_label(b, c: int, j: int) -> str:
+    """The kind of the state a classified ``family_check`` reached as the report prints it:
+    with its period or rotation number; a zero exponent without an invariant circle is not
+    called quasi-periodic."""
     name = _check_kind_name(b, c, j)
     if name == "periodic":
-        name += f", period {int(b.check_kind_period[c, j])}"
-    elif name == "quasi-periodic":
+        return f"{name}, period {int(b.check_kind_period[c, j])}"
+    if name == "quasi-periodic":
         rho = float(b.check_rotation_number[c, j])
-        name = f"quasi-periodic, rotation number {rho:.4f}" if np.isfinite(rho) else \
+        return f"quasi-periodic, rotation number {rho:.4f}" if np.isfinite(rho) else \
             "lambda_1 ~ 0, no invariant circle found"
+    return name
+
+
+def _check_kind(b, c: int, j: int) -> str:
+    """The Lyapunov columns of a classified ``family_check`` row: the kind of the state reached
+    (:func:`_check_label`) and ``lambda_1 T +- its error`` per forcing period."""
+    name = _check_label(b, c, j)
     period = 2 * np.pi / float(b.check_Omega[c])
     lam, err = float(b.check_lyapunov_exponent[c, j]) * period, float(b.check_lyapunov_error[c, j]) * period
     return f" {name} | {lam:+.2e} +- {err:.1e} |" if np.isfinite(lam) else f" {name} | - |"
@@ -1897,8 +1905,9 @@ def section_full_family_check(results: Path) -> list[str]:
     """The full model's family_check: growth against Floquet on the harmonics 0, n, 2n."""
     out = ["## Time integration against the Floquet prediction on the full model", "",
            "The Fig. 14a resonance (delta = 1.1, delta_o = 0.2) on the full model, the families in (U, V, W) on",
-           "all its radial functions (`validation/family-check-full*`). At the responses of the stretch up",
-           "to the branch's first saddle-node nearest the asked Omega, the full model on the circumferential",
+           "all its radial functions (`validation/family-check-full`, `-1pct-modal`). At the responses of the",
+           "stretch up to the branch's first saddle-node nearest the asked Omega, the full model on the",
+           "circumferential",
            "harmonics 0, n and 2n (`model/full/harmonic.py`: u, w on cos k theta, v on sin k theta, the exact",
            "energy integrated in theta) is started on the axisymmetric orbit plus 1e-9 m along the family's",
            "dominant Floquet mode; its growth per period (least-squares slope of the log of the",
@@ -1935,9 +1944,10 @@ FULL_HARMONIC_CHECKS = ("validation/family-check-full-3n-n1", "validation/family
 
 def _harmonic_convergence(results: Path, base) -> list[str]:
     """The subsection comparing the states the full model's family checks reach on the
-    harmonics 0, n, 2n (``base``, the run of FULL_CHECKS[0]) with those on 0, n, 2n, 3n."""
+    harmonics 0, n, 2n (``base``, the run of FULL_CHECKS[0]) with those on 0, n, 2n, 3n: a row
+    per check of both, and what became of every state ``base`` calls chaotic."""
     out = ["### The states reached on more harmonics", "",
-           f"The same checks on the harmonics 0, n, 2n and 3n (`family_check.harmonics = 3`;",
+           "The same checks on the harmonics 0, n, 2n and 3n (`family_check.harmonics = 3`;",
            f"{', '.join(f'`{name}`' for name in FULL_HARMONIC_CHECKS)}: the same branch, one job per family) at",
            "the responses where the harmonics 0, n, 2n reach states called chaotic. Whether a state's kind",
            "is a property of the membrane or of the truncation in theta shows in whether it survives the",
@@ -1947,37 +1957,53 @@ def _harmonic_convergence(results: Path, base) -> list[str]:
     if base is None or "check_kind" not in base or any(ds is None or "check_kind" not in ds for ds in runs):
         return out + _missing(*FULL_HARMONIC_CHECKS)
     b = _point(base, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
-    out += ["| n | Omega (rad/s) | 0, n, 2n: kind | lambda_1 T | size (m) | 0, n, 2n, 3n: kind | lambda_1 T | size (m) |",
-            "|---|---|---|---|---|---|---|---|"]
-    chaotic, changed = [], []
+    more = {}  # (base check, base family) -> (run, its check, its family)
     for ds in runs:
         h = _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
         for j, n in enumerate(h.family.values):
             jb = np.flatnonzero(b.family.values == n)
-            if int(h.check_highest_harmonic[j]) != 3 * int(n) or jb.size == 0:
-                continue  # not this subsection's check (a changed job file)
+            if "check_highest_harmonic" not in h or int(h.check_highest_harmonic[j]) != 3 * int(n) or not jb.size:
+                continue
             for c, value in enumerate(h.check_Omega.values):
-                cb = np.flatnonzero(b.check_Omega.values == value)  # the same branch: the same responses
-                if not np.isfinite(value) or cb.size == 0:
-                    continue
-                cb, jb0 = int(cb[0]), int(jb[0])
-                out.append(f"| {int(n)} | {value:.3f} |{_check_kind(b, cb, jb0)} "
-                           f"{float(b.check_asymmetric_amplitude[cb, jb0]):.2e} |{_check_kind(h, c, j)} "
-                           f"{float(h.check_asymmetric_amplitude[c, j]):.2e} |")
-                if _check_kind_name(b, cb, jb0) == "chaotic":
-                    after = _check_kind_name(h, c, j)
-                    (chaotic if after == "chaotic" else changed).append(
-                        f"{value:.2f} rad/s (n = {int(n)}" + ("" if after == "chaotic" else f": {after}") + ")")
-    total = len(chaotic) + len(changed)
-    out += ["", f"Of the {total} states called chaotic on the harmonics 0, n, 2n, {len(chaotic)} "
-            f"{'is' if len(chaotic) == 1 else 'are'} still chaotic with the harmonic 3n"
-            + (f" ({', '.join(chaotic)})" if chaotic else "") + (f"; {len(changed)} changed kind: {', '.join(changed)}"
-                                                                 if changed else "") + ". "
-            + ("The kind of these states is not converged in the circumferential harmonics: which responses of the "
-               "full model are chaotic at this resolution is open." if changed else
-               "Their kind holds with one harmonic more (not a convergence study: 4n and beyond are not checked)."),
-            ""]
-    return out
+                # the same branch: the same responses, to rounding
+                cb = np.flatnonzero(np.isclose(b.check_Omega.values, value, rtol=1e-9, atol=0.0))
+                if cb.size:
+                    more[int(cb[0]), int(jb[0])] = (h, c, j)
+    out += ["| n | Omega (rad/s) | 0, n, 2n: kind | lambda_1 T | size (m) | 0, n, 2n, 3n: kind | lambda_1 T | size (m) |",
+            "|---|---|---|---|---|---|---|---|"]
+    verdicts = {"chaotic": [], "periodic or no chaos": [], "otherwise": [], "not checked": []}
+    for c, value in enumerate(b.check_Omega.values):
+        for j, n in enumerate(b.family.values):
+            at = f"{value:.2f} rad/s (n = {int(n)}"
+            if (c, j) not in more:
+                if np.isfinite(value) and _check_kind_name(b, c, j) == "chaotic":
+                    verdicts["not checked"].append(at + ")")
+                continue
+            h, ch, jh = more[c, j]
+            out.append(f"| {int(n)} | {value:.3f} |{_check_kind(b, c, j)} {float(b.check_asymmetric_amplitude[c, j]):.2e} |"
+                       f"{_check_kind(h, ch, jh)} {float(h.check_asymmetric_amplitude[ch, jh]):.2e} |")
+            if _check_kind_name(b, c, j) == "chaotic":
+                after = _check_kind_name(h, ch, jh)
+                group = ("chaotic" if after == "chaotic" else "periodic or no chaos"
+                         if after in ("periodic", "quasi-periodic") else "otherwise")
+                verdicts[group].append(at + ("" if group == "chaotic" else f": {_check_label(h, ch, jh)}") + ")")
+    total = sum(len(v) for v in verdicts.values())
+    if total == 0:
+        return out + ["", "No state is called chaotic on the harmonics 0, n, 2n: nothing to compare.", ""]
+    said = [f"{len(v)} {what}: {', '.join(v)}" for what, v in (
+        ("still chaotic with the harmonic 3n", verdicts["chaotic"]),
+        ("no longer chaotic", verdicts["periodic or no chaos"]),
+        ("ended otherwise (not computed, diverged or unsettled)", verdicts["otherwise"]),
+        ("not checked on 0, n, 2n, 3n", verdicts["not checked"])) if v]
+    if verdicts["periodic or no chaos"]:
+        verdict = ("The kind of these states is not converged in the circumferential harmonics: which responses of "
+                   "the full model are chaotic at this resolution is open.")
+    elif len(verdicts["chaotic"]) == total:
+        verdict = "Their kind holds with one harmonic more (not a convergence study: 4n and beyond are not checked)."
+    else:
+        verdict = "Not every verdict was compared, so the comparison decides nothing about those."
+    return out + ["", f"Of the {total} states called chaotic on the harmonics 0, n, 2n: " + "; ".join(said) + ". "
+                  + verdict, ""]
 
 
 #: The standing-wave runs of the full model: (job, radial functions per field).

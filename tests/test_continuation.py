@@ -152,7 +152,7 @@ MEMBRANE = Membrane()
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
       "family_check": {"values": [0.5], "harmonics": 3}}, GRID,
      "continuation.family_check.harmonics = 3 is invalid: needs a model with circumferential harmonics ([model] "
-     "kind = \"full\"); the ROM's mixed model is its axisymmetric and family modes"),
+     "kind = \"full\"); this job's model is 'rom', whose mixed model is its axisymmetric and family modes"),
     ({"parameter": "P0", "start": 0.0, "stop": 1.0, "families": {"n": [1], "radial": 2},
       "family_check": {"values": [0.5], "classify": 40}}, GRID,
      "continuation.family_check.classify = 40 is invalid: needs saturate > 0 (the transient before the "

@@ -47,10 +47,15 @@ def _state(harmonic, scale=0.02, seed=1):
                                                                len(harmonic.blocks))
 
 
-@pytest.mark.parametrize("companions", [False, True], ids=["cosine", "o2"])
-def test_gradient_is_the_derivative_of_the_energy(model, companions):
-    h = HarmonicFull(model, (0, 1, 2), companions=companions)
-    q = _state(h)
+@pytest.mark.parametrize("harmonics, companions, scale", [((0, 1, 2), False, 0.02), ((0, 1, 2), True, 0.02),
+                                                          ((0, 3, 6, 9), False, 0.002)], ids=["cosine", "o2", "0-3n"])
+def test_gradient_is_the_derivative_of_the_energy(model, harmonics, companions, scale):
+    # (the harmonics 0, 3, 6, 9: those of family_check.harmonics = 3 for n = 3, where 3n
+    # couples to n and 2n through the energy's cubic and quartic terms; at millimetres: 2 cm
+    # in the harmonic 9 puts hoop stretches near zero, where the gradient reaches 3.6e3 and
+    # rounding 7e-13 of it)
+    h = HarmonicFull(model, harmonics, companions=companions)
+    q = _state(h, scale)
     step = 1e-30
     expected = np.array([h.energy(q + 1j * step * e).imag / step for e in np.eye(h.dof)])
     np.testing.assert_allclose(h.compiled_gradient(q), expected, atol=1e-13 * np.abs(expected).max(), rtol=0)
@@ -372,9 +377,10 @@ def test_family_check_job_on_the_full_model(tmp_path):
 
 def test_a_linear_perturbation_grows_alike_on_more_harmonics(model, orbit):
     # At first order in the perturbation the harmonic n couples only to the axisymmetric
-    # orbit: 2n and 3n enter at the perturbation's square and cube (1e-9 m times its size), so
-    # the fitted growth on 0, n, 2n, 3n is the growth on 0, n, 2n to a relative 1e-9 or so
-    # (bound 1e-7); the probe sums w over the harmonics n, 2n, 3n
+    # orbit (the linearisation about an axisymmetric state is block-diagonal in the
+    # harmonics): 3n acts back on n only at the perturbation's fourth power relative (1e-9 m
+    # on 1e-5 m at most), so the fitted growth on 0, n, 2n, 3n is the growth on 0, n, 2n to
+    # rounding (bound 1e-7); the probe sums w over the harmonics n, 2n, 3n
     fmap, y = orbit
     fam = FullFamily.build(model, 1)
     start = floquet_start(fmap.family_monodromy(y, fam))
@@ -386,7 +392,7 @@ def test_a_linear_perturbation_grows_alike_on_more_harmonics(model, orbit):
         growth[k] = perturbation_growth(mixed.fmap, y, mixed.asymmetric, periods=30, start=start,
                                         metric=mixed.metric).growth
     assert growth[3] == pytest.approx(growth[2], rel=1e-7)
-    with pytest.raises(ValueError, match="harmonics = 1 is invalid: at least 2"):
+    with pytest.raises(ValueError, match="harmonics = 1 is invalid: an integer, at least 2"):
         fmap.perturbed_family(fam, harmonics=1)
 
 

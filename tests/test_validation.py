@@ -235,21 +235,22 @@ def test_the_lyapunov_columns_of_a_family_check():
 
 def test_the_states_reached_on_more_harmonics(tmp_path):
     """The checks on 0, n, 2n against those on 0, n, 2n, 3n (one file per family), matched by
-    family and response: both kinds and exponents per row, and the count of chaotic verdicts
-    that survive, naming those that changed; missing files are named."""
+    family and response (to rounding): both kinds and exponents per row, and what became of
+    every chaotic verdict: still chaotic, no longer chaotic (labelled as the rows are), ended
+    otherwise, or not checked; missing files are named; no chaotic verdict, no comparison."""
     import xarray as xr
 
     from model.lyapunov import KIND_NAMES
 
-    omega = 2 * np.pi * np.array([1.0, 1.1, 1.2])
+    omega = 2 * np.pi * np.array([1.0, 1.1, 1.2, 1.3])
     flags = {"flag_values": np.arange(-1, len(KIND_NAMES), dtype=np.int8),
              "flag_meanings": " ".join(("not_computed",) + KIND_NAMES)}
     code = {name: i for i, name in enumerate(KIND_NAMES)}
     cf = ("check", "family")
 
-    def run(families, checks, kinds, highest):
-        shape = (len(checks), len(families))
-        return xr.Dataset({"check_Omega": ("check", omega[checks]),
+    def run(families, values, kinds, highest):
+        shape = (len(values), len(families))
+        return xr.Dataset({"check_Omega": ("check", values),
                            "check_kind": (cf, np.array([[code[k] for k in row] for row in kinds], np.int8), flags),
                            "check_kind_period": (cf, np.ones(shape, int)),
                            "check_rotation_number": (cf, np.full(shape, np.nan)),
@@ -259,29 +260,44 @@ def test_the_states_reached_on_more_harmonics(tmp_path):
                            "check_highest_harmonic": ("family", np.array(highest, np.int32))},
                           coords={"family": families})
 
-    base = run([1, 4], [0, 1, 2], [["chaotic", "quasi_periodic"], ["periodic", "chaotic"], ["periodic", "chaotic"]],
-               [2, 8])
+    base = run([1, 4], omega, [["chaotic", "quasi_periodic"], ["periodic", "chaotic"], ["periodic", "chaotic"],
+                               ["chaotic", "periodic"]], [2, 8])
     assert "*Not available: run `jobs/validation/family-check-full-3n-n1.toml`, `jobs/validation/family-check-full-3n-n4" \
            in " ".join(validation._harmonic_convergence(tmp_path, base))
     (tmp_path / "validation").mkdir()
-    run([1], [0, 1, 2], [["chaotic"], ["periodic"], ["periodic"]], [3]).to_netcdf(
-        tmp_path / "validation" / "family-check-full-3n-n1.nc")
-    run([4], [1, 2], [["periodic"], ["chaotic"]], [12]).to_netcdf(tmp_path / "validation" / "family-check-full-3n-n4.nc")
+    # the n = 1 run has the first response to rounding, not the fourth
+    n1 = run([1], [omega[0] * (1 + 1e-15), omega[1], omega[2]], [["chaotic"], ["periodic"], ["periodic"]], [3])
+    n1.to_netcdf(tmp_path / "validation" / "family-check-full-3n-n1.nc")
+    run([4], omega[1:3], [["quasi_periodic"], ["unsettled"]], [12]).to_netcdf(
+        tmp_path / "validation" / "family-check-full-3n-n4.nc")
     lines = validation._harmonic_convergence(tmp_path, base)
     # lambda_1 T = 0.05 s-1 times T = 1, 1 / 1.1, 1 / 1.2 s
     rows = [line for line in lines if line.startswith("| 1 |") or line.startswith("| 4 |")]
     assert rows == ["| 1 | 6.283 | chaotic | +5.00e-02 +- 5.0e-03 | 1.00e-02 | chaotic | +5.00e-02 +- 5.0e-03 | 1.00e-02 |",
                     "| 1 | 6.912 | periodic, period 1 | +4.55e-02 +- 4.5e-03 | 1.00e-02 | periodic, period 1 | "
                     "+4.55e-02 +- 4.5e-03 | 1.00e-02 |",
+                    "| 4 | 6.912 | chaotic | +4.55e-02 +- 4.5e-03 | 1.00e-02 | lambda_1 ~ 0, no invariant circle found | "
+                    "+4.55e-02 +- 4.5e-03 | 1.00e-02 |",
                     "| 1 | 7.540 | periodic, period 1 | +4.17e-02 +- 4.2e-03 | 1.00e-02 | periodic, period 1 | "
                     "+4.17e-02 +- 4.2e-03 | 1.00e-02 |",
-                    "| 4 | 6.912 | chaotic | +4.55e-02 +- 4.5e-03 | 1.00e-02 | periodic, period 1 | +4.55e-02 +- 4.5e-03 "
-                    "| 1.00e-02 |",
-                    "| 4 | 7.540 | chaotic | +4.17e-02 +- 4.2e-03 | 1.00e-02 | chaotic | +4.17e-02 +- 4.2e-03 | 1.00e-02 |"]
+                    "| 4 | 7.540 | chaotic | +4.17e-02 +- 4.2e-03 | 1.00e-02 | unsettled | +4.17e-02 +- 4.2e-03 | "
+                    "1.00e-02 |"]
     text = " ".join(lines)
-    assert ("Of the 3 states called chaotic on the harmonics 0, n, 2n, 2 are still chaotic with the harmonic 3n "
-            "(6.28 rad/s (n = 1), 7.54 rad/s (n = 4)); 1 changed kind: 6.91 rad/s (n = 4: periodic)") in text
-    assert "is not converged in the circumferential harmonics" in text
+    assert ("Of the 4 states called chaotic on the harmonics 0, n, 2n: 1 still chaotic with the harmonic 3n: 6.28 "
+            "rad/s (n = 1); 1 no longer chaotic: 6.91 rad/s (n = 4: lambda_1 ~ 0, no invariant circle found); 1 ended "
+            "otherwise (not computed, diverged or unsettled): 7.54 rad/s (n = 4: unsettled); 1 not checked on 0, n, "
+            "2n, 3n: 8.17 rad/s (n = 1). The kind of these states is not converged") in text
+    # every chaotic verdict compared and still chaotic
+    n1.assign(check_Omega=("check", omega[[0, 1, 3]])).to_netcdf(tmp_path / "validation" / "family-check-full-3n-n1.nc")
+    run([4], omega[1:3], [["chaotic"], ["chaotic"]], [12]).to_netcdf(tmp_path / "validation" /
+                                                                      "family-check-full-3n-n4.nc")
+    text = " ".join(validation._harmonic_convergence(tmp_path, base.assign(
+        check_kind=base.check_kind.where(base.check_Omega != omega[3], code["periodic"]))))
+    assert "Of the 3 states called chaotic on the harmonics 0, n, 2n: 3 still chaotic" in text
+    assert "Their kind holds with one harmonic more" in text
+    none = base.assign(check_kind=base.check_kind * 0 + code["periodic"])
+    assert "No state is called chaotic on the harmonics 0, n, 2n: nothing to compare." in \
+           " ".join(validation._harmonic_convergence(tmp_path, none))
 
 
 def test_the_asymmetric_finite_element_check():

@@ -350,10 +350,12 @@ class ForcedFull:
         in-plane modes, more damped, that would dominate the fitted periods; the lowest linear
         mode shares its energy with pairs at the damping's modulus, perturbation_growth); the
         asymmetric displacement is ``w(probe_rho, 0) - w_0(probe_rho)``.  The family must carry
-        ``U, V, W`` on all the model's radial functions (the harmonics' blocks)."""
-        if harmonics < 2:
-            raise ValueError(f"harmonics = {harmonics} is invalid: at least 2 (the harmonic 2 n that the family's "
-                             "square feeds)")
+        ``U, V, W`` on all the model's radial functions (the harmonics' blocks).  ValueError
+        for another family, ``harmonics`` below 2, or where RK4's step is beyond the stability
+        of a harmonic's damped linear motion (:meth:`harmonic_map`)."""
+        if isinstance(harmonics, bool) or not isinstance(harmonics, int) or harmonics < 2:
+            raise ValueError(f"harmonics = {harmonics!r} is invalid: an integer, at least 2 (the harmonic 2 n that "
+                             "the family's square feeds)")
         forced = self.harmonic_map(self._family_harmonics(fam, harmonics))
         n = forced.model.block(fam.n, "U").start, forced.model.block(fam.n, "W").stop
         mass, stiffness = fam.linear_system()

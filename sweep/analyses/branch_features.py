@@ -50,8 +50,8 @@ MAX_CUSPS = 4
 CURVE_DS_MAX = 0.5
 #: Length of the ``curve`` dimension (bifurcation curves, NaN padded).
 MAX_CURVES = 16
-#: Largest ``family_check.harmonics``: the mixed model on 0, n, ..., 6 n (its cost grows
-#: with the square of the harmonics: the variational monodromies of the classification).
+#: Largest ``family_check.harmonics``: the mixed model on 0, n, ..., 6 n (the cost of the
+#: classification's variational monodromies grows with about the cube of the harmonics).
 MAX_CHECK_HARMONICS = 6
 #: Largest number of values of ``family_check``.
 MAX_CHECKS = 16
@@ -351,19 +351,22 @@ class FamilyCheckOption(NamedTuple):
     harmonics: int | None = None
 
 
-def family_check_option(table, section, rom: bool) -> FamilyCheckOption | None:
+def family_check_option(table, section, model) -> FamilyCheckOption | None:
     """The ``family_check = {values, periods, saturate, classify, harmonics}`` option, or
-    None; ``rom``: the job's model is the ROM, whose mixed model has no harmonics to choose."""
+    None; ``model`` the job's (:class:`sweep.models.base.ModelSpec`): ``harmonics`` needs
+    one whose mixed model is made of circumferential harmonics."""
     value = table.get("family_check")
     if value is None:
         return None
     key = f"{section}.family_check"
     if not isinstance(value, dict) or "values" not in value:
-        raise JobError(key, value, "must be a table {values = [..], periods = N, saturate = N, classify = N}")
+        raise JobError(key, value, "must be a table {values = [..], periods = N, saturate = N, classify = N, "
+                       "harmonics = K}")
     check_keys(value, key, ("values", "periods", "saturate", "classify", "harmonics"))
-    if "harmonics" in value and rom:
+    if "harmonics" in value and not model.model().circumferential_harmonics:
         raise JobError(f"{key}.harmonics", value["harmonics"], "needs a model with circumferential harmonics ([model] "
-                       "kind = \"full\"); the ROM's mixed model is its axisymmetric and family modes")
+                       f"kind = \"full\"); this job's model is {model.kind!r}, whose mixed model is its axisymmetric "
+                       "and family modes")
     harmonics = (opt.number(value, key, "harmonics", 2, integer=True, low=2, high=MAX_CHECK_HARMONICS)
                  if "harmonics" in value else None)
     if table.get("families") is None:
@@ -412,7 +415,7 @@ class FamilyCheck(BranchFeature):
             *self._classify_variables(options, cf, (C, F)),
             *([Variable("check_highest_harmonic", ("family",), (F,), "i4", "1",
                         "highest circumferential harmonic of the family's mixed model (its harmonics: 0, n, 2n, ..., "
-                        "this)", -1)] if not options.rom_features else []),
+                        "this; family_check.harmonics)", -1)] if options.check.harmonics is not None else []),
         ]
 
     @staticmethod
@@ -459,8 +462,8 @@ class FamilyCheck(BranchFeature):
             except ValueError as exc:
                 problems.append(f"family_check n = {fam.n}: {exc}")
                 continue
-            if not options.rom_features:
-                out["check_highest_harmonic"][j] = mixed.fmap.model.harmonics[-1]
+            if harmonics is not None:
+                out["check_highest_harmonic"][j] = harmonics * fam.n
             for c, v in enumerate(values):
                 i = int(np.argmin(np.abs(br.value[:end] - v)))
                 out[f"check_{p}"][c] = br.value[i]

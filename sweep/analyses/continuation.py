@@ -256,11 +256,12 @@ class ContinuationAnalysis(Analysis):
                           "U, V, W on all its radial functions), with their drift per period and stability; with P >= 20, P periods of time "
                           "integration from the axisymmetric response at the one nearest the middle of the "
                           "family's unstable interval, perturbed towards a standing wave (needs families; default none)",
-        "family_check": "{values = [..], periods = 100, saturate = 0, classify = 0}: brute-force check of the families' "
+        "family_check": "{values = [..], periods = 100, saturate = 0, classify = 0, harmonics = 2}: brute-force check of the families' "
                         "stability at the resonant responses nearest these parameter values: growth per period of "
                         "a small asymmetric perturbation in the nonlinear mixed model (the ROM: axisymmetric + family "
                         "modes, 2-D quadrature; the full model: circumferential harmonics 0, n, 2n, or 0, n, ..., K n "
-                        "with harmonics = K (2 to 6), families in U, V, W on all its radial functions) against the Floquet multiplier; with saturate = N, N periods "
+                        "with harmonics = K (2 to 6; RK4's step must stay stable on the harmonic K n at continuation.start), "
+                        "families in U, V, W on all its radial functions) against the Floquet multiplier; with saturate = N, N periods "
                         "more and the asymmetric amplitude reached; with classify = L (a multiple of 10, at least 40, "
                         "needs saturate), L periods more with the Lyapunov spectrum and the kind of the state reached "
                         "(periodic, quasi-periodic, chaotic, ...) (needs families; default none)",
@@ -330,7 +331,7 @@ class ContinuationAnalysis(Analysis):
             opt.steps(table, s, DEFAULT_STEPS, low=16),
             second_parameter(table, s, parameter, context.damping), families,
             curves, *switching_option(table, s, families),
-            family_check_option(table, s, rom), tongues_option(table, s), membrane.law,
+            family_check_option(table, s, context.model), tongues_option(table, s), membrane.law,
             rotating_option(table, s, families), symmetry_breaking_option(table, s), rom,
             context.model.model().state_size(context.model.options))
 

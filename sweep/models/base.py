@@ -46,6 +46,10 @@ class Model:
     #: Whether the analyses' ROM-only options (mixed mode sets, mode-set sweeps, tongues, the
     #: modal coordinates of the waves) apply to this model's maps.
     rom_features: ClassVar[bool] = False
+    #: Whether the model's ``perturbed_family`` (:mod:`model.protocol`) takes ``harmonics``:
+    #: the family check on the circumferential harmonics ``0, n, ..., K n``
+    #: (``family_check.harmonics``; the full model).
+    circumferential_harmonics: ClassVar[bool] = False
     #: Whether the model's forced maps hold axisymmetric states only (the forced analyses'
     #: ``modes`` must then be axisymmetric, ``(m, 0)``).
     axisymmetric_states: ClassVar[bool] = False

@@ -77,6 +77,7 @@ class FullModel(Model):
     required_grid = ("delta", "delta_o")
     prestretch_kinds = ("numeric",)
     axisymmetric_states = True
+    circumferential_harmonics = True
 
     OPTIONS = {"order": f"radial Legendre-Galerkin functions per displacement field (default {DEFAULT_ORDER}; "
                         f"4..{MAX_ORDER}); the pre-stretch and the frequencies converge spectrally with it "
