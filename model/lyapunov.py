@@ -14,13 +14,7 @@ turning with a lightly damped mode near the forcing frequency keeps its length o
 period instead of swinging by the ratio ``Omega`` of its components.  Their sum is the mean of ``log |det Phi_j|`` exactly (``Q`` is
 orthogonal), the sum rule the tests check; for a mass-proportional (viscous) damping the
 flow contracts phase volume at the rate ``trace = -2 alpha K`` whatever the nonlinearity
-(Liouville), so the sum is ``-2 K alpha``.  Before the ``N`` periods are accumulated the
-frame is iterated ``W`` periods more (a warm-up, one block by default) whose logs are
-discarded: from the identity the frame's first vector takes its component along the
-dominant direction, ``c``, and the run's sum would carry ``log |c|``, a bias of
-``log |c| / (N T)`` that the block error does not see (``c`` is far from 1 where the
-Floquet vectors are far from orthogonal; the warm-up leaves ``(mu_2 / mu_1)^W`` of it).
-The statistical error of each exponent is taken
+(Liouville), so the sum is ``-2 K alpha``.  The statistical error of each exponent is taken
 from ``blocks`` consecutive block means: ``sqrt(var / blocks)``.  A zero exponent (a
 quasi-periodic response: the direction along the invariant circle) has block means that
 telescope, their mean is ``O(1 / N)`` while their spread is ``O(blocks / N)``, so it stays
@@ -32,9 +26,10 @@ The kind of the response (:func:`classify`), in this order:
 * ``periodic`` of least period ``k <= max_period``: the last points recur after ``k`` periods
   within ``recurrence`` of the response's size, Newton on ``P^k(y) = y`` from the last point
   (:func:`model.attractors.find_periodic_orbit`) converges to a stable orbit, and the run
-  approaches it (its last point is nearer to the orbit than its first, or within 1e-6 of
-  the size): a light damping leaves a transient long after the transient periods, and the
-  orbit it tends to is what is reported;
+  approaches it (its last point is nearer to the orbit than its first of the same phase in
+  the Lyapunov norm of ``P^k`` there, which a linear approach decreases every ``k`` periods,
+  or within 1e-6 of the size): a light damping leaves a transient long after the transient
+  periods, and the orbit it tends to is what is reported;
 * ``chaotic``: ``lambda_1`` above zero by more than its resolution, the larger of ``sigmas``
   standard errors and ``0.1 / (N T)`` (an exponent below the latter changes a tangent
   vector's length by less than 10 % over the whole run: the run cannot tell it from zero);
@@ -48,6 +43,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
+from scipy.linalg import solve_discrete_lyapunov
 
 from .attractors import find_periodic_orbit
 from .protocol import StroboscopicMap
@@ -86,10 +82,8 @@ class LyapunovRecord(NamedTuple):
         return bool(np.all(np.isfinite(self.points)))
 
 
-def lyapunov_spectrum(fmap: StroboscopicMap, y0, periods: int, blocks: int = 10,
-                      warmup: int | None = None) -> LyapunovRecord:
-    """The Lyapunov spectrum of the stroboscopic map along ``periods`` periods from ``y0``
-    (module docstring).
+def lyapunov_spectrum(fmap: StroboscopicMap, y0, periods: int, blocks: int = 10) -> LyapunovRecord:
+    """The Lyapunov spectrum of the stroboscopic map along ``periods`` periods from ``y0``.
 
     Parameters
     ----------
@@ -100,22 +94,15 @@ def lyapunov_spectrum(fmap: StroboscopicMap, y0, periods: int, blocks: int = 10,
         ``N``, a multiple of ``blocks``.
     blocks : int
         Blocks of the error estimate (>= 2).
-    warmup : int, optional
-        ``W``: periods from ``y0`` in which the frame aligns, before the ``N`` (default: one
-        block, ``N / blocks``; 0: none).
 
     Returns
     -------
     LyapunovRecord
-        Its points are the ``N`` states after the warm-up.
     """
     n = 2 * fmap.dof
     if blocks < 2 or periods < blocks or periods % blocks:
         raise ValueError(f"(periods, blocks) = ({periods}, {blocks}) is invalid: need blocks >= 2 and periods a "
                          "positive multiple of blocks")
-    warmup = periods // blocks if warmup is None else warmup
-    if warmup < 0:
-        raise ValueError(f"warmup = {warmup} is invalid: 0 or more periods")
     y = np.array(y0, dtype=float)
     if y.shape != (n,):
         raise ValueError(f"y0 shape {y.shape} is invalid: need ({n},), a state of the map")
@@ -124,17 +111,16 @@ def lyapunov_spectrum(fmap: StroboscopicMap, y0, periods: int, blocks: int = 10,
     points = np.full((periods, n), np.nan)
     logs = np.empty((periods, n))
     q = np.eye(n)
-    for j in range(-warmup, periods):
+    for j in range(periods):
         y, phi = fmap.monodromy(y)
         if not (np.all(np.isfinite(y)) and np.all(np.isfinite(phi))):
             nan = np.full(n, np.nan)
             return LyapunovRecord(points, nan, nan, np.nan, T)
+        points[j] = y
         q, r = np.linalg.qr((scale[:, None] * phi / scale[None, :]) @ q)
         d = np.diag(r)
         q *= np.sign(d)
-        if j >= 0:
-            points[j] = y
-            logs[j] = np.log(np.abs(d))
+        logs[j] = np.log(np.abs(d))
     per_block = logs.reshape(blocks, -1, n).mean(axis=1) / T
     exponents = logs.mean(axis=0) / T
     error = per_block.std(axis=0, ddof=1) / np.sqrt(blocks)
@@ -226,11 +212,11 @@ def classify(fmap: StroboscopicMap, record: LyapunovRecord, max_period: int = 16
 def _approaches(fmap, points, orbit, scale) -> bool:
     # Whether the run's points (N, 2K) tend to the stable orbit's points (k, 2K): its last
     # point within 1e-6 of the run's size of the orbit, or nearer to it than the run's first
-    # point of the same phase (the index N - 1 modulo k), distances measured in the
-    # eigen-coordinates of P^k at the orbit's point p nearest the last point, in which each
-    # component of a linear approach shrinks by its multiplier every k periods: a plain
-    # distance would swing with the turning of a lightly damped spiral and say "no" for
-    # some of its phases.
+    # point of the same phase (the index N - 1 modulo k) in the Lyapunov (Stein) norm
+    # x^T X x of P^k at the orbit's point p nearest the last point, J^T X J - X = -I (J the
+    # scaled derivative of P^k at p): along a linear approach it falls by |x|^2 every k
+    # periods, whatever the eigenvectors.  A plain distance swings with the turning of a
+    # lightly damped spiral and says "no" at some of its phases.
     k = orbit.shape[0]
     z, o = points * scale, orbit * scale
     size = float(np.max(np.linalg.norm(z, axis=1)))
@@ -241,11 +227,10 @@ def _approaches(fmap, points, orbit, scale) -> bool:
     for _ in range(k):
         y, phi = fmap.monodromy(y)
         jac = phi @ jac
-    _, vectors = np.linalg.eig(scale[:, None] * jac / scale[None, :])
-    if np.linalg.cond(vectors) > 1e12:  # a defective P^k: no eigen-coordinates, the plain distance
-        vectors = np.eye(points.shape[1])
+    stein = solve_discrete_lyapunov((scale[:, None] * jac / scale[None, :]).T, np.eye(points.shape[1]))
 
-    def distance(x):
-        return float(np.linalg.norm(np.linalg.solve(vectors, x - o[p])))
+    def norm(x):
+        d = x - o[p]
+        return float(d @ stein @ d)
 
-    return distance(z[-1]) < distance(z[(z.shape[0] - 1) % k])
+    return norm(z[-1]) < norm(z[(z.shape[0] - 1) % k])

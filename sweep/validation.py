@@ -1808,19 +1808,13 @@ def _check_classification(b) -> list[str]:
     exponent where it is known, and the exponents' sum against the flow's."""
     if "check_kind" not in b:
         return []
-    warm = b.check_lyapunov_exponent.attrs.get("warmup_periods")  # absent: a run from before the warm-up
     out = [
         "The Lyapunov columns (`family_check.classify`, `model.lyapunov`): after the saturate periods the",
         "state reached is iterated the `classify` periods more with an orthonormal frame of tangent vectors",
         "(Benettin's method: the QR factorisation of the map's RK4 variational monodromy times the frame,",
-        "every period, " + (f"after a warm-up of {int(warm)} periods whose logs are dropped)" if warm else
-                            "from the identity frame, without the warm-up later runs make: the estimates carry the "
-                            "frame's alignment bias)"),
-        f"and classified as a bifurcation diagram's points are: periodic of period k <= {CHECK_MAX_PERIOD}",
+        f"every period) and classified as a bifurcation diagram's points are: periodic of period k <= {CHECK_MAX_PERIOD}",
         "when the last points recur after k periods and Newton on P^k(y) = y converges to a stable orbit",
-        "the run approaches (" + ("in the eigen-coordinates of P^k at the orbit" if warm else
-                                 "its last point nearer to the orbit than its first") + "); otherwise chaotic, "
-        "quasi-periodic or unsettled as lambda_1 lies above, within",
+        "the run approaches; otherwise chaotic, quasi-periodic or unsettled as lambda_1 lies above, within",
         f"or below its resolution, the larger of {CHECK_SIGMAS:g} standard errors of its block means and 0.1 / (N T),",
         "N the classify periods (the +- column is one standard error, per forcing period like lambda_1 T).",
         "A perturbation whose coordinates are still below the growth fit's limit on an unstable family is",

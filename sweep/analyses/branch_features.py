@@ -428,8 +428,7 @@ class FamilyCheck(BranchFeature):
                      "check_lyapunov_sum adds", -1),
             Variable("check_lyapunov_exponent", dims, shape, "f8", "s-1",
                      "largest Lyapunov exponent of the mixed model's stroboscopic map over the family_check "
-                     "classify periods after the saturate periods and the tangent frame's warm-up", np.nan,
-                     {"warmup_periods": options.check.classify // LYAPUNOV_BLOCKS}),
+                     "classify periods after the saturate periods"),
             Variable("check_lyapunov_error", dims, shape, "f8", "s-1",
                      f"statistical error of check_lyapunov_exponent ({LYAPUNOV_BLOCKS} block means)"),
             Variable("check_lyapunov_sum", dims, shape, "f8", "s-1",

@@ -96,8 +96,7 @@ on all the model's radial functions), or on 0, n, ..., K n with ``harmonics = K`
 ``family``), the growth per period, against ``check_floquet_modulus``; with ``saturate``
 the asymmetric amplitude reached, ``check_asymmetric_amplitude``, and the width of the range
 of its stroboscopic samples, ``check_asymmetric_spread`` (zero for a period-one state); with
-``classify = L`` (needs ``saturate``) the state reached is iterated L / 10 periods (the warm-up
-of the tangent frame) and L periods more with the
+``classify = L`` (needs ``saturate``) the state reached is iterated L periods more with the
 Lyapunov spectrum of the mixed model's map and classified as a bifurcation diagram's points are
 (:func:`model.lyapunov.classify`, periods up to 16): ``check_lyapunov_exponent`` and
 ``check_lyapunov_error`` (the largest exponent, s-1), ``check_lyapunov_sum`` (the sum of all:
@@ -264,8 +263,7 @@ class ContinuationAnalysis(Analysis):
                         "with harmonics = K (2 to 6; RK4's step must stay stable on the harmonic K n at continuation.start), "
                         "families in U, V, W on all its radial functions) against the Floquet multiplier; with saturate = N, N periods "
                         "more and the asymmetric amplitude reached; with classify = L (a multiple of 10, at least 40, "
-                        "needs saturate), L / 10 periods of warm-up and L more with the Lyapunov spectrum and the kind of "
-                        "the state reached "
+                        "needs saturate), L periods more with the Lyapunov spectrum and the kind of the state reached "
                         "(periodic, quasi-periodic, chaotic, ...) (needs families; default none)",
         "families": "{n = [wave numbers], radial = M}: Floquet multipliers of the asymmetric mode families "
                     "(radial modes 1..M of each n) along the axisymmetric branch; branch points, period "

@@ -16,8 +16,7 @@ With ``poincare_points`` > 0 the sweep is a brute-force bifurcation diagram
 (:mod:`model.lyapunov`): after the settling (the transient), over (``<parameter>``,
 ``direction``) ``poincare_coordinate`` and ``poincare_velocity`` (with ``sample`` and
 ``mode``: the Poincare points), ``lyapunov_exponent`` and ``lyapunov_error`` (with
-``exponent``; s-1; after a warm-up of the tangent frame of ``poincare_points / 10`` periods
-before the points, its attribute ``warmup_periods``), ``response_kind`` (flags periodic, quasi_periodic, chaotic, diverged,
+``exponent``; s-1), ``response_kind`` (flags periodic, quasi_periodic, chaotic, diverged,
 unsettled), ``response_period`` and ``rotation_number``.  A value that does not settle is
 then data (its kind says what it is), and the status is ``not_converged`` only if a value
 is ``unsettled``.
@@ -96,10 +95,9 @@ class ResponseAnalysis(Analysis):
         "consecutive": "periods in a row below tol to accept a steady state (default 20)",
         "max_periods": "periods before a value is declared not converged (default 30000)",
         "refine_jumps": "true: locate each jump to 0.1 % by an adaptive brute-force march (default false)",
-        "poincare_points": f"Poincare points per value after the transient (the settling, at most max_periods) "
-                           f"and a warm-up of a tenth of them for the Lyapunov frame, with Lyapunov exponents and "
-                           f"the kind of response: a bifurcation diagram; a multiple of {LYAPUNOV_BLOCKS} (default "
-                           f"0: none)",
+        "poincare_points": f"Poincare points per value after the transient (the settling, at most max_periods), "
+                           f"with Lyapunov exponents and the kind of response: a bifurcation diagram; a multiple "
+                           f"of {LYAPUNOV_BLOCKS} (default 0: none)",
         "max_period": "longest period (forcing periods) the diagram's classification looks for (default 16)",
         "perturbation": "added to every modal coordinate (m) at the start of each value, so that a "
                         "symmetry-breaking instability of a symmetric response can be seen (default 0)",
@@ -159,8 +157,7 @@ class ResponseAnalysis(Analysis):
             Variable("poincare_velocity", (*dims, "sample", "mode"), (*shape, P, K), "f8", "m s-1",
                      "modal velocity dq_mn/dt at successive stroboscopic sections after the transient"),
             Variable("lyapunov_exponent", (*dims, "exponent"), (*shape, 2 * K), "f8", "s-1",
-                     "Lyapunov exponents of the stroboscopic map along the Poincare points, decreasing", np.nan,
-                     {"warmup_periods": P // LYAPUNOV_BLOCKS}),
+                     "Lyapunov exponents of the stroboscopic map along the Poincare points, decreasing"),
             Variable("lyapunov_error", (*dims, "exponent"), (*shape, 2 * K), "f8", "s-1",
                      f"statistical error of the Lyapunov exponents ({LYAPUNOV_BLOCKS} block means)"),
             Variable("response_kind", dims, shape, "i1", "1", "kind of the response after the transient", -1,
