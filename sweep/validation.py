@@ -1907,8 +1907,8 @@ def section_full_family_check(results: Path) -> list[str]:
            "The Fig. 14a resonance (delta = 1.1, delta_o = 0.2) on the full model, the families in (U, V, W) on",
            "all its radial functions (`validation/family-check-full`, `-1pct-modal`). At the responses of the",
            "stretch up to the branch's first saddle-node nearest the asked Omega, the full model on the",
-           "circumferential",
-           "harmonics 0, n and 2n (`model/full/harmonic.py`: u, w on cos k theta, v on sin k theta, the exact",
+           "circumferential harmonics 0, n and 2n (`model/full/harmonic.py`: u, w on cos k theta, v on sin k",
+           "theta, the exact",
            "energy integrated in theta) is started on the axisymmetric orbit plus 1e-9 m along the family's",
            "dominant Floquet mode; its growth per period (least-squares slope of the log of the",
            "perturbation's energy norm x^T K0 x + x'^T M x' about the pre-stretch over periods 20..120, or",
@@ -1949,7 +1949,8 @@ def _harmonic_convergence(results: Path, base) -> list[str]:
     out = ["### The states reached on more harmonics", "",
            "The same checks on the harmonics 0, n, 2n and 3n (`family_check.harmonics = 3`;",
            f"{', '.join(f'`{name}`' for name in FULL_HARMONIC_CHECKS)}: the same branch, one job per family) at",
-           "the responses where the harmonics 0, n, 2n reach states called chaotic. Whether a state's kind",
+           "responses where the harmonics 0, n, 2n reach states called chaotic or next to them (the job files",
+           "list the values). Whether a state's kind",
            "is a property of the membrane or of the truncation in theta shows in whether it survives the",
            "harmonic 3n. \"Size\": the largest asymmetric |w(0.5 Re, 0)| over the last tenth of the saturate",
            "periods.", ""]
@@ -1972,6 +1973,7 @@ def _harmonic_convergence(results: Path, base) -> list[str]:
     out += ["| n | Omega (rad/s) | 0, n, 2n: kind | lambda_1 T | size (m) | 0, n, 2n, 3n: kind | lambda_1 T | size (m) |",
             "|---|---|---|---|---|---|---|---|"]
     verdicts = {"chaotic": [], "periodic or no chaos": [], "otherwise": [], "not checked": []}
+    newly = []  # not chaotic on 0, n, 2n, chaotic with 3n
     for c, value in enumerate(b.check_Omega.values):
         for j, n in enumerate(b.family.values):
             at = f"{value:.2f} rad/s (n = {int(n)}"
@@ -1987,23 +1989,27 @@ def _harmonic_convergence(results: Path, base) -> list[str]:
                 group = ("chaotic" if after == "chaotic" else "periodic or no chaos"
                          if after in ("periodic", "quasi-periodic") else "otherwise")
                 verdicts[group].append(at + ("" if group == "chaotic" else f": {_check_label(h, ch, jh)}") + ")")
+            elif _check_kind_name(h, ch, jh) == "chaotic":
+                newly.append(at + f": {_check_label(b, c, j)} on 0, n, 2n)")
     total = sum(len(v) for v in verdicts.values())
+    also = (f" The other way: {len(newly)} state{'s' if len(newly) > 1 else ''} not chaotic on 0, n, 2n "
+            f"{'are' if len(newly) > 1 else 'is'} chaotic with the harmonic 3n: {', '.join(newly)}." if newly else "")
     if total == 0:
-        return out + ["", "No state is called chaotic on the harmonics 0, n, 2n: nothing to compare.", ""]
+        return out + ["", "No state is called chaotic on the harmonics 0, n, 2n: nothing to compare." + also, ""]
     said = [f"{len(v)} {what}: {', '.join(v)}" for what, v in (
         ("still chaotic with the harmonic 3n", verdicts["chaotic"]),
         ("no longer chaotic", verdicts["periodic or no chaos"]),
         ("ended otherwise (not computed, diverged or unsettled)", verdicts["otherwise"]),
         ("not checked on 0, n, 2n, 3n", verdicts["not checked"])) if v]
-    if verdicts["periodic or no chaos"]:
+    if verdicts["periodic or no chaos"] or newly:
         verdict = ("The kind of these states is not converged in the circumferential harmonics: which responses of "
                    "the full model are chaotic at this resolution is open.")
     elif len(verdicts["chaotic"]) == total:
         verdict = "Their kind holds with one harmonic more (not a convergence study: 4n and beyond are not checked)."
     else:
         verdict = "Not every verdict was compared, so the comparison decides nothing about those."
-    return out + ["", f"Of the {total} states called chaotic on the harmonics 0, n, 2n: " + "; ".join(said) + ". "
-                  + verdict, ""]
+    return out + ["", f"Of the {total} states called chaotic on the harmonics 0, n, 2n: " + "; ".join(said) + "."
+                  + also + " " + verdict, ""]
 
 
 #: The standing-wave runs of the full model: (job, radial functions per field).

@@ -266,7 +266,7 @@ def test_the_states_reached_on_more_harmonics(tmp_path):
            in " ".join(validation._harmonic_convergence(tmp_path, base))
     (tmp_path / "validation").mkdir()
     # the n = 1 run has the first response to rounding, not the fourth
-    n1 = run([1], [omega[0] * (1 + 1e-15), omega[1], omega[2]], [["chaotic"], ["periodic"], ["periodic"]], [3])
+    n1 = run([1], [omega[0] * (1 + 1e-15), omega[1], omega[2]], [["chaotic"], ["periodic"], ["chaotic"]], [3])
     n1.to_netcdf(tmp_path / "validation" / "family-check-full-3n-n1.nc")
     run([4], omega[1:3], [["quasi_periodic"], ["unsettled"]], [12]).to_netcdf(
         tmp_path / "validation" / "family-check-full-3n-n4.nc")
@@ -278,7 +278,7 @@ def test_the_states_reached_on_more_harmonics(tmp_path):
                     "+4.55e-02 +- 4.5e-03 | 1.00e-02 |",
                     "| 4 | 6.912 | chaotic | +4.55e-02 +- 4.5e-03 | 1.00e-02 | lambda_1 ~ 0, no invariant circle found | "
                     "+4.55e-02 +- 4.5e-03 | 1.00e-02 |",
-                    "| 1 | 7.540 | periodic, period 1 | +4.17e-02 +- 4.2e-03 | 1.00e-02 | periodic, period 1 | "
+                    "| 1 | 7.540 | periodic, period 1 | +4.17e-02 +- 4.2e-03 | 1.00e-02 | chaotic | "
                     "+4.17e-02 +- 4.2e-03 | 1.00e-02 |",
                     "| 4 | 7.540 | chaotic | +4.17e-02 +- 4.2e-03 | 1.00e-02 | unsettled | +4.17e-02 +- 4.2e-03 | "
                     "1.00e-02 |"]
@@ -286,9 +286,12 @@ def test_the_states_reached_on_more_harmonics(tmp_path):
     assert ("Of the 4 states called chaotic on the harmonics 0, n, 2n: 1 still chaotic with the harmonic 3n: 6.28 "
             "rad/s (n = 1); 1 no longer chaotic: 6.91 rad/s (n = 4: lambda_1 ~ 0, no invariant circle found); 1 ended "
             "otherwise (not computed, diverged or unsettled): 7.54 rad/s (n = 4: unsettled); 1 not checked on 0, n, "
-            "2n, 3n: 8.17 rad/s (n = 1). The kind of these states is not converged") in text
+            "2n, 3n: 8.17 rad/s (n = 1). The other way: 1 state not chaotic on 0, n, 2n is chaotic with the "
+            "harmonic 3n: 7.54 rad/s (n = 1: periodic, period 1 on 0, n, 2n). The kind of these states is not "
+            "converged") in text
     # every chaotic verdict compared and still chaotic
-    n1.assign(check_Omega=("check", omega[[0, 1, 3]])).to_netcdf(tmp_path / "validation" / "family-check-full-3n-n1.nc")
+    kinds = n1.check_kind.copy(data=np.array([[code["chaotic"]], [code["periodic"]], [code["periodic"]]], np.int8))
+    n1.assign(check_Omega=("check", omega[[0, 1, 3]]), check_kind=kinds).to_netcdf(tmp_path / "validation" / "family-check-full-3n-n1.nc")
     run([4], omega[1:3], [["chaotic"], ["chaotic"]], [12]).to_netcdf(tmp_path / "validation" /
                                                                       "family-check-full-3n-n4.nc")
     text = " ".join(validation._harmonic_convergence(tmp_path, base.assign(
