@@ -421,20 +421,34 @@ def _deviation(a, b) -> float:
 REFERENCE_GRID = (41, 64)
 
 
-def reference_error(reference: HarmonicReference, finer: HarmonicReference) -> tuple[float, float]:
+class ReferenceError(NamedTuple):
+    """How far the harmonics' motion moves with its discretisation refined
+    (:func:`reference_error`): largest changes over the largest values of the finer motion."""
+
+    #: of ``w``
+    w: float
+    #: of ``w(rho, theta) - w(rho, theta + pi)``, the odd harmonics' part (the asymmetric motion)
+    odd: float
+    #: of the radial displacement ``u``
+    u: float
+    #: of the circumferential displacement ``v``
+    v: float
+
+
+def reference_error(reference: HarmonicReference, finer: HarmonicReference) -> ReferenceError:
     """How far ``reference`` moves when its discretisation is refined: the largest
     ``|w - w_finer|`` over the instants and a polar grid (:data:`REFERENCE_GRID`, angles
     ``2 pi j / 64``) over the largest ``|w_finer|``, and the same for ``w(rho, theta) - w(rho,
-    theta + pi)`` -- the measures of :class:`FeHarmonicCheck` -- against ``finer``, the same
-    start on more harmonics or with a smaller step (:func:`harmonic_reference`), sampled at the
-    same instants."""
+    theta + pi)``, ``u`` and ``v`` -- the measures of :class:`FeHarmonicCheck` -- against
+    ``finer``, the same start on more harmonics or with a smaller step
+    (:func:`harmonic_reference`), sampled at the same instants."""
     m = reference.harmonic.model.membrane
     radii, angles = REFERENCE_GRID
     rho, theta = np.meshgrid(np.linspace(m.Ro / m.Re, 1.0, radii), 2.0 * np.pi * np.arange(angles) / angles,
                              indexing="ij")
-    w = [r.harmonic.fields(r.coordinates, rho, theta)[2] for r in (reference, finer)]
+    (u, v, w), (u_f, v_f, w_f) = (r.harmonic.fields(r.coordinates, rho, theta) for r in (reference, finer))
 
     def odd(x):
         return x - np.roll(x, -angles // 2, axis=2)
 
-    return _deviation(w[0], w[1]), _deviation(odd(w[0]), odd(w[1]))
+    return ReferenceError(_deviation(w, w_f), _deviation(odd(w), odd(w_f)), _deviation(u, u_f), _deviation(v, v_f))

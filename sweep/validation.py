@@ -3027,8 +3027,8 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
            "period", "(`model.fe_motion.check_harmonic_motion`): the largest deviation of w over its largest value, the "
            "same", "for w(rho, theta) - w(rho, theta + pi), twice its odd harmonics' part (the n = 1 motion and what it "
            "drives", "in the odd harmonics), and for u and v. \"Reference\": how far the harmonics' own motion moves "
-           "with the", f"harmonics {', '.join(map(str, FE_MORE_HARMONICS))} added and half its step (w / odd part, on a "
-           "polar grid; `model.fe_motion.reference_error`).", "",
+           "with the", f"harmonics {', '.join(map(str, FE_MORE_HARMONICS))} added and half its step (w / odd part / u / "
+           "v, on a polar grid; `model.fe_motion.reference_error`).", "",
            f"| delta | amplitude (m) | w deviation, {meshes} | odd part | u | v | reference |", "|---|---|---|---|---|---|---|"]
     orders = {k: [] for k in names}
     finest = {k: [] for k in names}
@@ -3046,10 +3046,11 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
                                   for i in range(len(v) - 1)])
                 finest[k].append(v[-1])
                 cells.append(" / ".join(f"{x:.1e}" for x in v))
-            reference = (float(p.fe_harmonic_reference_w_error), float(p.fe_harmonic_reference_odd_error))
-            own.append(np.fmax(reference[0] / _nonzero_or_nan(finest["w"][-1]),
-                               reference[1] / _nonzero_or_nan(finest["odd part"][-1])))
-            cells.append(f"{reference[0]:.1e} / {reference[1]:.1e}")
+            # (u and v: runs from before their reference error was measured have none)
+            reference = {k: float(p[f"fe_harmonic_reference_{field}_error"]) for k, field in zip(names, ("w", "odd", "u", "v"))
+                         if f"fe_harmonic_reference_{field}_error" in p}
+            own.append(max(reference[k] / _nonzero_or_nan(finest[k][-1]) for k in reference))
+            cells.append(" / ".join(f"{x:.1e}" for x in reference.values()))
             out.append(f"| {float(d):g} | {float(p.amplitude):.3f} | " + " | ".join(cells) + " |")
     pairs = len(radial) - 1
     if not finest["w"] or not pairs:
@@ -3065,7 +3066,8 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
     last = {k: orders[k][:, -1][np.isfinite(orders[k][:, -1])] for k in names}
     at_order = all(last[k].size and last[k].min() > 2.5 for k in ("w", "odd part"))
     largest = {k: float(np.nanmax(v)) for k, v in finest.items()}
-    out += ["", f"The harmonics' own error is at most {np.nanmax(own):.1e} of the finest mesh's deviations (w, odd part): "
+    fields = "w, odd part, u, v" if "fe_harmonic_reference_u_error" in ds else "w, odd part"
+    out += ["", f"The harmonics' own error is at most {np.nanmax(own):.1e} of the finest mesh's deviations ({fields}): "
             + ("the deviations are the mesh's." if np.nanmax(own) < 0.1 else "not negligible against them."),
             f"On {radial[-1]} elements across w deviates by at most {largest['w']:.1e} of its largest value and its "
             f"odd part by {largest['odd part']:.1e}"

@@ -221,7 +221,7 @@ def test_the_backbone_fe_check_option_writes_the_mesh_study(tmp_path):
                  "fe_harmonic_u_deviation", "fe_harmonic_v_deviation"):
         assert (ds[name].isel(fe_radial=1) < ds[name].isel(fe_radial=0)).all()
     # the harmonics' own error is far below the finer mesh's deviations
-    for field in ("w", "odd"):
+    for field in ("w", "odd", "u", "v"):
         assert (ds[f"fe_harmonic_reference_{field}_error"] < 0.1 * ds[f"fe_harmonic_{field}_deviation"].isel(
             fe_radial=1)).all()
     assert np.isfinite(ds.fe_omega_spread).all()

@@ -334,3 +334,9 @@ def test_the_asymmetric_finite_element_check():
     assert "not yet at the element's order there" in text and "not negligible against them" in text
     missing = ds.assign(omega_nl=(pt, [[[30.0, np.nan]]]))
     assert "| 0.060 |" not in "\n".join(validation._fe_asymmetric(missing, [4, 8], 2, 0.01))
+    # with u's and v's own errors: 9e-3 of the second orbit's v, sqrt(2e-3) = 4.47e-2, is 0.20 of it
+    uv = ds.assign(fe_harmonic_reference_u_error=(pt, [[[1e-5, 1e-3]]]),
+                   fe_harmonic_reference_v_error=(pt, [[[1e-5, 9e-3]]]))
+    text = "\n".join(validation._fe_asymmetric(uv, [4, 8], 2, 0.01))
+    assert "| 1.0e-06 / 4.0e-06 / 1.0e-05 / 1.0e-05 |" in text and "w / odd part / u / v, on a polar grid" in text
+    assert "at most 2.0e-01 of the finest mesh's deviations (w, odd part, u, v): not negligible against them" in text

@@ -36,7 +36,8 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   ``w``, of ``w(rho, theta) - w(rho, theta + pi)`` (twice its odd harmonics' part: the
   asymmetric motion), of ``u`` and of ``v`` at the mesh's nodes over the instants
   (:func:`model.fe_motion.check_harmonic_motion`); and ``fe_harmonic_reference_w_error``,
-  ``fe_harmonic_reference_odd_error`` (``point``): how far the harmonics' motion moves with
+  ``fe_harmonic_reference_odd_error``, ``fe_harmonic_reference_u_error``,
+  ``fe_harmonic_reference_v_error`` (``point``): how far the harmonics' motion moves with
   the harmonics 4 and 5 added and half its step (:func:`model.fe_motion.reference_error`),
   to be read against the finest mesh's deviations;
 * ``turn_amplitude``, ``turn_omega`` -- where the pseudo-arclength branch of free orbits
@@ -133,7 +134,7 @@ class BackboneAnalysis(Analysis):
                     f"A times the lowest n = 1 transverse mode against the full model on the harmonics "
                     f"{', '.join(map(str, FE_HARMONICS))}: fe_harmonic_w_deviation, fe_harmonic_odd_deviation, "
                     "fe_harmonic_u_deviation, fe_harmonic_v_deviation, and the harmonics' own error, "
-                    "fe_harmonic_reference_w_error, fe_harmonic_reference_odd_error (A in m; 0: no asymmetric check)",
+                    "fe_harmonic_reference_<w, odd, u, v>_error (A in m; 0: no asymmetric check)",
     }
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
@@ -307,6 +308,8 @@ def _fe_variables(options) -> list[Variable]:
                  "added and the step halved: the full model's own error in the fe_harmonic_* comparisons"),
         Variable("fe_harmonic_reference_odd_error", ("point",), shape[:1], "f8", "1", "the same for "
                  "w(rho, theta) - w(rho, theta + pi)"),
+        Variable("fe_harmonic_reference_u_error", ("point",), shape[:1], "f8", "1", "the same for u"),
+        Variable("fe_harmonic_reference_v_error", ("point",), shape[:1], "f8", "1", "the same for v"),
     ] if options.fe_check[3] else []
     return [
         Variable("fe_omega", dims, shape, "f8", "rad s-1", "frequency of the motion on the finite-element mesh "
@@ -325,8 +328,8 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric) -> dict[
     """The outputs of ``fe_check`` (:func:`model.fe_motion.check_free_orbit`, and with
     ``asymmetric`` :func:`model.fe_motion.check_harmonic_motion` against the harmonics' motion
     from each orbit's state, computed once per orbit) for the converged orbits (NaN elsewhere)."""
-    from model.fe_motion import (asymmetric_start, check_free_orbit, check_harmonic_motion, harmonic_reference,
-                                 reference_error)
+    from model.fe_motion import (ReferenceError, asymmetric_start, check_free_orbit, check_harmonic_motion,
+                                 harmonic_reference, reference_error)
     from model.full.forced import STABLE_STEP
     from model.full.harmonic import HarmonicFull
     from sweep.models.fe2d import fe_motion_for
@@ -341,7 +344,7 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric) -> dict[
     converged = np.flatnonzero(orbits.converged)
     references = {}
     if asymmetric:
-        errors = ("fe_harmonic_reference_w_error", "fe_harmonic_reference_odd_error")
+        errors = tuple(f"fe_harmonic_reference_{field}_error" for field in ReferenceError._fields)
         out.update({k: np.full(orbits.omega.size, np.nan) for k in errors})
         harmonic = HarmonicFull(free.model, FE_HARMONICS)
         finer = HarmonicFull(free.model, FE_HARMONICS + FE_MORE_HARMONICS)
