@@ -421,7 +421,7 @@ def _deviation(a, b) -> float:
 REFERENCE_GRID = (41, 64)
 
 
-class ReferenceError(NamedTuple):
+class ReferenceChange(NamedTuple):
     """How far the harmonics' motion moves with its discretisation refined
     (:func:`reference_error`): largest changes over the largest values of the finer motion."""
 
@@ -435,7 +435,7 @@ class ReferenceError(NamedTuple):
     v: float
 
 
-def reference_error(reference: HarmonicReference, finer: HarmonicReference) -> ReferenceError:
+def reference_error(reference: HarmonicReference, finer: HarmonicReference) -> ReferenceChange:
     """How far ``reference`` moves when its discretisation is refined: the largest
     ``|w - w_finer|`` over the instants and a polar grid (:data:`REFERENCE_GRID`, angles
     ``2 pi j / 64``) over the largest ``|w_finer|``, and the same for ``w(rho, theta) - w(rho,
@@ -451,4 +451,4 @@ def reference_error(reference: HarmonicReference, finer: HarmonicReference) -> R
     def odd(x):
         return x - np.roll(x, -angles // 2, axis=2)
 
-    return ReferenceError(_deviation(w, w_f), _deviation(odd(w), odd(w_f)), _deviation(u, u_f), _deviation(v, v_f))
+    return ReferenceChange(_deviation(w, w_f), _deviation(odd(w), odd(w_f)), _deviation(u, u_f), _deviation(v, v_f))

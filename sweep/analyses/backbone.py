@@ -328,7 +328,7 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric) -> dict[
     """The outputs of ``fe_check`` (:func:`model.fe_motion.check_free_orbit`, and with
     ``asymmetric`` :func:`model.fe_motion.check_harmonic_motion` against the harmonics' motion
     from each orbit's state, computed once per orbit) for the converged orbits (NaN elsewhere)."""
-    from model.fe_motion import (ReferenceError, asymmetric_start, check_free_orbit, check_harmonic_motion,
+    from model.fe_motion import (ReferenceChange, asymmetric_start, check_free_orbit, check_harmonic_motion,
                                  harmonic_reference, reference_error)
     from model.full.forced import STABLE_STEP
     from model.full.harmonic import HarmonicFull
@@ -344,7 +344,7 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric) -> dict[
     converged = np.flatnonzero(orbits.converged)
     references = {}
     if asymmetric:
-        errors = tuple(f"fe_harmonic_reference_{field}_error" for field in ReferenceError._fields)
+        errors = tuple(f"fe_harmonic_reference_{field}_error" for field in ReferenceChange._fields)
         out.update({k: np.full(orbits.omega.size, np.nan) for k in errors})
         harmonic = HarmonicFull(free.model, FE_HARMONICS)
         finer = HarmonicFull(free.model, FE_HARMONICS + FE_MORE_HARMONICS)
