@@ -30,10 +30,14 @@ class Attractor:
         first modal coordinate.
     multipliers : (2K,) complex array
         Floquet multipliers of the ``k``-th iterate.
+    found_at : int
+        Index in ``points`` of the point a search converged to (:func:`find_periodic_orbit`:
+        the phase of its start); 0 otherwise.
     """
 
     points: np.ndarray
     multipliers: np.ndarray
+    found_at: int = 0
 
     @property
     def period(self) -> int:
@@ -155,9 +159,9 @@ def find_periodic_orbit(y0, k: int, fmap: StroboscopicMap, scale, tol: float, ma
 
 def _orbit(pts, phi) -> Attractor:
     # The Attractor of a converged search: its points from the one of smallest first
-    # coordinate, the multipliers of P^k
+    # coordinate, the multipliers of P^k, where the converged point (pts[0]) went
     first = int(np.argmin(pts[:, 0]))
-    return Attractor(np.roll(pts, -first, axis=0), np.linalg.eigvals(phi))
+    return Attractor(np.roll(pts, -first, axis=0), np.linalg.eigvals(phi), (-first) % pts.shape[0])
 
 
 # Outcomes of _newton_one_mode.

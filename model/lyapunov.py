@@ -198,7 +198,7 @@ def classify(fmap: StroboscopicMap, record: LyapunovRecord, max_period: int = 16
             continue
         orbit = find_periodic_orbit(record.points[-1], k, fmap, scale, tol=1e-10 * max(size, 1e-12))
         if (orbit is not None and np.all(np.abs(orbit.multipliers) < 1.0)
-                and _approaches(fmap, record.points, orbit.points, scale)):
+                and _approaches(fmap, record.points, orbit, scale)):
             return Classification(PERIODIC, k, np.nan)
     lam = float(record.exponents[0])
     resolution = max(sigmas * float(record.standard_error[0]), 0.1 / (record.points.shape[0] * record.period))
@@ -210,27 +210,41 @@ def classify(fmap: StroboscopicMap, record: LyapunovRecord, max_period: int = 16
 
 
 def _approaches(fmap, points, orbit, scale) -> bool:
-    # Whether the run's points (N, 2K) tend to the stable orbit's points (k, 2K): its last
-    # point within 1e-6 of the run's size of the orbit, or nearer to it than the run's first
-    # point of the same phase (the index N - 1 modulo k) in the Lyapunov (Stein) norm
-    # x^T X x of P^k at the orbit's point p nearest the last point, J^T X J - X = -I (J the
-    # scaled derivative of P^k at p): along a linear approach it falls by |x|^2 every k
-    # periods, whatever the eigenvectors.  A plain distance swings with the turning of a
-    # lightly damped spiral and says "no" at some of its phases.
-    k = orbit.shape[0]
-    z, o = points * scale, orbit * scale
+    # Whether the run's points (N, 2K) tend to the stable orbit (an Attractor found by Newton
+    # from the last point, orbit.found_at its phase): its last point within 1e-6 of the run's
+    # size of the orbit, or nearer to it than the run's first point of the same phase (the
+    # index N - 1 modulo k) in the Lyapunov (Stein) norm x^T X x of P^k there,
+    # J^T X J - X = -I (J the derivative of P^k at that orbit point, in scaled coordinates):
+    # along a linear approach it falls by |x|^2 every k periods, whatever the eigenvectors.
+    # A plain distance swings with the turning of a lightly damped spiral and says "no" at
+    # some of its phases; the nearest orbit point may be of another phase far from the orbit.
+    k = orbit.points.shape[0]
+    z, o = points * scale, orbit.points[orbit.found_at] * scale
     size = float(np.max(np.linalg.norm(z, axis=1)))
-    p = int(np.argmin(np.linalg.norm(o - z[-1], axis=1)))
-    if np.linalg.norm(o[p] - z[-1]) <= 1e-6 * size:
+    if np.linalg.norm(o - z[-1]) <= 1e-6 * size:
         return True
-    y, jac = orbit[p].copy(), np.eye(points.shape[1])
+    y, jac = orbit.points[orbit.found_at].copy(), np.eye(points.shape[1])
     for _ in range(k):
         y, phi = fmap.monodromy(y)
         jac = phi @ jac
-    stein = solve_discrete_lyapunov((scale[:, None] * jac / scale[None, :]).T, np.eye(points.shape[1]))
-
-    def norm(x):
-        d = x - o[p]
-        return float(d @ stein @ d)
-
-    return norm(z[-1]) < norm(z[(z.shape[0] - 1) % k])
+    jac = scale[:, None] * jac / scale[None, :]
+    first, last = z[(z.shape[0] - 1) % k] - o, z[-1] - o
+    stein = solve_discrete_lyapunov(jac.T, np.eye(jac.shape[0]))
+    residual = np.linalg.norm(jac.T @ stein @ jac - stein + np.eye(jac.shape[0])) / np.linalg.norm(stein)
+    try:
+        np.linalg.cholesky(stein)
+        solved = residual < 1e-8
+    except np.linalg.LinAlgError:
+        solved = False
+    if solved:
+        return float(last @ stein @ last) < float(first @ stein @ first)
+    # multipliers so near the unit circle that the solve fails: the norm's series,
+    # x^T X x = sum_j |J^j x|^2, summed until its terms no longer count
+    pair, total = np.stack([first, last]), np.zeros(2)
+    for _ in range(1_000_000):
+        terms = np.sum(pair ** 2, axis=1)
+        total += terms
+        if np.all(terms <= 1e-12 * total):
+            break
+        pair = pair @ jac.T
+    return bool(total[1] < total[0])

@@ -12,6 +12,7 @@ import pytest
 from escape_oscillator import EscapeMap, Forcing, ueda_map
 from model.continuation import PERIOD_DOUBLING, continue_orbits
 from model.forced import ForcedMap
+from model.attractors import Attractor
 from model.lyapunov import (CHAOTIC, DIVERGED, PERIODIC, QUASI_PERIODIC, classify, lyapunov_spectrum,
                             rotation_number)
 from model.params import Loading, Membrane
@@ -167,7 +168,53 @@ def test_a_run_approaches_a_stable_node_that_first_carries_it_away():
     fmap = _Linear(0.998 * np.array([[1.0, 0.2], [0.0, 1.0]]))
     points = np.array([np.linalg.matrix_power(fmap.A, j) @ [0.0, 1.0] for j in range(1, 51)])
     assert np.linalg.norm(points[-1]) > 5 * np.linalg.norm(points[0])
-    orbit = np.zeros((1, 2))
+    orbit = Attractor(np.zeros((1, 2)), np.linalg.eigvals(fmap.A))
     assert all(_approaches(fmap, points[:n], orbit, np.ones(2)) for n in range(2, 51))
     # and a run that leaves the orbit's neighbourhood the other way (time reversed) does not
     assert not _approaches(fmap, points[::-1].copy(), orbit, np.ones(2))
+
+
+class _TwoPhase:
+    """A map with a stable period-two orbit whose two phases have different linear parts:
+    the state ``(x1, x2, s, t)``; ``s`` alternates between +-1e-3 (``s' = -sign(s) (1e-3 +
+    (|s| - 1e-3) / 2)``), ``t' = t / 2``, and ``x' = b + L1 (x - a)`` where ``s > 0``, ``a + L2
+    (x - b)`` elsewhere: the orbit ``(a, 1e-3, 0) -> (b, -1e-3, 0)``, ``P^2`` linear in ``x``
+    about each point (``L2 L1`` at the first, ``L1 L2`` at the second)."""
+
+    dof, period = 2, 1.0
+    a, b = np.array([0.005, 0.0]), np.array([-0.005, 0.0])
+    L1 = 0.99 * np.array([[np.cos(0.4), -3 * np.sin(0.4)], [np.sin(0.4) / 3, np.cos(0.4)]])
+    L2 = 0.99 * np.array([[np.cos(0.3), -np.sin(0.3) / 2], [2 * np.sin(0.3), np.cos(0.3)]])
+
+    def monodromy(self, y):
+        x, s, t = y[:2], y[2], y[3]
+        L, image = (self.L1, self.b + self.L1 @ (x - self.a)) if s > 0 else (self.L2, self.a + self.L2 @ (x - self.b))
+        jac = np.zeros((4, 4))
+        jac[:2, :2], jac[2, 2], jac[3, 3] = L, -0.5, 0.5
+        return np.concatenate([image, [-np.sign(s) * (1e-3 + 0.5 * (abs(s) - 1e-3)), 0.5 * t]]), jac
+
+    def state_scale(self):
+        return np.ones(4)
+
+
+def test_a_run_far_from_a_period_two_orbit_is_judged_at_its_own_phase():
+    # A run 5 cm from the orbit, whose points are 1 cm apart: the orbit point nearest its last
+    # point is, at some lengths, of the other phase; the test takes the phase Newton converged
+    # to (Attractor.found_at: the last point's), and the run, linear about the orbit in each
+    # phase, approaches at every length.
+    from model.lyapunov import _approaches
+
+    fmap = _TwoPhase()
+    y, points = np.array([0.05, 0.03, 1e-3, 0.0]), []
+    for _ in range(60):
+        y = fmap.monodromy(y)[0]
+        points.append(y)
+    points = np.array(points)
+    orbit_points = np.array([[*fmap.a, 1e-3, 0.0], [*fmap.b, -1e-3, 0.0]])
+    other_phase = 0
+    for n in range(4, 61):
+        phase = 0 if points[n - 1, 2] > 0 else 1
+        nearest = int(np.argmin(np.linalg.norm(orbit_points - points[n - 1], axis=1)))
+        other_phase += nearest != phase
+        assert _approaches(fmap, points[:n], Attractor(orbit_points, np.ones(4) * 0.98, phase), np.ones(4)), n
+    assert other_phase > 0  # the case the phase bookkeeping is for
