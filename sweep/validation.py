@@ -1989,13 +1989,16 @@ def _harmonic_convergence(results: Path, base) -> list[str]:
                 group = ("chaotic" if after == "chaotic" else "periodic or no chaos"
                          if after in ("periodic", "quasi-periodic") else "otherwise")
                 verdicts[group].append(at + ("" if group == "chaotic" else f": {_check_label(h, ch, jh)}") + ")")
-            elif _check_kind_name(h, ch, jh) == "chaotic":
+            elif (_check_kind_name(b, c, j) in ("periodic", "quasi-periodic")
+                  and _check_kind_name(h, ch, jh) == "chaotic"):
                 newly.append(at + f": {_check_label(b, c, j)} on 0, n, 2n)")
     total = sum(len(v) for v in verdicts.values())
     also = (f" The other way: {len(newly)} state{'s' if len(newly) > 1 else ''} not chaotic on 0, n, 2n "
             f"{'are' if len(newly) > 1 else 'is'} chaotic with the harmonic 3n: {', '.join(newly)}." if newly else "")
     if total == 0:
-        return out + ["", "No state is called chaotic on the harmonics 0, n, 2n: nothing to compare." + also, ""]
+        return out + ["", "No state is called chaotic on the harmonics 0, n, 2n." + (
+            also + " The kind of these states is not converged in the circumferential harmonics." if newly else
+            " Nothing to compare."), ""]
     said = [f"{len(v)} {what}: {', '.join(v)}" for what, v in (
         ("still chaotic with the harmonic 3n", verdicts["chaotic"]),
         ("no longer chaotic", verdicts["periodic or no chaos"]),
@@ -3017,8 +3020,10 @@ def section_fe_motion(results: Path) -> list[str]:
 def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str]:
     """The asymmetric half of the finite-element free vibration (``fe_check.asymmetric``)."""
     meshes = " / ".join(str(r) for r in radial)
-    names = {"w": "fe_harmonic_w_deviation", "odd part": "fe_harmonic_odd_deviation", "u": "fe_harmonic_u_deviation",
-             "v": "fe_harmonic_v_deviation"}
+    fields = {"w": "w", "odd part": "odd", "u": "u", "v": "v"}  # label -> the variables' field name
+    names = {k: f"fe_harmonic_{f}_deviation" for k, f in fields.items()}
+    # (u and v: runs from before their own error was measured have none)
+    measured = [k for k, f in fields.items() if f"fe_harmonic_reference_{f}_error" in ds]
     out = ["### Asymmetric motion", "",
            f"From rest at each orbit's state plus {size:g} m of the lowest n = 1 transverse mode (its largest |w|), the "
            "same meshes", f"against the full model on the circumferential harmonics {', '.join(map(str, FE_HARMONICS))} "
@@ -3027,12 +3032,12 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
            "period", "(`model.fe_motion.check_harmonic_motion`): the largest deviation of w over its largest value, the "
            "same", "for w(rho, theta) - w(rho, theta + pi), twice its odd harmonics' part (the n = 1 motion and what it "
            "drives", "in the odd harmonics), and for u and v. \"Reference\": how far the harmonics' own motion moves "
-           "with the", f"harmonics {', '.join(map(str, FE_MORE_HARMONICS))} added and half its step (w / odd part / u / "
-           "v, on a polar grid; `model.fe_motion.reference_error`).", "",
+           "with the", f"harmonics {', '.join(map(str, FE_MORE_HARMONICS))} added and half its step ({' / '.join(measured)}, "
+           "on a polar grid; `model.fe_motion.reference_error`).", "",
            f"| delta | amplitude (m) | w deviation, {meshes} | odd part | u | v | reference |", "|---|---|---|---|---|---|---|"]
     orders = {k: [] for k in names}
     finest = {k: [] for k in names}
-    own = []
+    own = {k: [] for k in measured}  # the harmonics' own error over the finest mesh's deviation
     for d in ds.delta.values:
         f = _point(ds, delta=d, delta_o=0.2)
         for j in range(f.sizes["point"]):
@@ -3046,10 +3051,9 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
                                   for i in range(len(v) - 1)])
                 finest[k].append(v[-1])
                 cells.append(" / ".join(f"{x:.1e}" for x in v))
-            # (u and v: runs from before their reference error was measured have none)
-            reference = {k: float(p[f"fe_harmonic_reference_{field}_error"]) for k, field in zip(names, ("w", "odd", "u", "v"))
-                         if f"fe_harmonic_reference_{field}_error" in p}
-            own.append(max(reference[k] / _nonzero_or_nan(finest[k][-1]) for k in reference))
+            reference = {k: float(p[f"fe_harmonic_reference_{fields[k]}_error"]) for k in measured}
+            for k in measured:
+                own[k].append(reference[k] / _nonzero_or_nan(finest[k][-1]))
             cells.append(" / ".join(f"{x:.1e}" for x in reference.values()))
             out.append(f"| {float(d):g} | {float(p.amplitude):.3f} | " + " | ".join(cells) + " |")
     pairs = len(radial) - 1
@@ -3066,9 +3070,12 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
     last = {k: orders[k][:, -1][np.isfinite(orders[k][:, -1])] for k in names}
     at_order = all(last[k].size and last[k].min() > 2.5 for k in ("w", "odd part"))
     largest = {k: float(np.nanmax(v)) for k, v in finest.items()}
-    fields = "w, odd part, u, v" if "fe_harmonic_reference_u_error" in ds else "w, odd part"
-    out += ["", f"The harmonics' own error is at most {np.nanmax(own):.1e} of the finest mesh's deviations ({fields}): "
-            + ("the deviations are the mesh's." if np.nanmax(own) < 0.1 else "not negligible against them."),
+    groups = [g for g in (("w", "odd part"), ("u", "v")) if all(k in measured for k in g)]
+    bounds = [float(np.nanmax([own[k] for k in g])) for g in groups]
+    out += ["", "The harmonics' own error is at most " + "; ".join(
+        f"{b:.1e} of the finest mesh's deviations of {' and '.join(g)} ("
+        + ("the deviations are the mesh's)" if b < 0.1 else "not negligible against them: the measured orders of "
+           "these fields are partly the harmonics' own error)") for g, b in zip(groups, bounds)) + ".",
             f"On {radial[-1]} elements across w deviates by at most {largest['w']:.1e} of its largest value and its "
             f"odd part by {largest['odd part']:.1e}"
             + (": the full model's circumferential harmonics integrate the n = 1 transverse motion as a mesh with no "
