@@ -40,10 +40,11 @@ The kind of the response (:func:`classify`), in this order:
 
 from __future__ import annotations
 
+import warnings
 from typing import NamedTuple
 
 import numpy as np
-from scipy.linalg import solve_discrete_lyapunov
+from scipy.linalg import LinAlgWarning, solve_discrete_lyapunov
 
 from .attractors import find_periodic_orbit
 from .protocol import StroboscopicMap
@@ -229,12 +230,15 @@ def _approaches(fmap, points, orbit, scale) -> bool:
         jac = phi @ jac
     jac = scale[:, None] * jac / scale[None, :]
     first, last = z[(z.shape[0] - 1) % k] - o, z[-1] - o
-    stein = solve_discrete_lyapunov(jac.T, np.eye(jac.shape[0]))
+    with warnings.catch_warnings():  # an ill-conditioned solve is caught below
+        warnings.simplefilter("ignore", LinAlgWarning)
+        stein = solve_discrete_lyapunov(jac.T, np.eye(jac.shape[0]))
+    stein = 0.5 * (stein + stein.T)
     residual = np.linalg.norm(jac.T @ stein @ jac - stein + np.eye(jac.shape[0])) / np.linalg.norm(stein)
     try:
         np.linalg.cholesky(stein)
         solved = residual < 1e-8
-    except np.linalg.LinAlgError:
+    except np.linalg.LinAlgError:  # not positive definite: the solve failed
         solved = False
     if solved:
         return float(last @ stein @ last) < float(first @ stein @ first)

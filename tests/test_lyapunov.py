@@ -218,3 +218,34 @@ def test_a_run_far_from_a_period_two_orbit_is_judged_at_its_own_phase():
         other_phase += nearest != phase
         assert _approaches(fmap, points[:n], Attractor(orbit_points, np.ones(4) * 0.98, phase), np.ones(4)), n
     assert other_phase > 0  # the case the phase bookkeeping is for
+
+
+def test_the_approach_test_holds_where_the_lyapunov_equation_cannot_be_solved():
+    # P = V R V^-1, R three rotations of modulus 0.9999, cond V = 1e4: the direct solve of the
+    # Stein equation returns a matrix that is not positive definite (the equation's solution
+    # is); the test then sums the norm's series sum_j |J^j x|^2, and a linear run approaches
+    # (and the same run reversed does not), without warnings
+    import warnings
+
+    from scipy.linalg import solve_discrete_lyapunov
+
+    from model.lyapunov import _approaches
+
+    rng = np.random.default_rng(1)  # (one of the draws where it fails)
+    R = np.zeros((6, 6))
+    for i, angle in enumerate((0.3, 1.1, 2.0)):
+        R[2 * i:2 * i + 2, 2 * i:2 * i + 2] = 0.9999 * np.array([[np.cos(angle), -np.sin(angle)],
+                                                                  [np.sin(angle), np.cos(angle)]])
+    U, W = (np.linalg.qr(rng.standard_normal((6, 6)))[0] for _ in range(2))
+    V = U @ np.diag(np.logspace(0, 4, 6)) @ W
+    fmap = _Linear(V @ R @ np.linalg.inv(V))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        direct = solve_discrete_lyapunov(fmap.A.T, np.eye(6))
+    assert np.linalg.eigvalsh(0.5 * (direct + direct.T)).min() < 0  # the case
+    points = np.array([np.linalg.matrix_power(fmap.A, j) @ np.ones(6) for j in range(1, 201)])
+    orbit = Attractor(np.zeros((1, 6)), np.linalg.eigvals(fmap.A))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert _approaches(fmap, points, orbit, np.ones(6))
+        assert not _approaches(fmap, points[::-1].copy(), orbit, np.ones(6))
