@@ -33,11 +33,15 @@ class Attractor:
     found_at : int
         Index in ``points`` of the point a search converged to (:func:`find_periodic_orbit`:
         the phase of its start); 0 otherwise.
+    jacobian : (2K, 2K) array or None
+        The derivative of ``P^k`` at ``points[found_at]`` (the search's last Newton matrix);
+        None where the orbit was not found by a search (read back from a result file).
     """
 
     points: np.ndarray
     multipliers: np.ndarray
     found_at: int = 0
+    jacobian: np.ndarray | None = None
 
     @property
     def period(self) -> int:
@@ -159,9 +163,10 @@ def find_periodic_orbit(y0, k: int, fmap: StroboscopicMap, scale, tol: float, ma
 
 def _orbit(pts, phi) -> Attractor:
     # The Attractor of a converged search: its points from the one of smallest first
-    # coordinate, the multipliers of P^k, where the converged point (pts[0]) went
+    # coordinate, the multipliers of P^k, where the converged point (pts[0]) went, and the
+    # derivative of P^k there
     first = int(np.argmin(pts[:, 0]))
-    return Attractor(np.roll(pts, -first, axis=0), np.linalg.eigvals(phi), (-first) % pts.shape[0])
+    return Attractor(np.roll(pts, -first, axis=0), np.linalg.eigvals(phi), (-first) % pts.shape[0], phi.copy())
 
 
 # Outcomes of _newton_one_mode.

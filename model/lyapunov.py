@@ -199,7 +199,7 @@ def classify(fmap: StroboscopicMap, record: LyapunovRecord, max_period: int = 16
             continue
         orbit = find_periodic_orbit(record.points[-1], k, fmap, scale, tol=1e-10 * max(size, 1e-12))
         if (orbit is not None and np.all(np.abs(orbit.multipliers) < 1.0)
-                and _approaches(fmap, record.points, orbit, scale)):
+                and _approaches(record.points, orbit, scale)):
             return Classification(PERIODIC, k, np.nan)
     lam = float(record.exponents[0])
     resolution = max(sigmas * float(record.standard_error[0]), 0.1 / (record.points.shape[0] * record.period))
@@ -210,12 +210,13 @@ def classify(fmap: StroboscopicMap, record: LyapunovRecord, max_period: int = 16
     return Classification(UNSETTLED, 0, np.nan)
 
 
-def _approaches(fmap, points, orbit, scale) -> bool:
+def _approaches(points, orbit, scale) -> bool:
     # Whether the run's points (N, 2K) tend to the stable orbit (an Attractor found by Newton
     # from the last point, orbit.found_at its phase): its last point within 1e-6 of the run's
     # size of the orbit, or nearer to it than the run's first point of the same phase (the
     # index N - 1 modulo k) in the Lyapunov (Stein) norm x^T X x of P^k there,
-    # J^T X J - X = -I (J the derivative of P^k at that orbit point, in scaled coordinates):
+    # J^T X J - X = -I (J the derivative of P^k at that orbit point, orbit.jacobian, in
+    # scaled coordinates):
     # along a linear approach it falls by |x|^2 every k periods, whatever the eigenvectors.
     # A plain distance swings with the turning of a lightly damped spiral and says "no" at
     # some of its phases; the nearest orbit point may be of another phase far from the orbit.
@@ -224,11 +225,7 @@ def _approaches(fmap, points, orbit, scale) -> bool:
     size = float(np.max(np.linalg.norm(z, axis=1)))
     if np.linalg.norm(o - z[-1]) <= 1e-6 * size:
         return True
-    y, jac = orbit.points[orbit.found_at].copy(), np.eye(points.shape[1])
-    for _ in range(k):
-        y, phi = fmap.monodromy(y)
-        jac = phi @ jac
-    jac = scale[:, None] * jac / scale[None, :]
+    jac = scale[:, None] * orbit.jacobian / scale[None, :]
     first, last = z[(z.shape[0] - 1) % k] - o, z[-1] - o
     with warnings.catch_warnings():  # an ill-conditioned solve is caught below
         warnings.simplefilter("ignore", LinAlgWarning)

@@ -168,10 +168,10 @@ def test_a_run_approaches_a_stable_node_that_first_carries_it_away():
     fmap = _Linear(0.998 * np.array([[1.0, 0.2], [0.0, 1.0]]))
     points = np.array([np.linalg.matrix_power(fmap.A, j) @ [0.0, 1.0] for j in range(1, 51)])
     assert np.linalg.norm(points[-1]) > 5 * np.linalg.norm(points[0])
-    orbit = Attractor(np.zeros((1, 2)), np.linalg.eigvals(fmap.A))
-    assert all(_approaches(fmap, points[:n], orbit, np.ones(2)) for n in range(2, 51))
+    orbit = Attractor(np.zeros((1, 2)), np.linalg.eigvals(fmap.A), 0, fmap.A)
+    assert all(_approaches(points[:n], orbit, np.ones(2)) for n in range(2, 51))
     # and a run that leaves the orbit's neighbourhood the other way (time reversed) does not
-    assert not _approaches(fmap, points[::-1].copy(), orbit, np.ones(2))
+    assert not _approaches(points[::-1].copy(), orbit, np.ones(2))
 
 
 class _TwoPhase:
@@ -211,12 +211,16 @@ def test_a_run_far_from_a_period_two_orbit_is_judged_at_its_own_phase():
         points.append(y)
     points = np.array(points)
     orbit_points = np.array([[*fmap.a, 1e-3, 0.0], [*fmap.b, -1e-3, 0.0]])
+    jacobians = []  # of P^2 at each orbit point: the chain rule along the orbit
+    for start in orbit_points:
+        first_image, first_jacobian = fmap.monodromy(start)
+        jacobians.append(fmap.monodromy(first_image)[1] @ first_jacobian)
     other_phase = 0
     for n in range(4, 61):
         phase = 0 if points[n - 1, 2] > 0 else 1
         nearest = int(np.argmin(np.linalg.norm(orbit_points - points[n - 1], axis=1)))
         other_phase += nearest != phase
-        assert _approaches(fmap, points[:n], Attractor(orbit_points, np.ones(4) * 0.98, phase), np.ones(4)), n
+        assert _approaches(points[:n], Attractor(orbit_points, np.ones(4) * 0.98, phase, jacobians[phase]), np.ones(4)), n
     assert other_phase > 0  # the case the phase bookkeeping is for
 
 
@@ -244,8 +248,8 @@ def test_the_approach_test_holds_where_the_lyapunov_equation_cannot_be_solved():
         direct = solve_discrete_lyapunov(fmap.A.T, np.eye(6))
     assert np.linalg.eigvalsh(0.5 * (direct + direct.T)).min() < 0  # the case
     points = np.array([np.linalg.matrix_power(fmap.A, j) @ np.ones(6) for j in range(1, 201)])
-    orbit = Attractor(np.zeros((1, 6)), np.linalg.eigvals(fmap.A))
+    orbit = Attractor(np.zeros((1, 6)), np.linalg.eigvals(fmap.A), 0, fmap.A)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        assert _approaches(fmap, points, orbit, np.ones(6))
-        assert not _approaches(fmap, points[::-1].copy(), orbit, np.ones(6))
+        assert _approaches(points, orbit, np.ones(6))
+        assert not _approaches(points[::-1].copy(), orbit, np.ones(6))
