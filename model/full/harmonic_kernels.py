@@ -324,6 +324,10 @@ def harmonic_variational(law, phi, dphi, s, sw, w, r0, dr0, fields, wave, even_t
     flow's derivative in ``y0`` and, in the last column, in ``parameter`` (:data:`OMEGA`,
     :data:`PRESSURE` of :mod:`model.full.axisymmetric_kernels`; zero for another value),
     exact for the discrete scheme (as :func:`model.full.axisymmetric_kernels.rk4_variational`)."""
+    # The stage loop repeats rk4_variational's. One driver taking the force and Hessian as
+    # compiled arguments would miss numba's on-disk cache in every new process (a function
+    # with a dispatcher-typed argument is keyed by the dispatcher's identity; numba 0.68:
+    # a miss at every start), so every rank of every run would compile it again.
     n = y0.size
     dof = n // 2
     order = phi.shape[1]
