@@ -39,12 +39,20 @@ from scipy.spatial import cKDTree
 from model.fe_annulus import FePrestretch, linear_operators, ray_nodes
 from model.fe_kernels import fe_force
 from model.full import surface
-from model.full.forced import STABLE_STEP
 from model.full.linear import transverse_mode
 
 #: Fraction of RK4's stability limit ``2.8 / omega_max`` the time step takes (RK4 damps the
 #: mesh's fastest modes, excited by the lifted start, by about 5 % per step there).
 STABILITY_FRACTION = 0.5
+#: ``omega_max dt`` of the harmonics' reference motion (:func:`harmonic_reference`), the
+#: product of its RK4 step with the harmonics' highest frequency.  The start from rest excites
+#: the fast in-plane modes, which carry much of ``u`` and ``v``, and RK4's phase error on them
+#: falls as ``(omega dt)^4``.  From rest at a 5 cm orbit (delta = 1.5, order 16, harmonics
+#: 0..3) plus 1 cm of n = 1, halving the step moves u and v by 2.4e-4 and 1.0e-3 of their
+#: largest values from 2.0 (near RK4's limit of 2.8), by 1.1e-6 and 3.4e-6 from 0.25, the
+#: value here (order 3.6 from 0.5; ``tests/test_fe_motion.py``); w and its odd part move by
+#: 5e-9 and 3e-8.
+REFERENCE_STEP = 0.25
 
 
 @dataclass(frozen=True, eq=False)
@@ -334,12 +342,12 @@ def asymmetric_start(harmonic, q, size: float) -> np.ndarray:
 
 
 def harmonic_reference(harmonic, q0, period: float, periods: int, samples: int = 64,
-                       step: float = STABLE_STEP) -> HarmonicReference:
+                       step: float = REFERENCE_STEP) -> HarmonicReference:
     """The undamped free motion of ``harmonic`` (:class:`model.full.harmonic.HarmonicFull`)
     from rest at ``q0`` (``(dof,)``, over ``Re``) for ``periods`` of ``period`` (s), sampled
     ``samples`` times per period, by RK4 with the largest whole fraction of the sampling
     interval whose product with the harmonics' highest frequency is at most ``step``
-    (default :data:`model.full.forced.STABLE_STEP`; RK4 is stable below 2.8)."""
+    (default :data:`REFERENCE_STEP`; RK4 is stable below 2.8)."""
     per_sample = int(np.ceil(period / samples * harmonic.highest_frequency() / step))
     dt = period / (samples * per_sample)
     q0 = np.asarray(q0, float)

@@ -328,9 +328,8 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric) -> dict[
     """The outputs of ``fe_check`` (:func:`model.fe_motion.check_free_orbit`, and with
     ``asymmetric`` :func:`model.fe_motion.check_harmonic_motion` against the harmonics' motion
     from each orbit's state, computed once per orbit) for the converged orbits (NaN elsewhere)."""
-    from model.fe_motion import (ReferenceChange, asymmetric_start, check_free_orbit, check_harmonic_motion,
-                                 harmonic_reference, reference_error)
-    from model.full.forced import STABLE_STEP
+    from model.fe_motion import (REFERENCE_STEP, ReferenceChange, asymmetric_start, check_free_orbit,
+                                 check_harmonic_motion, harmonic_reference, reference_error)
     from model.full.harmonic import HarmonicFull
     from sweep.models.fe2d import fe_motion_for
 
@@ -353,7 +352,7 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric) -> dict[
             references[j] = harmonic_reference(harmonic, asymmetric_start(harmonic, orbits.modal[j], asymmetric),
                                                period, periods, FE_SAMPLES)
             refined = harmonic_reference(finer, asymmetric_start(finer, orbits.modal[j], asymmetric), period, periods,
-                                         FE_SAMPLES, step=STABLE_STEP / 2)
+                                         FE_SAMPLES, step=REFERENCE_STEP / 2)
             for name, value in zip(errors, reference_error(references[j], refined)):
                 out[name][j] = value
     for k, r in enumerate(radial if converged.size else ()):
