@@ -328,17 +328,25 @@ class HarmonicReference(NamedTuple):
     dt: float
 
 
-def asymmetric_start(harmonic, q, size: float) -> np.ndarray:
+def asymmetric_start(harmonic, q, size: float, n: int = 1) -> np.ndarray:
     """``(dof,)``: the coordinates (over ``Re``) on ``harmonic``
-    (:class:`model.full.harmonic.HarmonicFull`) of the axisymmetric state ``q`` (``(U, W)``, over
-    ``Re``: a free orbit's of :class:`model.full.free.FreeFull`) plus ``size`` (m) of the lowest
-    ``n = 1`` transverse mode about the pre-stretch (its largest ``|w|``;
-    :func:`model.full.linear.transverse_mode`) on the harmonic 1."""
+    (:class:`model.full.harmonic.HarmonicFull`, which must carry the harmonic ``n``) of the
+    axisymmetric state ``q`` (``(U, W)``, over ``Re``: a free orbit's of
+    :class:`model.full.free.FreeFull`) plus ``size`` (m) of the lowest transverse mode of wave
+    number ``n`` about the pre-stretch (its largest ``|w|``;
+    :func:`model.full.linear.transverse_mode`) on the harmonic ``n``."""
     model = harmonic.model
     out = np.zeros(harmonic.dof)
     out[harmonic.block(0, "U")], out[harmonic.block(0, "W")] = np.split(np.asarray(q, float), 2)
-    out[harmonic.block(1, "W")] = size / model.membrane.Re * transverse_mode(model.state, 1)[1]
+    out[harmonic.block(n, "W")] = size / model.membrane.Re * transverse_mode(model.state, n)[1]
     return out
+
+
+def wave_number(harmonic) -> int:
+    """The lowest nonzero circumferential harmonic of ``harmonic``
+    (:class:`model.full.harmonic.HarmonicFull`): the wave number ``n`` of its asymmetric motion,
+    whose part on the odd multiples of ``n`` is ``w(theta) - w(theta + pi / n)``, halved."""
+    return min(k for k in harmonic.harmonics if k > 0)
 
 
 def harmonic_reference(harmonic, q0, period: float, periods: int, samples: int = 64,
@@ -361,8 +369,9 @@ class FeHarmonicCheck(NamedTuple):
 
     #: ``max |w_fe - w_h|`` over the instants and the nodes, over ``max |w_h|``
     w_deviation: float
-    #: the same for ``w(rho, theta) - w(rho, theta + pi)``, twice the odd harmonics' part of
-    #: ``w``: the asymmetric motion of ``n = 1`` (and 3, ...) alone
+    #: the same for ``w(rho, theta) - w(rho, theta + pi / n)``, twice the part of ``w`` on
+    #: the odd multiples of ``n`` (:func:`wave_number`; for ``n = 1`` the odd harmonics): the
+    #: asymmetric motion of ``n`` (and 3n, ...) alone
     odd_deviation: float
     #: the same for the radial displacement ``u`` from the pre-stretch
     u_deviation: float
@@ -383,21 +392,18 @@ def check_harmonic_motion(motion: FeMotion, reference: HarmonicReference, step_f
     Returns
     -------
     FeHarmonicCheck
-        The odd part compares every node with the node at ``(-x, -y)``.
+        The odd part compares every node with the node it turns into by ``pi / n``
+        (``n`` the reference's :func:`wave_number`; ``(-x, -y)`` for ``n = 1``).
 
     Raises
     ------
     ValueError
-        When a node has no node opposite it (:meth:`model.fe_annulus.AnnulusMesh.build`
-        places them in pairs).
+        From :func:`turned_nodes`.
     """
     harmonic, period, samples = reference.harmonic, reference.period, reference.samples
     rho, theta = motion.polar_nodes()
     cos, sin = np.cos(theta), np.sin(theta)
-    X = motion.basis.doflocs.T
-    distance, antipode = cKDTree(X).query(-X)
-    if np.any(distance > 1e-9 * np.abs(X).max()):
-        raise ValueError("motion is invalid here: a node of its mesh has no node opposite it at (-x, -y)")
+    partner = turned_nodes(motion, wave_number(harmonic))
     every = int(np.ceil(period / samples / (step_fraction * 2.8 / motion.omega_max)))
     fe = []
 
@@ -412,11 +418,32 @@ def check_harmonic_motion(motion: FeMotion, reference: HarmonicReference, step_f
     fe = np.array(fe)
 
     def odd(w):
-        return w - w[:, antipode]
+        return w - w[:, partner]
 
     return FeHarmonicCheck(_deviation(fe[:, 2], own[:, 2]), _deviation(odd(fe[:, 2]), odd(own[:, 2])),
                            _deviation(fe[:, 0], own[:, 0]), _deviation(fe[:, 1], own[:, 1]),
                            period / (samples * every))
+
+
+def turned_nodes(motion: FeMotion, n: int) -> np.ndarray:
+    """``(N,)``: for each node of the mesh of ``motion``, the node it turns into by ``pi / n``
+    about the centre: ``w - w[turned_nodes(motion, n)]`` is twice the part of a nodal field
+    ``w`` on the odd multiples of the wave number ``n``.
+
+    Raises
+    ------
+    ValueError
+        When a node does not turn into a node (the mesh's elements around are not a multiple
+        of ``2 n``; :meth:`model.fe_annulus.AnnulusMesh.build` repeats one sector around).
+    """
+    X = motion.basis.doflocs.T
+    half_wave = np.pi / n
+    turn = np.array([[np.cos(half_wave), -np.sin(half_wave)], [np.sin(half_wave), np.cos(half_wave)]])
+    distance, partner = cKDTree(X).query(X @ turn.T)
+    if np.any(distance > 1e-9 * np.abs(X).max()):
+        raise ValueError(f"n = {n} is invalid here: a node of the mesh does not turn into a node by pi / {n} "
+                         f"(its elements around must be a multiple of {2 * n})")
+    return partner
 
 
 def _deviation(a, b) -> float:
@@ -435,7 +462,8 @@ class ReferenceChange(NamedTuple):
 
     #: of ``w``
     w: float
-    #: of ``w(rho, theta) - w(rho, theta + pi)``, the odd harmonics' part (the asymmetric motion)
+    #: of ``w(rho, theta) - w(rho, theta + pi / n)``, the part on the odd multiples of the
+    #: wave number ``n`` (the asymmetric motion)
     odd: float
     #: of the radial displacement ``u``
     u: float
@@ -447,16 +475,15 @@ def reference_error(reference: HarmonicReference, finer: HarmonicReference) -> R
     """How far ``reference`` moves when its discretisation is refined: the largest
     ``|w - w_finer|`` over the instants and a polar grid (:data:`REFERENCE_GRID`, angles
     ``2 pi j / 64``) over the largest ``|w_finer|``, and the same for ``w(rho, theta) - w(rho,
-    theta + pi)``, ``u`` and ``v`` -- the measures of :class:`FeHarmonicCheck` -- against
-    ``finer``, the same start on more harmonics or with a smaller step
-    (:func:`harmonic_reference`), sampled at the same instants."""
+    theta + pi / n)`` (``n`` the reference's :func:`wave_number`), ``u`` and ``v`` -- the
+    measures of :class:`FeHarmonicCheck` -- against ``finer``, the same start on more harmonics
+    or with a smaller step (:func:`harmonic_reference`), sampled at the same instants."""
     m = reference.harmonic.model.membrane
     radii, angles = REFERENCE_GRID
     rho, theta = np.meshgrid(np.linspace(m.Ro / m.Re, 1.0, radii), 2.0 * np.pi * np.arange(angles) / angles,
                              indexing="ij")
+    half_wave = np.pi / wave_number(reference.harmonic)
     (u, v, w), (u_f, v_f, w_f) = (r.harmonic.fields(r.coordinates, rho, theta) for r in (reference, finer))
-
-    def odd(x):
-        return x - np.roll(x, -angles // 2, axis=2)
-
-    return ReferenceChange(_deviation(w, w_f), _deviation(odd(w), odd(w_f)), _deviation(u, u_f), _deviation(v, v_f))
+    odd, odd_f = (w_ - r.harmonic.fields(r.coordinates, rho, theta + half_wave)[2]
+                  for w_, r in ((w, reference), (w_f, finer)))
+    return ReferenceChange(_deviation(w, w_f), _deviation(odd, odd_f), _deviation(u, u_f), _deviation(v, v_f))

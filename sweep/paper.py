@@ -40,7 +40,7 @@ PAPER_JOBS = (
 #: the paper: convergence in the basis, the modes and the RK4 steps, and brute-force checks.
 VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
     "linear-basis", "full-static", "full-linear", "full-backbone-order12", "backbone-modes", "held-backbone", "held-backbone-order24", "fe-q1-576", "fe-q1-576-lumped",
-    "fe-free-vibration",
+    "fe-free-vibration", "fe-free-vibration-n2", "fe-free-vibration-n4",
     "forced-modes-omega", "forced-modes-omega-fine", "forced-modes-p0", "forced-modes-p0-fine",
     "fig15a-full-order12", "fig15a-full-order12-fine", "fig15a-full-families", "fig15a-full-families-w",
     "fig15a-full-families-order12", "fig15a-full-families-fine", "fig15a-full-families-finer",

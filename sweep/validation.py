@@ -2947,17 +2947,33 @@ def section_fe_check(results: Path) -> list[str]:
     return out
 
 
+#: The finite-element checks of asymmetric motion started on a wave number above 1
+#: (``fe_check.wave_number``), each a subsection of "The finite-element free vibration".
+FE_WAVE_JOBS = ("validation/fe-free-vibration-n2", "validation/fe-free-vibration-n4")
+
+
 def section_fe_motion(results: Path) -> list[str]:
-    """The full model's free orbits against the free motion on the 2-D mesh."""
-    out = ["## The finite-element free vibration", ""]
+    """The full model's free orbits against the free motion on the 2-D mesh: axisymmetric,
+    from a start of wave number 1, and of the wave numbers of :data:`FE_WAVE_JOBS`."""
+    out = ["## The finite-element free vibration", ""] + _fe_orbits(results)
+    for name in FE_WAVE_JOBS:
+        title = f"### Asymmetric motion of a higher wave number (`{name}`)"
+        out += (_fe_asymmetric_of(results, name, title) if _open(results, name) is not None
+                else [title, ""] + _missing(name))
+    return out
+
+
+def _fe_orbits(results: Path) -> list[str]:
+    """The free orbits against the mesh (``validation/fe-free-vibration``), and its
+    asymmetric check."""
     ds = _open(results, "validation/fe-free-vibration")
     if ds is None:
-        return out + _missing("validation/fe-free-vibration")
+        return _missing("validation/fe-free-vibration")
     radial = [int(r) for r in ds.fe_radial.values]
     around = _job_option(results, "validation/fe-free-vibration", "fe_check", "around", "backbone", FE_AROUND)
     periods = _job_option(results, "validation/fe-free-vibration", "fe_check", "periods", "backbone", FE_PERIODS)
     meshes = " / ".join(str(r) for r in radial)
-    out += [f"`validation/fe-free-vibration`: free periodic orbits of the full model ({ds.attrs.get('model_order', '?')} "
+    out = [f"`validation/fe-free-vibration`: free periodic orbits of the full model ({ds.attrs.get('model_order', '?')} "
             "radial functions per field) and, from rest",
             f"at each orbit's state, the membrane on P2 meshes of {meshes} elements across ({around} times as many "
             "around;", f"Cartesian components, no polar reduction; `model/fe_motion.py`) integrated by RK4 for "
@@ -3012,28 +3028,42 @@ def section_fe_motion(results: Path) -> list[str]:
             "axisymmetry built in, and a 2-D mesh with none -- agree to the mesh's error, which falls at the",
             "element's order.", ""]
     if "fe_harmonic_w_deviation" in ds:
-        size = _job_option(results, "validation/fe-free-vibration", "fe_check", "asymmetric", "backbone", 0.0)
-        out += _fe_asymmetric(ds, radial, periods, size)
+        out += _fe_asymmetric_of(results, "validation/fe-free-vibration", "### Asymmetric motion")
     return out
 
 
-def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str]:
-    """The asymmetric half of the finite-element free vibration (``fe_check.asymmetric``)."""
+
+def _fe_asymmetric_of(results: Path, name: str, title: str) -> list[str]:
+    """:func:`_fe_asymmetric` of the result ``name`` with its job's ``fe_check`` options."""
+    def option(field, default):
+        return _job_option(results, name, "fe_check", field, "backbone", default)
+
+    ds = _open(results, name)
+    return _fe_asymmetric(ds, [int(r) for r in ds.fe_radial.values], option("periods", FE_PERIODS),
+                          option("asymmetric", 0.0), option("wave_number", 1), name, title)
+
+
+def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
+                   name: str = "validation/fe-free-vibration", title: str = "### Asymmetric motion") -> list[str]:
+    """The asymmetric half of the finite-element free vibration (``fe_check.asymmetric``, the
+    start's wave number ``n``) of the result ``name``, under the heading ``title``."""
+    half = "pi" if n == 1 else f"pi / {n}"
+    odd_part = "its odd harmonics' part" if n == 1 else f"its part on the odd multiples of {n}"
     meshes = " / ".join(str(r) for r in radial)
     fields = {"w": "w", "odd part": "odd", "u": "u", "v": "v"}  # label -> the variables' field name
     names = {k: f"fe_harmonic_{f}_deviation" for k, f in fields.items()}
     # (u and v: runs from before their own error was measured have none)
     measured = [k for k, f in fields.items() if f"fe_harmonic_reference_{f}_error" in ds]
-    out = ["### Asymmetric motion", "",
-           f"From rest at each orbit's state plus {size:g} m of the lowest n = 1 transverse mode (its largest |w|), the "
-           "same meshes", f"against the full model on the circumferential harmonics {', '.join(map(str, FE_HARMONICS))} "
-           f"(`model/full/harmonic.py`), {periods} periods,",
+    out = [title, "",
+           f"From rest at each orbit's state plus {size:g} m of the lowest n = {n} transverse mode (its largest |w|), "
+           f"the meshes of `{name}`", "against the full model on the circumferential harmonics "
+           f"{', '.join(str(k * n) for k in FE_HARMONICS)} (`model/full/harmonic.py`), {periods} periods,",
            f"compared at the mesh's nodes, where a P2 field's values are its coefficients, {FE_SAMPLES} instants per "
            "period", "(`model.fe_motion.check_harmonic_motion`): the largest deviation of w over its largest value, the "
-           "same", "for w(rho, theta) - w(rho, theta + pi), twice its odd harmonics' part (the n = 1 motion and what it "
-           "drives", "in the odd harmonics), and for u and v. \"Reference\": how far the harmonics' own motion moves "
-           "with the", f"harmonics {', '.join(map(str, FE_MORE_HARMONICS))} added and half its step ({' / '.join(measured)}, "
-           "on a polar grid; `model.fe_motion.reference_error`).", "",
+           f"same", f"for w(rho, theta) - w(rho, theta + {half}), twice {odd_part} (the n = {n} motion and what it "
+           "drives", "there), and for u and v. \"Reference\": how far the harmonics' own motion moves with the",
+           f"harmonics {', '.join(str(k * n) for k in FE_MORE_HARMONICS)} added and half its step "
+           f"({' / '.join(measured)}, on a polar grid; `model.fe_motion.reference_error`).", "",
            f"| delta | amplitude (m) | w deviation, {meshes} | odd part | u | v | reference |", "|---|---|---|---|---|---|---|"]
     orders = {k: [] for k in names}
     finest = {k: [] for k in names}
@@ -3078,12 +3108,12 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float) -> list[str
            "these fields are partly the harmonics' own error)") for g, b in zip(groups, bounds)) + ".",
             f"On {radial[-1]} elements across w deviates by at most {largest['w']:.1e} of its largest value and its "
             f"odd part by {largest['odd part']:.1e}"
-            + (": the full model's circumferential harmonics integrate the n = 1 transverse motion as a mesh with no "
+            + (f": the full model's circumferential harmonics integrate the n = {n} transverse motion as a mesh with no "
                "harmonics does, to the mesh's error, which falls at the element's order (above 2.5 between the two "
                "finest meshes)." if at_order else ", but between the two finest meshes the order of w or of the odd "
                "part is 2.5 or less at some orbit: not yet at the element's order there."),
             f"u deviates by at most {largest['u']:.1e} (orders {span('u', pairs - 1)} between the two finest meshes) "
-            f"and v, the n = 1 part's circumferential displacement, by {largest['v']:.1e} (orders "
+            f"and v, the n = {n} part's circumferential displacement, by {largest['v']:.1e} (orders "
             f"{span('v', pairs - 1)})"
             + (": v converges more slowly than w at every orbit, for a reason these runs do not establish (not the "
                "time steps)." if last["v"].size and last["w"].size and last["v"].max()

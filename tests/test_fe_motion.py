@@ -9,7 +9,8 @@ import pytest
 from model.backbone import continue_free_orbits
 from model.fe_annulus import AnnulusMesh, fe_modes, ray_nodes, solve_fe_prestretch
 from model.fe_motion import (REFERENCE_STEP, STABILITY_FRACTION, FeMotion, asymmetric_start, check_free_orbit,
-                              check_harmonic_motion, extremum_times, harmonic_reference, reference_error)
+                              check_harmonic_motion, extremum_times, harmonic_reference, reference_error,
+                              turned_nodes)
 from model.full import surface
 from model.full.axisymmetric import AxisymmetricFull
 from model.full.free import FreeFull
@@ -205,6 +206,21 @@ def test_the_harmonics_reference_converges_at_rk4s_order_in_u_and_v(orbit):
         assert getattr(fine_change, field) < 1e-4, field
 
 
+@pytest.mark.parametrize("n", [1, 2, 4])
+def test_the_odd_part_of_wave_number_n_keeps_the_odd_multiples_of_n(coarse, n):
+    """On the 4 x 16 mesh a nodal field on the harmonics 0, n, 2n, 3n: w - w at the nodes
+    turned by pi / n is twice its part on n and 3n (to rounding: the turned nodes are the
+    mesh's own, found to 1e-9), and a wave number whose half turn is not a whole number of
+    elements is refused."""
+    rho, theta = coarse.polar_nodes()
+    f = [np.sin(np.pi * (rho - rho.min()) / np.ptp(rho)) ** (k + 1) for k in range(4)]
+    parts = [f[k] * np.cos(k * n * theta + 0.3 * k) for k in range(4)]
+    w = sum(parts)
+    assert np.abs(w - w[turned_nodes(coarse, n)] - 2 * (parts[1] + parts[3])).max() < 1e-12
+    with pytest.raises(ValueError, match="n = 3 is invalid here"):
+        turned_nodes(coarse, 3)
+
+
 def test_the_asymmetric_start_has_the_size_asked_in_metres():
     """On a membrane of Re = 2 m: the harmonic 1 of the start has its largest |w| (m) equal to
     the size asked (to 2e-5, the error of a maximum on this grid of 401 radii: its spacing
@@ -224,12 +240,15 @@ def test_the_asymmetric_start_has_the_size_asked_in_metres():
 
 
 def test_the_backbone_fe_check_option_writes_the_mesh_study(tmp_path):
-    text = (JOBS / "validation/fe-free-vibration.toml").read_text()
+    # (the job of wave number 2: the n = 1 start is the default, and the tests above check it)
+    text = (JOBS / "validation/fe-free-vibration-n2.toml").read_text()
     text = (text.replace("order = 16", "order = 8").replace("delta = [1.1, 1.5, 2.0]", "delta = [1.5]")
             .replace("start = 0.02, stop = 0.1, num = 3", "start = 0.02, stop = 0.04, num = 2")
             .replace("radial = [4, 8, 16]", "radial = [2, 4]"))
     ds = _run(tmp_path, "fe", text).squeeze()
     assert list(ds.fe_radial.values) == [2, 4]
+    assert "harmonics 0, 2, 4, 6" in ds.fe_harmonic_w_deviation.long_name
+    assert "pi / 2" in ds.fe_harmonic_odd_deviation.long_name
     assert ds.fe_omega.dims == ("point", "fe_radial") and np.isfinite(ds.fe_omega).all()
     assert (ds.fe_omega_spread >= 0).all()
     # the finer mesh is closer to the full model's orbit in both fields; the frequencies are
@@ -255,6 +274,9 @@ def test_the_backbone_fe_check_option_writes_the_mesh_study(tmp_path):
      "backbone.fe_check.asymmetric = -0.01 is invalid"),
     ("validation/fe-free-vibration.toml", ('kind = "full"', 'kind = "full"\ninplane = false'),
      "a check of the full model's orbits with in-plane motion"),
+    ("validation/fe-free-vibration-n2.toml", ("wave_number = 2", "wave_number = 3"),
+     "backbone.fe_check.wave_number = 3 is invalid: one whose double divides the elements around of every mesh "
+     "(16, 32, 64)"),
 ])
 def test_bad_fe_checks_are_refused_in_one_line(tmp_path, capsys, job, change, message):
     path = tmp_path / "bad.toml"

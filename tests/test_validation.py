@@ -339,6 +339,11 @@ def test_the_asymmetric_finite_element_check():
     assert "at most 2.0e-02 of the finest mesh's deviations of w and odd part (the deviations are the mesh's)." in text
     assert "w deviates by at most 2.0e-03 of its largest value and its odd part by 4.0e-03: the full model's" in text
     assert "0.01 m of the lowest n = 1 transverse mode" in text and "v converges more slowly than w" in text
+    # a start of wave number 2: its harmonics, its half turn, its refinement
+    text = "\n".join(validation._fe_asymmetric(ds, [4, 8], 2, 0.01, 2, "validation/fe-free-vibration-n2", "### n2"))
+    assert text.startswith("### n2") and "the lowest n = 2 transverse mode" in text
+    assert "harmonics 0, 2, 4, 6 (" in text and "w(rho, theta + pi / 2), twice its part on the odd multiples of 2" in text
+    assert "harmonics 8, 10 added" in text and "integrate the n = 2 transverse motion" in text
     # an order of 2.5 or less between the finest meshes is said so, and a large own error
     slow = ds.assign(fe_harmonic_odd_deviation=(fr, 2 * np.sqrt(w)),
                      fe_harmonic_reference_odd_error=(pt, [[[4e-6, 2e-2]]]))

@@ -30,16 +30,17 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   (:func:`model.fe_motion.check_free_orbit`);
 * ``fe_harmonic_w_deviation``, ``fe_harmonic_odd_deviation``, ``fe_harmonic_u_deviation``,
   ``fe_harmonic_v_deviation`` (``point``, ``fe_radial``) -- with ``fe_check.asymmetric = A``
-  (m): the same meshes from rest at each orbit's state plus ``A`` times the lowest ``n = 1``
-  transverse mode (largest ``|w|`` of ``A``) against the full model on the circumferential
-  harmonics :data:`FE_HARMONICS` (:mod:`model.full.harmonic`): the largest deviations of
-  ``w``, of ``w(rho, theta) - w(rho, theta + pi)`` (twice its odd harmonics' part: the
-  asymmetric motion), of ``u`` and of ``v`` at the mesh's nodes over the instants
+  (m): the same meshes from rest at each orbit's state plus ``A`` times the lowest
+  transverse mode of wave number ``n = fe_check.wave_number`` (default 1; largest ``|w|`` of
+  ``A``) against the full model on the circumferential harmonics :data:`FE_HARMONICS` times
+  ``n`` (:mod:`model.full.harmonic`): the largest deviations of ``w``, of ``w(rho, theta) -
+  w(rho, theta + pi / n)`` (twice its part on the odd multiples of ``n``: the asymmetric
+  motion), of ``u`` and of ``v`` at the mesh's nodes over the instants
   (:func:`model.fe_motion.check_harmonic_motion`); and ``fe_harmonic_reference_w_error``,
   ``fe_harmonic_reference_odd_error``, ``fe_harmonic_reference_u_error``,
   ``fe_harmonic_reference_v_error`` (``point``): how far the harmonics' motion moves with
-  the harmonics 4 and 5 added and half its step (:func:`model.fe_motion.reference_error`),
-  to be read against the finest mesh's deviations;
+  the harmonics :data:`FE_MORE_HARMONICS` times ``n`` added and half its step
+  (:func:`model.fe_motion.reference_error`), to be read against the finest mesh's deviations;
 * ``turn_amplitude``, ``turn_omega`` -- where the pseudo-arclength branch of free orbits
   (:func:`model.backbone.backbone_branch`) first turns back in amplitude (an internal
   resonance), NaN when it reaches the largest target without turning; targets beyond it
@@ -78,9 +79,10 @@ DEFAULT_AMPLITUDE = {"start": 1e-3, "stop": 0.4, "num": 40}
 FE_AROUND, FE_PERIODS = 4, 2
 #: Instants per period at which ``fe_check`` compares the mesh with the full model.
 FE_SAMPLES = 64
-#: The circumferential harmonics of ``fe_check.asymmetric``'s model: n = 1 and what its
-#: square and cube drive; the check refines them with :data:`FE_MORE_HARMONICS` and half the
-#: step to measure what the truncation and the step contribute.
+#: The circumferential harmonics of ``fe_check.asymmetric``'s model, in multiples of the wave
+#: number n of its start: n and what its square and cube drive; the check refines them with
+#: :data:`FE_MORE_HARMONICS` (times n) and half the step to measure what the truncation and the
+#: step contribute.
 FE_HARMONICS = (0, 1, 2, 3)
 FE_MORE_HARMONICS = (4, 5)
 #: Radii of ``orbit_u`` and ``orbit_w``, equally spaced from the inner to the outer edge (81:
@@ -103,8 +105,9 @@ class BackboneOptions:
     #: instants per period of ``orbit_u``, ``orbit_w`` (0: none)
     orbit_samples: int = 0
     #: ``fe_check``: the meshes' radial elements, the elements around per radial one, the
-    #: periods integrated and the asymmetric part's size (m; 0: none); ``((), 0, 0, 0.0)``: no check
-    fe_check: tuple[tuple[int, ...], int, int, float] = ((), 0, 0, 0.0)
+    #: periods integrated, the asymmetric part's size (m; 0: none) and its wave number;
+    #: ``((), 0, 0, 0.0, 1)``: no check
+    fe_check: tuple[tuple[int, ...], int, int, float, int] = ((), 0, 0, 0.0, 1)
 
     @property
     def targets(self) -> np.ndarray:
@@ -126,15 +129,17 @@ class BackboneAnalysis(Analysis):
         "peak_damping": "damping c of the decays of the peak-to-peak method (N s/m^3, > 0; default 0.05)",
         "orbit_samples": f"N: u and w over one period of each free orbit at N instants and {ORBIT_RADII} radii, "
                          "orbit_u and orbit_w (Fig. 8; models with in-plane motion; default 0: none)",
-        "fe_check": "{radial = [4, 8, 16], around = 4, periods = 2, asymmetric = 0}: each free orbit's motion on "
+        "fe_check": "{radial = [4, 8, 16], around = 4, periods = 2, asymmetric = 0, wave_number = 1}: each free "
+                    "orbit's motion on "
                     "two-dimensional finite-element meshes of radial P2 elements across and around x radial around, "
                     "integrated for periods periods from rest at the orbit's state; fe_omega, fe_omega_spread, "
                     "fe_w_deviation, fe_u_deviation (the full model with u free; docs/validation.md, \"The "
                     "finite-element free vibration\"); with asymmetric = A (m), the same from the orbit's state plus "
-                    f"A times the lowest n = 1 transverse mode against the full model on the harmonics "
-                    f"{', '.join(map(str, FE_HARMONICS))}: fe_harmonic_w_deviation, fe_harmonic_odd_deviation, "
-                    "fe_harmonic_u_deviation, fe_harmonic_v_deviation, and the harmonics' own error, "
-                    "fe_harmonic_reference_<w, odd, u, v>_error (A in m; 0: no asymmetric check)",
+                    "A times the lowest transverse mode of wave number n = wave_number against the full model on "
+                    f"the harmonics {', '.join(map(str, FE_HARMONICS))} times n: fe_harmonic_w_deviation, "
+                    "fe_harmonic_odd_deviation, fe_harmonic_u_deviation, fe_harmonic_v_deviation, and the harmonics' "
+                    "own error, fe_harmonic_reference_<w, odd, u, v>_error (A in m; 0: no asymmetric check; "
+                    "wave_number 1 to 8, 2 n dividing the elements around of every mesh)",
     }
 
     def parse_options(self, table, grid, membrane, context=DEFAULT_CONTEXT):
@@ -146,7 +151,7 @@ class BackboneAnalysis(Analysis):
         if samples and not inplane:
             raise JobError(f"{self.name}.orbit_samples", samples, "needs a model with in-plane motion ([model] kind "
                            "= \"full\", inplane = true); this job's model has none")
-        fe_check = _fe_check_option(table.get("fe_check"), context) if "fe_check" in table else ((), 0, 0, 0.0)
+        fe_check = _fe_check_option(table.get("fe_check"), context) if "fe_check" in table else ((), 0, 0, 0.0, 1)
         return BackboneOptions(
             modes=opt.modes(table, self.name),
             prestretch=opt.prestretch(table, self.name, context),
@@ -266,9 +271,9 @@ def _padded(values) -> np.ndarray:
     return out
 
 
-def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int, float]:
-    """``fe_check = {radial = [...], around = A, periods = P, asymmetric = S}`` as ``(radial,
-    A, P, S)``."""
+def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int, float, int]:
+    """``fe_check = {radial = [...], around = A, periods = P, asymmetric = S, wave_number = n}``
+    as ``(radial, A, P, S, n)``."""
     key = "backbone.fe_check"
     if context.model.kind != "full" or not context.model.options.inplane:
         raise JobError(key, value, "a check of the full model's orbits with in-plane motion ([model] kind = "
@@ -276,7 +281,7 @@ def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int, float]:
                        + ("" if context.model.kind != "full" else " with u held"))
     if not isinstance(value, dict):
         raise JobError(key, value, "a table {radial = [4, 8, 16], around = 4, periods = 2, asymmetric = 0}")
-    check_keys(value, key, ("radial", "around", "periods", "asymmetric"))
+    check_keys(value, key, ("radial", "around", "periods", "asymmetric", "wave_number"))
     radial = value.get("radial", [4, 8, 16])
     what = "a non-empty list of distinct increasing element counts from 1 to 64"
     sizes = (opt.increasing(radial, f"{key}.radial", what, 1, 64) if isinstance(radial, list) else
@@ -285,29 +290,36 @@ def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int, float]:
     if around * sizes[0] < 8:
         raise JobError(f"{key}.around", around, f"at least {-(-8 // sizes[0])} (8 elements around or more on "
                        f"the coarsest mesh of {sizes[0]} across)")
+    n = opt.number(value, key, "wave_number", 1, low=1, high=8, integer=True)
+    if any(around * r % (2 * n) for r in sizes):
+        raise JobError(f"{key}.wave_number", n, f"one whose double divides the elements around of every mesh "
+                       f"({', '.join(str(around * r) for r in sizes)}): the odd part turns the mesh by pi / n")
     return (sizes, around, opt.number(value, key, "periods", FE_PERIODS, low=1, high=100, integer=True),
-            opt.number(value, key, "asymmetric", 0.0, low=0.0, high=1.0))
+            opt.number(value, key, "asymmetric", 0.0, low=0.0, high=1.0), n)
 
 
 def _fe_variables(options) -> list[Variable]:
     if not options.fe_check[0]:
         return []
     dims, shape = ("point", "fe_radial"), (options.amplitude[2], len(options.fe_check[0]))
-    harmonics = ", ".join(map(str, FE_HARMONICS))
+    n = options.fe_check[4]
+    harmonics = ", ".join(str(k * n) for k in FE_HARMONICS)
     asymmetric = [
         Variable("fe_harmonic_w_deviation", dims, shape, "f8", "1", "from rest at the orbit's state plus "
-                 "fe_check.asymmetric times the lowest n = 1 transverse mode: largest |w_fe - w| over the instants "
-                 f"and the mesh's nodes, over the largest |w|, w of the full model on the harmonics {harmonics}"),
-        Variable("fe_harmonic_odd_deviation", dims, shape, "f8", "1", "the same for the odd harmonics' part "
-                 "w(rho, theta) - w(rho, theta + pi): the asymmetric motion alone"),
+                 f"fe_check.asymmetric times the lowest n = {n} transverse mode: largest |w_fe - w| over the "
+                 f"instants and the mesh's nodes, over the largest |w|, w of the full model on the harmonics "
+                 f"{harmonics}"),
+        Variable("fe_harmonic_odd_deviation", dims, shape, "f8", "1", "the same for the part on the odd "
+                 f"multiples of {n}, w(rho, theta) - w(rho, theta + pi / {n}): the asymmetric motion alone"),
         Variable("fe_harmonic_u_deviation", dims, shape, "f8", "1", "the same for the radial displacement u"),
         Variable("fe_harmonic_v_deviation", dims, shape, "f8", "1", "the same for the circumferential "
                  "displacement v"),
         Variable("fe_harmonic_reference_w_error", ("point",), shape[:1], "f8", "1", "largest change of w over "
-                 f"the instants and a polar grid, over the largest |w|, when the harmonics {FE_MORE_HARMONICS} are "
+                 f"the instants and a polar grid, over the largest |w|, when the harmonics "
+                 f"{', '.join(str(k * n) for k in FE_MORE_HARMONICS)} are "
                  "added and the step halved: the full model's own error in the fe_harmonic_* comparisons"),
         Variable("fe_harmonic_reference_odd_error", ("point",), shape[:1], "f8", "1", "the same for "
-                 "w(rho, theta) - w(rho, theta + pi)"),
+                 f"w(rho, theta) - w(rho, theta + pi / {n})"),
         Variable("fe_harmonic_reference_u_error", ("point",), shape[:1], "f8", "1", "the same for u"),
         Variable("fe_harmonic_reference_v_error", ("point",), shape[:1], "f8", "1", "the same for v"),
     ] if options.fe_check[3] else []
@@ -324,10 +336,11 @@ def _fe_variables(options) -> list[Variable]:
     ]
 
 
-def _fe_check(point, free, orbits, radial, around, periods, asymmetric) -> dict[str, np.ndarray]:
+def _fe_check(point, free, orbits, radial, around, periods, asymmetric, n) -> dict[str, np.ndarray]:
     """The outputs of ``fe_check`` (:func:`model.fe_motion.check_free_orbit`, and with
     ``asymmetric`` :func:`model.fe_motion.check_harmonic_motion` against the harmonics' motion
-    from each orbit's state, computed once per orbit) for the converged orbits (NaN elsewhere)."""
+    from each orbit's state plus ``asymmetric`` (m) of the lowest mode of wave number ``n``,
+    computed once per orbit) for the converged orbits (NaN elsewhere)."""
     from model.fe_motion import (REFERENCE_STEP, ReferenceChange, asymmetric_start, check_free_orbit,
                                  check_harmonic_motion, harmonic_reference, reference_error)
     from model.full.harmonic import HarmonicFull
@@ -345,14 +358,14 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric) -> dict[
     if asymmetric:
         errors = tuple(f"fe_harmonic_reference_{field}_error" for field in ReferenceChange._fields)
         out.update({k: np.full(orbits.omega.size, np.nan) for k in errors})
-        harmonic = HarmonicFull(free.model, FE_HARMONICS)
-        finer = HarmonicFull(free.model, FE_HARMONICS + FE_MORE_HARMONICS)
+        harmonic = HarmonicFull(free.model, [k * n for k in FE_HARMONICS])
+        finer = HarmonicFull(free.model, [k * n for k in FE_HARMONICS + FE_MORE_HARMONICS])
         for j in converged:
             period = 2.0 * np.pi / orbits.omega[j]
-            references[j] = harmonic_reference(harmonic, asymmetric_start(harmonic, orbits.modal[j], asymmetric),
+            references[j] = harmonic_reference(harmonic, asymmetric_start(harmonic, orbits.modal[j], asymmetric, n),
                                                period, periods, FE_SAMPLES)
-            refined = harmonic_reference(finer, asymmetric_start(finer, orbits.modal[j], asymmetric), period, periods,
-                                         FE_SAMPLES, step=REFERENCE_STEP / 2)
+            refined = harmonic_reference(finer, asymmetric_start(finer, orbits.modal[j], asymmetric, n), period,
+                                         periods, FE_SAMPLES, step=REFERENCE_STEP / 2)
             for name, value in zip(errors, reference_error(references[j], refined)):
                 out[name][j] = value
     for k, r in enumerate(radial if converged.size else ()):
