@@ -34,8 +34,9 @@ class Attractor:
         Index in ``points`` of the point a search converged to (:func:`find_periodic_orbit`:
         the phase of its start); 0 otherwise.
     jacobian : (2K, 2K) array or None
-        The derivative of ``P^k`` at ``points[found_at]`` (the search's last Newton matrix);
-        None where the orbit was not found by a search (read back from a result file).
+        The derivative of ``P^k`` at ``points[found_at]``, from the search's last iteration
+        (its Newton matrix is this minus the identity); None where the orbit was not found by
+        a search (read back from a result file).
     """
 
     points: np.ndarray

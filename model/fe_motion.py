@@ -328,13 +328,13 @@ class HarmonicReference(NamedTuple):
     dt: float
 
 
-def asymmetric_start(harmonic, q, size: float, n: int = 1) -> np.ndarray:
+def asymmetric_start(harmonic, q, size: float) -> np.ndarray:
     """``(dof,)``: the coordinates (over ``Re``) on ``harmonic``
-    (:class:`model.full.harmonic.HarmonicFull`, which must carry the harmonic ``n``) of the
-    axisymmetric state ``q`` (``(U, W)``, over ``Re``: a free orbit's of
-    :class:`model.full.free.FreeFull`) plus ``size`` (m) of the lowest transverse mode of wave
-    number ``n`` about the pre-stretch (its largest ``|w|``;
-    :func:`model.full.linear.transverse_mode`) on the harmonic ``n``."""
+    (:class:`model.full.harmonic.HarmonicFull`) of the axisymmetric state ``q`` (``(U, W)``,
+    over ``Re``: a free orbit's of :class:`model.full.free.FreeFull`) plus ``size`` (m) of the
+    lowest transverse mode of its wave number ``n`` (:func:`wave_number`) about the pre-stretch
+    (its largest ``|w|``; :func:`model.full.linear.transverse_mode`) on the harmonic ``n``."""
+    n = wave_number(harmonic)
     model = harmonic.model
     out = np.zeros(harmonic.dof)
     out[harmonic.block(0, "U")], out[harmonic.block(0, "W")] = np.split(np.asarray(q, float), 2)
@@ -345,8 +345,18 @@ def asymmetric_start(harmonic, q, size: float, n: int = 1) -> np.ndarray:
 def wave_number(harmonic) -> int:
     """The lowest nonzero circumferential harmonic of ``harmonic``
     (:class:`model.full.harmonic.HarmonicFull`): the wave number ``n`` of its asymmetric motion,
-    whose part on the odd multiples of ``n`` is ``w(theta) - w(theta + pi / n)``, halved."""
-    return min(k for k in harmonic.harmonics if k > 0)
+    whose part on the odd multiples of ``n`` is ``w(theta) - w(theta + pi / n)``, halved.
+
+    Raises
+    ------
+    ValueError
+        When ``harmonic`` has no nonzero harmonic, or one that is not a multiple of ``n``.
+    """
+    n = min((k for k in harmonic.harmonics if k > 0), default=0)
+    if n == 0 or any(k % n for k in harmonic.harmonics):
+        raise ValueError(f"harmonics = {list(harmonic.harmonics)} is invalid here: 0 and multiples of a wave "
+                         "number n >= 1, at least n itself")
+    return n
 
 
 def harmonic_reference(harmonic, q0, period: float, periods: int, samples: int = 64,

@@ -2957,9 +2957,12 @@ def section_fe_motion(results: Path) -> list[str]:
     from a start of wave number 1, and of the wave numbers of :data:`FE_WAVE_JOBS`."""
     out = ["## The finite-element free vibration", ""] + _fe_orbits(results)
     for name in FE_WAVE_JOBS:
-        title = f"### Asymmetric motion of a higher wave number (`{name}`)"
-        out += (_fe_asymmetric_of(results, name, title) if _open(results, name) is not None
-                else [title, ""] + _missing(name))
+        ds = _open(results, name)
+        if ds is None or "fe_harmonic_w_deviation" not in ds:
+            out += [f"### Asymmetric motion of a higher wave number (`{name}`)", ""] + _missing(name)
+        else:
+            n = _job_option(results, name, "fe_check", "wave_number", "backbone", 1)
+            out += _fe_asymmetric_of(results, name, ds, f"### Asymmetric motion of wave number {n}")
     return out
 
 
@@ -2974,17 +2977,17 @@ def _fe_orbits(results: Path) -> list[str]:
     periods = _job_option(results, "validation/fe-free-vibration", "fe_check", "periods", "backbone", FE_PERIODS)
     meshes = " / ".join(str(r) for r in radial)
     out = [f"`validation/fe-free-vibration`: free periodic orbits of the full model ({ds.attrs.get('model_order', '?')} "
-            "radial functions per field) and, from rest",
-            f"at each orbit's state, the membrane on P2 meshes of {meshes} elements across ({around} times as many "
-            "around;", f"Cartesian components, no polar reduction; `model/fe_motion.py`) integrated by RK4 for "
-            f"{periods} periods.",
-            "Columns per mesh: the largest deviations of w and u from the orbit along the ray theta = 0 (81 radii, "
-            f"{FE_SAMPLES}", "instants per period) over the orbit's largest |w|, |u| there; the relative difference of the mesh's",
-            "frequency (from the extrema of w(0.5 Re, 0)) from the orbit's, and in brackets the range of its half",
-            "periods' frequencies (relative): the motion from the orbit's fields interpolated at the nodes also",
-            "carries the mesh's other modes, and a difference below that range is not resolved.", "",
-            f"| delta | A (m) | omega (rad/s) | w deviation, {meshes} | u deviation | frequency difference (range) |",
-            "|---|---|---|---|---|---|"]
+           "radial functions per field) and, from rest",
+           f"at each orbit's state, the membrane on P2 meshes of {meshes} elements across ({around} times as many "
+           "around;", f"Cartesian components, no polar reduction; `model/fe_motion.py`) integrated by RK4 for "
+           f"{periods} periods.",
+           "Columns per mesh: the largest deviations of w and u from the orbit along the ray theta = 0 (81 radii, "
+           f"{FE_SAMPLES}", "instants per period) over the orbit's largest |w|, |u| there; the relative difference of the mesh's",
+           "frequency (from the extrema of w(0.5 Re, 0)) from the orbit's, and in brackets the range of its half",
+           "periods' frequencies (relative): the motion from the orbit's fields interpolated at the nodes also",
+           "carries the mesh's other modes, and a difference below that range is not resolved.", "",
+           f"| delta | A (m) | omega (rad/s) | w deviation, {meshes} | u deviation | frequency difference (range) |",
+           "|---|---|---|---|---|---|"]
     orders = {"w": [], "u": [], "frequency": []}
     finest = {"w": [], "u": [], "frequency": []}
     for d in ds.delta.values:
@@ -3028,17 +3031,16 @@ def _fe_orbits(results: Path) -> list[str]:
             "axisymmetry built in, and a 2-D mesh with none -- agree to the mesh's error, which falls at the",
             "element's order.", ""]
     if "fe_harmonic_w_deviation" in ds:
-        out += _fe_asymmetric_of(results, "validation/fe-free-vibration", "### Asymmetric motion")
+        out += _fe_asymmetric_of(results, "validation/fe-free-vibration", ds, "### Asymmetric motion")
     return out
 
 
-
-def _fe_asymmetric_of(results: Path, name: str, title: str) -> list[str]:
-    """:func:`_fe_asymmetric` of the result ``name`` with its job's ``fe_check`` options."""
+def _fe_asymmetric_of(results: Path, name: str, ds, title: str) -> list[str]:
+    """:func:`_fe_asymmetric` of ``ds``, the result ``name``, with its job's ``fe_check``
+    options."""
     def option(field, default):
         return _job_option(results, name, "fe_check", field, "backbone", default)
 
-    ds = _open(results, name)
     return _fe_asymmetric(ds, [int(r) for r in ds.fe_radial.values], option("periods", FE_PERIODS),
                           option("asymmetric", 0.0), option("wave_number", 1), name, title)
 
@@ -3075,8 +3077,8 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
             if not np.isfinite(float(p.omega_nl)):
                 continue
             cells = []
-            for k, name in names.items():
-                v = p[name].values
+            for k, variable in names.items():
+                v = p[variable].values
                 orders[k].append([np.log(v[i] / v[i + 1]) / np.log(radial[i + 1] / radial[i])
                                   for i in range(len(v) - 1)])
                 finest[k].append(v[-1])

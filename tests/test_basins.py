@@ -92,6 +92,10 @@ def test_one_mode_newton_finds_what_the_quadrature_map_finds(rom):
             assert np.abs((a.points - b.points) * scale).max() < 1e-9
             assert np.abs((d.points - b.points) * scale).max() < 1e-9
             np.testing.assert_allclose(np.sort(np.abs(a.multipliers)), np.sort(np.abs(b.multipliers)), rtol=1e-8)
+            # both searches keep the derivative of P at the converged point (the compiled
+            # one's closed-form 2 x 2 products, the general one's matrix products) as the map has it
+            for att, fmap in ((a, table), (b, quadrature)):
+                np.testing.assert_allclose(att.jacobian, fmap.monodromy(att.points[att.found_at])[1], rtol=1e-10)
             found.append(a)
     assert len(found) == 3 and len({round(float(a.points[0, 0]), 4) for a in found}) == 3
     assert sum(np.max(np.abs(a.multipliers)) > 1.0 for a in found) == 1  # the saddle

@@ -221,34 +221,39 @@ def test_the_odd_part_of_wave_number_n_keeps_the_odd_multiples_of_n(coarse, n):
         turned_nodes(coarse, 3)
 
 
-def test_the_asymmetric_start_has_the_size_asked_in_metres():
-    """On a membrane of Re = 2 m: the harmonic 1 of the start has its largest |w| (m) equal to
-    the size asked (to 2e-5, the error of a maximum on this grid of 401 radii: its spacing
-    squared times the shape's curvature), and the axisymmetric state's fields are the state's."""
+@pytest.mark.parametrize("n", [1, 2, 4])
+def test_the_asymmetric_start_has_the_size_asked_in_metres(n):
+    """On a membrane of Re = 2 m, on the harmonics 0, n, 2n: the harmonic n of the start has
+    its largest |w| (m) equal to the size asked (to 2e-5, the error of a maximum on this grid of
+    401 radii: its spacing squared times the shape's curvature), and the axisymmetric state's
+    fields are the state's; harmonics that are not 0 and multiples of one n are refused."""
     membrane = Membrane(delta=1.5, delta_o=0.2, Re=2.0)
     model = AxisymmetricFull(solve_full_prestretch(membrane, 8))
-    harmonic = HarmonicFull(model, (0, 1))
+    harmonic = HarmonicFull(model, (0, n, 2 * n))
     q = np.linspace(0.01, 0.02, 2 * model.order)
     start = asymmetric_start(harmonic, q, 0.03)
     rho = np.linspace(membrane.Ro, membrane.Re, 401) / membrane.Re
     u0, _, w0 = harmonic.fields(start, rho, 0.0 * rho)
-    u_pi, _, w_pi = harmonic.fields(start, rho, np.pi + 0.0 * rho)
+    u_pi, _, w_pi = harmonic.fields(start, rho, np.pi / n + 0.0 * rho)
     assert membrane.Re * np.abs(w0 - w_pi).max() / 2 == pytest.approx(0.03, rel=2e-5)
     b = model.state.basis
     assert (w0 + w_pi) / 2 == pytest.approx(b.evaluate(q[model.order:], rho)[0], abs=1e-15)
     assert (u0 + u_pi) / 2 == pytest.approx(b.evaluate(q[:model.order], rho)[0], abs=1e-15)
+    with pytest.raises(ValueError, match="0 and multiples of a wave number"):
+        asymmetric_start(HarmonicFull(model, (0, 2 * n, 3 * n)), q, 0.03)
 
 
-def test_the_backbone_fe_check_option_writes_the_mesh_study(tmp_path):
-    # (the job of wave number 2: the n = 1 start is the default, and the tests above check it)
-    text = (JOBS / "validation/fe-free-vibration-n2.toml").read_text()
+@pytest.mark.parametrize("job, harmonics, half_wave", [("fe-free-vibration", "0, 1, 2, 3", "theta + pi)"),
+                                                     ("fe-free-vibration-n2", "0, 2, 4, 6", "theta + pi / 2)")])
+def test_the_backbone_fe_check_option_writes_the_mesh_study(tmp_path, job, harmonics, half_wave):
+    text = (JOBS / f"validation/{job}.toml").read_text()
     text = (text.replace("order = 16", "order = 8").replace("delta = [1.1, 1.5, 2.0]", "delta = [1.5]")
             .replace("start = 0.02, stop = 0.1, num = 3", "start = 0.02, stop = 0.04, num = 2")
             .replace("radial = [4, 8, 16]", "radial = [2, 4]"))
     ds = _run(tmp_path, "fe", text).squeeze()
     assert list(ds.fe_radial.values) == [2, 4]
-    assert "harmonics 0, 2, 4, 6" in ds.fe_harmonic_w_deviation.long_name
-    assert "pi / 2" in ds.fe_harmonic_odd_deviation.long_name
+    assert f"harmonics {harmonics}" in ds.fe_harmonic_w_deviation.long_name
+    assert half_wave in ds.fe_harmonic_odd_deviation.long_name
     assert ds.fe_omega.dims == ("point", "fe_radial") and np.isfinite(ds.fe_omega).all()
     assert (ds.fe_omega_spread >= 0).all()
     # the finer mesh is closer to the full model's orbit in both fields; the frequencies are
@@ -263,6 +268,15 @@ def test_the_backbone_fe_check_option_writes_the_mesh_study(tmp_path):
     assert np.isfinite(ds.fe_omega_spread).all()
 
 
+def test_an_axisymmetric_check_takes_any_mesh_around(tmp_path):
+    # 9 and 15 elements around, no multiple of 2: accepted, the wave number's rule binds only
+    # an asymmetric start
+    path = tmp_path / "axi.toml"
+    path.write_text((JOBS / "validation/fe-free-vibration.toml").read_text().replace(
+        "radial = [4, 8, 16], around = 4, periods = 2, asymmetric = 0.01", "radial = [3, 5], around = 3, periods = 2"))
+    assert cli.main(["plan", str(path)]) == 0
+
+
 @pytest.mark.parametrize("job, change, message", [
     ("fig10-11-backbone.toml", ("[backbone]", "[backbone]\nfe_check = {radial = [4]}"),
      "backbone.fe_check = {'radial': [4]} is invalid: a check of the full model's orbits"),
@@ -275,8 +289,10 @@ def test_the_backbone_fe_check_option_writes_the_mesh_study(tmp_path):
     ("validation/fe-free-vibration.toml", ('kind = "full"', 'kind = "full"\ninplane = false'),
      "a check of the full model's orbits with in-plane motion"),
     ("validation/fe-free-vibration-n2.toml", ("wave_number = 2", "wave_number = 3"),
-     "backbone.fe_check.wave_number = 3 is invalid: one whose double divides the elements around of every mesh "
-     "(16, 32, 64)"),
+     "backbone.fe_check.wave_number = 3 is invalid: one of 1, 2, 4, 8 with these meshes: 2 n must divide the "
+     "elements around of every mesh (16, 32, 64)"),
+    ("validation/fe-free-vibration-n2.toml", ("asymmetric = 0.01", "asymmetric = 0"),
+     "backbone.fe_check.wave_number = 2 is invalid: 1 without an asymmetric start"),
 ])
 def test_bad_fe_checks_are_refused_in_one_line(tmp_path, capsys, job, change, message):
     path = tmp_path / "bad.toml"

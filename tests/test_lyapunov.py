@@ -224,6 +224,22 @@ def test_a_run_far_from_a_period_two_orbit_is_judged_at_its_own_phase():
     assert other_phase > 0  # the case the phase bookkeeping is for
 
 
+def test_a_found_orbit_carries_the_derivative_of_p_k_at_the_point_newton_converged_to():
+    # Newton on P^2 of the two-phase map from near each orbit point: the Attractor's points
+    # start at the smaller first coordinate (b), found_at names the converged point, and
+    # jacobian is the chain rule along the orbit from there (L2 L1 at a, L1 L2 at b)
+    from model.attractors import find_periodic_orbit
+
+    fmap = _TwoPhase()
+    for start, phase, chain in ((fmap.a, 1, fmap.L2 @ fmap.L1), (fmap.b, 0, fmap.L1 @ fmap.L2)):
+        y0 = np.array([*(start + [2e-4, -1e-4]), 1e-3 if phase == 1 else -1e-3, 1e-4])
+        orbit = find_periodic_orbit(y0, 2, fmap, np.ones(4), 1e-12)
+        assert orbit is not None and orbit.found_at == phase
+        np.testing.assert_allclose(orbit.points[0, :2], fmap.b, atol=1e-12)
+        np.testing.assert_allclose(orbit.jacobian[:2, :2], chain, rtol=1e-14)
+        np.testing.assert_allclose(orbit.jacobian[2:, 2:], np.diag([0.25, 0.25]), rtol=1e-14)
+
+
 def test_the_approach_test_holds_where_the_lyapunov_equation_cannot_be_solved():
     # P = V R V^-1, R three rotations of modulus 0.9999, cond V = 1e4: the direct solve of the
     # Stein equation returns a matrix that is not positive definite (the equation's solution

@@ -280,7 +280,8 @@ def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int, float, 
                        f"\"full\", inplane = true); this job's model is {context.model.kind!r}"
                        + ("" if context.model.kind != "full" else " with u held"))
     if not isinstance(value, dict):
-        raise JobError(key, value, "a table {radial = [4, 8, 16], around = 4, periods = 2, asymmetric = 0}")
+        raise JobError(key, value, "a table {radial = [4, 8, 16], around = 4, periods = 2, asymmetric = 0, "
+                                   "wave_number = 1}")
     check_keys(value, key, ("radial", "around", "periods", "asymmetric", "wave_number"))
     radial = value.get("radial", [4, 8, 16])
     what = "a non-empty list of distinct increasing element counts from 1 to 64"
@@ -290,12 +291,18 @@ def _fe_check_option(value, context) -> tuple[tuple[int, ...], int, int, float, 
     if around * sizes[0] < 8:
         raise JobError(f"{key}.around", around, f"at least {-(-8 // sizes[0])} (8 elements around or more on "
                        f"the coarsest mesh of {sizes[0]} across)")
+    asymmetric = opt.number(value, key, "asymmetric", 0.0, low=0.0, high=1.0)
     n = opt.number(value, key, "wave_number", 1, low=1, high=8, integer=True)
-    if any(around * r % (2 * n) for r in sizes):
-        raise JobError(f"{key}.wave_number", n, f"one whose double divides the elements around of every mesh "
-                       f"({', '.join(str(around * r) for r in sizes)}): the odd part turns the mesh by pi / n")
+    if n != 1 and not asymmetric:
+        raise JobError(f"{key}.wave_number", n, "1 without an asymmetric start: the wave number is that of "
+                       "fe_check.asymmetric's start, which needs asymmetric > 0")
+    allowed = [k for k in range(1, 9) if not any(around * r % (2 * k) for r in sizes)]
+    if asymmetric and n not in allowed:
+        raise JobError(f"{key}.wave_number", n, f"one of {', '.join(map(str, allowed))} with these meshes: 2 n must "
+                       f"divide the elements around of every mesh ({', '.join(str(around * r) for r in sizes)}), "
+                       "the odd part turning the mesh by pi / n")
     return (sizes, around, opt.number(value, key, "periods", FE_PERIODS, low=1, high=100, integer=True),
-            opt.number(value, key, "asymmetric", 0.0, low=0.0, high=1.0), n)
+            asymmetric, n)
 
 
 def _fe_variables(options) -> list[Variable]:
@@ -304,13 +311,14 @@ def _fe_variables(options) -> list[Variable]:
     dims, shape = ("point", "fe_radial"), (options.amplitude[2], len(options.fe_check[0]))
     n = options.fe_check[4]
     harmonics = ", ".join(str(k * n) for k in FE_HARMONICS)
+    half_wave = "pi" if n == 1 else f"pi / {n}"
     asymmetric = [
         Variable("fe_harmonic_w_deviation", dims, shape, "f8", "1", "from rest at the orbit's state plus "
                  f"fe_check.asymmetric times the lowest n = {n} transverse mode: largest |w_fe - w| over the "
                  f"instants and the mesh's nodes, over the largest |w|, w of the full model on the harmonics "
                  f"{harmonics}"),
         Variable("fe_harmonic_odd_deviation", dims, shape, "f8", "1", "the same for the part on the odd "
-                 f"multiples of {n}, w(rho, theta) - w(rho, theta + pi / {n}): the asymmetric motion alone"),
+                 f"multiples of {n}, w(rho, theta) - w(rho, theta + {half_wave}): the asymmetric motion alone"),
         Variable("fe_harmonic_u_deviation", dims, shape, "f8", "1", "the same for the radial displacement u"),
         Variable("fe_harmonic_v_deviation", dims, shape, "f8", "1", "the same for the circumferential "
                  "displacement v"),
@@ -319,7 +327,7 @@ def _fe_variables(options) -> list[Variable]:
                  f"{', '.join(str(k * n) for k in FE_MORE_HARMONICS)} are "
                  "added and the step halved: the full model's own error in the fe_harmonic_* comparisons"),
         Variable("fe_harmonic_reference_odd_error", ("point",), shape[:1], "f8", "1", "the same for "
-                 f"w(rho, theta) - w(rho, theta + pi / {n})"),
+                 f"w(rho, theta) - w(rho, theta + {half_wave})"),
         Variable("fe_harmonic_reference_u_error", ("point",), shape[:1], "f8", "1", "the same for u"),
         Variable("fe_harmonic_reference_v_error", ("point",), shape[:1], "f8", "1", "the same for v"),
     ] if options.fe_check[3] else []
@@ -362,9 +370,9 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric, n) -> di
         finer = HarmonicFull(free.model, [k * n for k in FE_HARMONICS + FE_MORE_HARMONICS])
         for j in converged:
             period = 2.0 * np.pi / orbits.omega[j]
-            references[j] = harmonic_reference(harmonic, asymmetric_start(harmonic, orbits.modal[j], asymmetric, n),
+            references[j] = harmonic_reference(harmonic, asymmetric_start(harmonic, orbits.modal[j], asymmetric),
                                                period, periods, FE_SAMPLES)
-            refined = harmonic_reference(finer, asymmetric_start(finer, orbits.modal[j], asymmetric, n), period,
+            refined = harmonic_reference(finer, asymmetric_start(finer, orbits.modal[j], asymmetric), period,
                                          periods, FE_SAMPLES, step=REFERENCE_STEP / 2)
             for name, value in zip(errors, reference_error(references[j], refined)):
                 out[name][j] = value
