@@ -3070,6 +3070,7 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
     orders = {k: [] for k in names}
     finest = {k: [] for k in names}
     own = {k: [] for k in measured}  # the harmonics' own error over the finest mesh's deviation
+    orbits = []  # (delta, amplitude) of each row
     for d in ds.delta.values:
         f = _point(ds, delta=d, delta_o=0.2)
         for j in range(f.sizes["point"]):
@@ -3088,6 +3089,7 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
                 own[k].append(reference[k] / _nonzero_or_nan(finest[k][-1]))
             cells.append(" / ".join(f"{x:.1e}" for x in reference.values()))
             out.append(f"| {float(d):g} | {float(p.amplitude):.3f} | " + " | ".join(cells) + " |")
+            orbits.append((float(d), float(p.amplitude)))
     pairs = len(radial) - 1
     if not finest["w"] or not pairs:
         return out + ["", "No converged orbit, or one mesh: no orders to measure.", ""]
@@ -3101,6 +3103,11 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
     out += [f"* {k}: " + "; ".join(f"{radial[i]} -> {radial[i + 1]}: {span(k, i)}" for i in range(pairs)) for k in names]
     last = {k: orders[k][:, -1][np.isfinite(orders[k][:, -1])] for k in names}
     at_order = all(last[k].size and last[k].min() > 2.5 for k in ("w", "odd part"))
+    short = []  # the orbits short of the order between the two finest meshes, and their orders
+    for j, (d, a) in enumerate(orbits):
+        slow = [f"{k} {orders[k][j, -1]:.1f}" for k in ("w", "odd part") if orders[k][j, -1] <= 2.5]
+        if slow:
+            short.append(f"delta {d:g}, {a:.2f} m ({', '.join(slow)})")
     largest = {k: float(np.nanmax(v)) for k, v in finest.items()}
     groups = [g for g in (("w", "odd part"), ("u", "v")) if all(k in measured for k in g)]
     bounds = [float(np.nanmax([own[k] for k in g])) for g in groups]
@@ -3113,7 +3120,7 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
             + (f": the full model's circumferential harmonics integrate the n = {n} transverse motion as a mesh with no "
                "harmonics does, to the mesh's error, which falls at the element's order (above 2.5 between the two "
                "finest meshes)." if at_order else ", but between the two finest meshes the order of w or of the odd "
-               "part is 2.5 or less at some orbit: not yet at the element's order there."),
+               f"part is 2.5 or less at {'; '.join(short) or 'an orbit'}: not yet at the element's order there."),
             f"u deviates by at most {largest['u']:.1e} (orders {span('u', pairs - 1)} between the two finest meshes) "
             f"and v, the n = {n} part's circumferential displacement, by {largest['v']:.1e} (orders "
             f"{span('v', pairs - 1)})"

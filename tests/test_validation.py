@@ -349,6 +349,7 @@ def test_the_asymmetric_finite_element_check():
                      fe_harmonic_reference_odd_error=(pt, [[[4e-6, 2e-2]]]))
     text = "\n".join(validation._fe_asymmetric(slow, [4, 8], 2, 0.01))
     assert "not yet at the element's order there" in text and "not negligible against them" in text
+    assert "2.5 or less at delta 1.1, 0.02 m (odd part 1.5); delta 1.1, 0.06 m (odd part 1.5)" in text
     missing = ds.assign(omega_nl=(pt, [[[30.0, np.nan]]]))
     assert "| 0.060 |" not in "\n".join(validation._fe_asymmetric(missing, [4, 8], 2, 0.01))
     # with u's and v's own errors: 9e-3 of the second orbit's v, sqrt(2e-3) = 4.47e-2, is 0.20 of it
