@@ -167,7 +167,7 @@ def _orbit(pts, phi) -> Attractor:
     # coordinate, the multipliers of P^k, where the converged point (pts[0]) went, and the
     # derivative of P^k there
     first = int(np.argmin(pts[:, 0]))
-    return Attractor(np.roll(pts, -first, axis=0), np.linalg.eigvals(phi), (-first) % pts.shape[0], phi.copy())
+    return Attractor(np.roll(pts, -first, axis=0), np.linalg.eigvals(phi), (-first) % pts.shape[0], phi)
 
 
 # Outcomes of _newton_one_mode.

@@ -85,6 +85,18 @@ FE_SAMPLES = 64
 #: step contribute.
 FE_HARMONICS = (0, 1, 2, 3)
 FE_MORE_HARMONICS = (4, 5)
+
+
+def fe_harmonics(n: int, multiples=FE_HARMONICS) -> tuple[int, ...]:
+    """``multiples`` (default :data:`FE_HARMONICS`) times the wave number ``n`` of
+    ``fe_check.asymmetric``'s start: the circumferential harmonics of its model."""
+    return tuple(k * n for k in multiples)
+
+
+def half_turn(n: int) -> str:
+    """``pi / n`` as the report and the variables write it (``pi`` for ``n = 1``): the turn
+    by which the odd part ``w(theta) - w(theta + pi / n)`` of wave number ``n`` is taken."""
+    return "pi" if n == 1 else f"pi / {n}"
 #: Radii of ``orbit_u`` and ``orbit_w``, equally spaced from the inner to the outer edge (81:
 #: ``rho = 0.55 Re``, the paper's Fig. 8 point, is one of them at ``delta_o = 0.2``).
 ORBIT_RADII = 81
@@ -310,8 +322,8 @@ def _fe_variables(options) -> list[Variable]:
         return []
     dims, shape = ("point", "fe_radial"), (options.amplitude[2], len(options.fe_check[0]))
     n = options.fe_check[4]
-    harmonics = ", ".join(str(k * n) for k in FE_HARMONICS)
-    half_wave = "pi" if n == 1 else f"pi / {n}"
+    harmonics = ", ".join(map(str, fe_harmonics(n)))
+    half_wave = half_turn(n)
     asymmetric = [
         Variable("fe_harmonic_w_deviation", dims, shape, "f8", "1", "from rest at the orbit's state plus "
                  f"fe_check.asymmetric times the lowest n = {n} transverse mode: largest |w_fe - w| over the "
@@ -324,7 +336,7 @@ def _fe_variables(options) -> list[Variable]:
                  "displacement v"),
         Variable("fe_harmonic_reference_w_error", ("point",), shape[:1], "f8", "1", "largest change of w over "
                  f"the instants and a polar grid, over the largest |w|, when the harmonics "
-                 f"{', '.join(str(k * n) for k in FE_MORE_HARMONICS)} are "
+                 f"{', '.join(map(str, fe_harmonics(n, FE_MORE_HARMONICS)))} are "
                  "added and the step halved: the full model's own error in the fe_harmonic_* comparisons"),
         Variable("fe_harmonic_reference_odd_error", ("point",), shape[:1], "f8", "1", "the same for "
                  f"w(rho, theta) - w(rho, theta + {half_wave})"),
@@ -366,8 +378,8 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric, n) -> di
     if asymmetric:
         errors = tuple(f"fe_harmonic_reference_{field}_error" for field in ReferenceChange._fields)
         out.update({k: np.full(orbits.omega.size, np.nan) for k in errors})
-        harmonic = HarmonicFull(free.model, [k * n for k in FE_HARMONICS])
-        finer = HarmonicFull(free.model, [k * n for k in FE_HARMONICS + FE_MORE_HARMONICS])
+        harmonic = HarmonicFull(free.model, fe_harmonics(n))
+        finer = HarmonicFull(free.model, fe_harmonics(n, FE_HARMONICS + FE_MORE_HARMONICS))
         for j in converged:
             period = 2.0 * np.pi / orbits.omega[j]
             references[j] = harmonic_reference(harmonic, asymmetric_start(harmonic, orbits.modal[j], asymmetric),
