@@ -2557,8 +2557,16 @@ def _light_families(results: Path) -> list[str]:
     runs = [_open(results, n) for n in LIGHT_FAMILIES]
     if any(ds is None for ds in runs):
         return out + _missing(*LIGHT_FAMILIES)
+    return out + _families_to_peak(runs)
+
+
+def _families_to_peak(runs) -> list[str]:
+    """A table of continuations in Omega with families (``runs``: one grid point each), up to
+    the saddle-node of largest amplitude: where the orbit itself and each family (at its
+    largest radial count) are unstable; then, over each whole branch, the responses stable in
+    their own coordinates but unstable to a family."""
     families = [int(n) for n in runs[0].family.values]
-    out += ["| model | stretch ends at (rad/s) | amplitude there (m) | the orbit itself | "
+    out = ["| model | stretch ends at (rad/s) | amplitude there (m) | the orbit itself | "
             + " | ".join(f"n = {f}" for f in families) + " |", "|---|---|---|---|" + "---|" * len(families)]
     notes = []
     for ds in runs:
@@ -2586,6 +2594,126 @@ def _light_families(results: Path) -> list[str]:
                          f"{amplitude[hit].max():.3f} m, modulus up to {moduli[hit, j].max():.3f})")
         notes.append(f"* {label} ({n} points): " + "; ".join(cells) + ".")
     return out + ["", *notes, ""]
+
+
+#: The axisymmetric spectra of the Fig. 14a membrane; Fig. 14a on the full model at the paper's
+#: first-mode damping ratio in a stiffness-proportional law, by order, and with u = v = 0 held.
+SPECTRUM_RUN = "validation/full-spectrum-fig14a"
+LIGHT_RAYLEIGH_RUNS = tuple(f"validation/fig14a-full-light-rayleigh-order{o}" for o in (8, 12, 16))
+HELD_LIGHT_RAYLEIGH = "validation/fig14a-held-light-rayleigh-order16"
+#: The modes m of the spectrum table (every one up to 8, then every fourth).
+SPECTRUM_ROWS = (1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24)
+#: A frequency counts as resolved when it agrees with the largest basis's to this fraction.
+RESOLVED = 1e-6
+
+
+def section_full_fig14a_damping(results: Path) -> list[str]:
+    """Why the full model's Fig. 14a branch at the paper's damping does not converge in its
+    radial resolution (the axisymmetric spectra are near-harmonic, the viscous law's ratios
+    fall with frequency), and the same branch and families under the paper's first-mode
+    ratio in a stiffness-proportional law, by order and against u = v = 0 held."""
+    out = ["## Fig. 14a on the full model: internal resonances and the damping law", "",
+           "The axisymmetric transverse frequencies omega_m0 of the Fig. 14a membrane (delta = 1.1, delta_o = 0.2)",
+           "and its radial in-plane ones, with 32, 48 and 64 radial functions per field",
+           f"(`{SPECTRUM_RUN}`); omega_m0 / m is the Omega at which the m-th harmonic of a response is in",
+           "resonance with the mode.", ""]
+    spectrum = _open(results, SPECTRUM_RUN)
+    if spectrum is None:  # the rest reads its first frequency
+        return out + _missing(SPECTRUM_RUN, *LIGHT_RAYLEIGH_RUNS, HELD_LIGHT_RAYLEIGH)
+    sp = _grid_point(spectrum)
+    m = sp.m.values
+    omega = sp.omega.transpose("basis", "mode").values
+    inplane = sp.omega_inplane.transpose("basis", "mode").values
+    ratio = omega[-1] / m
+    out += ["| m | omega_m0 (rad/s) | omega_m0 / m (rad/s) | radial in-plane omega_m (rad/s) |", "|---|---|---|---|"]
+    out += [f"| {k} | {omega[-1, k - 1]:.3f} | {ratio[k - 1]:.4f} | {inplane[-1, k - 1]:.2f} |" for k in SPECTRUM_ROWS
+            if k <= m.size]
+    agree = np.abs(omega[:-1] / omega[-1] - 1) < RESOLVED
+    resolved = ", ".join(f"m <= {int(np.argmin(a)) if not a.all() else m.size} with {int(size)}"
+                         for a, size in zip(agree, sp.basis.values[:-1]))
+    out += ["", f"The transverse frequencies that agree with the {int(sp.basis.values[-1])}-function ones to "
+            f"{RESOLVED:.0e}: {resolved} functions (a basis resolves a number of modes that grows with its size). "
+            f"omega_m0 / m grows with m, from {ratio[0]:.3f} to {ratio[-1]:.4f} rad/s at m = {m[-1]}, "
+            "towards the limit of radial waves of speed sqrt(sigma_1 / Gamma) between two fixed edges, pi over the "
+            "travel time int dr / c across the membrane, approached as 1 / m^2 "
+            "(`tests/test_full_model.py::test_axisymmetric_transverse_frequencies_tend_to_a_harmonic_series`): "
+            "the membrane's axisymmetric transverse spectrum is nearly harmonic, as a string's is.", ""]
+    light = [_open(results, n) for n in LIGHT_RUNS]
+    if any(ds is None for ds in light):
+        out += _missing(*LIGHT_RUNS)
+    else:
+        out += _light_band(light, ratio, m, omega[-1, 0])
+    return out + _light_rayleigh(results, omega[-1, 0])
+
+
+def _light_band(light, ratio, m, omega_1) -> list[str]:
+    """Where the paper-damping branches ``light`` fold against the resonances omega_m0 / m
+    (``ratio`` of the modes ``m``), and the viscous law's damping ratios."""
+    folds = [_grid_point(ds) for ds in light]
+    values = np.concatenate([b.fold_value.values.ravel()[:int(b.n_folds)] for b in folds])
+    lo, hi = values.min(), values.max()
+    inside = m[(ratio >= lo) & (ratio <= hi)]
+    ds = light[0]
+    c = float(np.ravel(ds.c.values)[0])
+    zeta_1 = c / (2 * float(ds.attrs["membrane_Gamma"]) * float(ds.attrs["membrane_h"]) * omega_1)
+    counts = ", ".join(f"{int(b.n_folds)} at {int(ds.attrs['model_order'])}" for b, ds in zip(folds, light))
+    listed = (f"m = {inside.min()}..{inside.max()}" + (" (every one)" if inside.size == inside.max() - inside.min() + 1
+                                                       else f" ({inside.size} of them)")) if inside.size else "no m"
+    return [f"At the paper's damping (`validation/fig14a-full-light-order<N>`, \"Fig. 14a on the full model at the "
+            f"paper's damping\") the branches fold at {lo:.3f}-{hi:.3f} rad/s. That band holds omega_m0 / m for "
+            f"{listed} of the table's m = 1..{m.max()}: a response there drives every one of these modes near "
+            "resonance with a harmonic of its own, a 1:m internal resonance (the in-plane motion, driven at the "
+            "even harmonics by w^2, carries them to the transverse modes). The viscous law damps mode m at the "
+            f"ratio zeta_m = c / (2 Gamma h omega_m0) = {zeta_1:.2e} omega_10 / omega_m0, falling as 1 / m, so the "
+            "higher a mode the sharper its resonance, and every radial function added resolves more of them: "
+            f"saddle-nodes {counts} functions. No resolution converges this band under that law.", ""]
+
+
+def _light_rayleigh(results: Path, omega_1: float) -> list[str]:
+    """Fig. 14a on the full model under the paper's first-mode ratio in a stiffness-proportional
+    law: the branch by order, and the families against u = v = 0 held."""
+    out = ["### The paper's first-mode damping growing with frequency", "",
+           "The same load (P0 = 1 Pa) with the paper's damping ratio of the first mode put in a stiffness-",
+           "proportional Rayleigh law, C = beta K0, so that the ratio grows with the frequency, zeta = beta omega / 2",
+           "(a viscoelastic membrane's kind of damping), instead of falling as under the viscous law;",
+           "`validation/fig14a-full-light-rayleigh-order<N>`, N = 8, 12, 16 functions per field. The branch:", ""]
+    runs = [_open(results, n) for n in LIGHT_RAYLEIGH_RUNS]
+    held = _open(results, HELD_LIGHT_RAYLEIGH)
+    if any(ds is None for ds in (*runs, held)):
+        return out + _missing(*LIGHT_RAYLEIGH_RUNS, HELD_LIGHT_RAYLEIGH)
+    beta = float(runs[0].attrs["damping_beta"])
+    out += [f"(beta = {beta:.4g} s: zeta_1 = {beta * omega_1 / 2:.2e}, zeta = {beta * omega_1:.1e} at 2 omega_10 and "
+            f"{beta * 10 * omega_1 / 2:.1e} at 10 omega_10.)", "",
+            "| model | points | saddle-nodes | their Omega (rad/s), in branch order | largest amplitude (m) at Omega "
+            "(rad/s) |", "|---|---|---|---|---|"]
+    branches = [_grid_point(ds) for ds in runs]
+    for ds, b in zip(runs, branches):
+        n, k = int(b.n_points), int(b.n_folds)
+        amp, value = b.amplitude.values.ravel()[:n], b.Omega.values.ravel()[:n]
+        top = int(np.nanargmax(amp))
+        out.append(f"| full, order {int(ds.attrs['model_order'])} | {n} | {k} | "
+                   + ", ".join(f"{v:.3f}" for v in b.fold_value.values.ravel()[:k])
+                   + f" | {amp[top]:.4f} at {value[top]:.3f} |")
+    moves = []
+    for a, b in zip(branches, branches[1:]):
+        fa, fb = (x.fold_value.values.ravel()[:int(x.n_folds)] for x in (a, b))
+        moves.append(float(np.abs(fa - fb).max()) if fa.size == fb.size else np.inf)
+    out += ["", "The saddle-nodes move by at most " + " and ".join(
+        "(a different count)" if not np.isfinite(v) else f"{v:.4f} rad/s" for v in moves)
+        + " from 8 to 12 and from 12 to 16 functions.", "",
+        "The families n = 1..6 in (U, V, W) on all functions of each order, and with u = v = 0 held on 16 functions",
+        f"(`{HELD_LIGHT_RAYLEIGH}`, the families of W on all 16), up to the saddle-node of largest amplitude:",
+        "where the orbit itself and each family are unstable, Omega intervals (rad/s), the largest multiplier",
+        "modulus in brackets; then the responses stable in their own coordinates but unstable to a family.", ""]
+    out += _families_to_peak([*runs, held])
+    coarse, fine = (_stretch_families(b, to_peak=True)[2] for b in branches[-2:])
+    moved = [(int(f), _largest_move(coarse[0, j], fine[0, j])) for j, f in enumerate(runs[0].family.values)]
+    settled = all(v < SETTLED for _, v in moved)
+    return out + ["From 12 to 16 functions the ends of the families' intervals move by at most "
+                  + ", ".join(f"{v:.3f} rad/s (n = {f})" if np.isfinite(v) else f"a different count (n = {f})"
+                              for f, v in moved)
+                  + (f": converged to the criterion of the ROM's tables ({SETTLED} rad/s)." if settled else
+                     f": not converged to the criterion of the ROM's tables ({SETTLED} rad/s)."), ""]
 
 
 def section_full_model(results: Path) -> list[str]:
@@ -3142,7 +3270,7 @@ SECTIONS = (section_table1, section_table1_laws, section_table2, section_full_mo
             section_cusp,
             section_families, section_family_check, section_waves, section_tongues, section_family_orbit, section_held_families,
             section_time_symmetry,
-            section_full_fig14a, section_full_fig14a_light, section_full_family_check, section_full_switching,
+            section_full_fig14a, section_full_fig14a_light, section_full_fig14a_damping, section_full_family_check, section_full_switching,
             section_full_rotating,
             section_bruteforce_diagram, section_basins,
             section_basins_modes, section_full_basins)

@@ -5,6 +5,7 @@ in-plane modes of a linear elastic incompressible annulus in plane stress."""
 
 import numpy as np
 import pytest
+from scipy.integrate import quad
 from scipy.optimize import brentq
 from scipy.special import jv, jvp, yv, yvp
 
@@ -93,6 +94,25 @@ def test_frequencies_converge_with_the_order():
         np.testing.assert_allclose(transverse_frequencies(coarse, n, 3), transverse_frequencies(fine, n, 3), rtol=1e-10)
         np.testing.assert_allclose(inplane_frequencies(coarse, n, 3), inplane_frequencies(fine, n, 3), rtol=1e-10)
 
+
+
+@pytest.mark.parametrize("delta, delta_o", [(1.1, 0.2), (2.0, 0.3)])
+def test_axisymmetric_transverse_frequencies_tend_to_a_harmonic_series(delta, delta_o):
+    # At high m the transverse axisymmetric modes are radial waves of speed c = sqrt(sigma_1 /
+    # Gamma) in the pre-stretched membrane (tension sigma_1 h_c per unit length over mass
+    # Gamma h_c per unit area), so omega_m0 -> m pi / int dr / c over the deformed radius (WKB,
+    # fixed edges), with a correction O(1 / m^2) to omega_m0 / m. The limit is computed from the
+    # ROM's collocated pre-stretch, independently of the full model's Galerkin matrices.
+    m = Membrane(delta=delta, delta_o=delta_o)
+    rom = solve_prestretch(m, "numeric")
+    travel, _ = quad(lambda rho: float(rom.slope(rho)) * np.sqrt(m.Gamma / rom.stresses(rho)[0]),
+                     m.delta_o * m.Re, m.Re, epsabs=0.0, epsrel=1e-13)
+    limit = np.pi / travel
+    omega = transverse_frequencies(solve_full_prestretch(m, 64), 0, 24)
+    errors = np.array([abs(omega[k - 1] / (k * limit) - 1) for k in (6, 12, 24)])
+    orders = np.log2(errors[:-1] / errors[1:])
+    assert np.all((orders > 1.8) & (orders < 2.2))
+    assert errors[-1] < 1e-4
 
 def test_transverse_and_inplane_motion_decouple_about_the_planar_state():
     # the tangent moduli of a planar state have no entry between w and (u, v): the coupled

@@ -22,6 +22,7 @@ def test_missing_results_name_the_jobs(tmp_path):
              + validation.section_full_backbone(tmp_path) + validation.section_bruteforce_diagram(tmp_path)
              + validation.section_full_forced(tmp_path) + validation.section_full_families(tmp_path)
              + validation.section_full_fig14a(tmp_path) + validation.section_full_fig14a_light(tmp_path)
+             + validation.section_full_fig14a_damping(tmp_path)
              + validation.section_tongues(tmp_path) + validation.section_family_orbit(tmp_path)
              + validation.section_waves(tmp_path) + validation.section_fig08(tmp_path)
              + validation.section_fe_motion(tmp_path) + validation.section_full_basins(tmp_path)
