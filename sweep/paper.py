@@ -47,7 +47,7 @@ VALIDATION_JOBS = tuple(f"validation/{name}" for name in (
     "fig15a-full-families-order16-fine", "fig14a-full-order12", "fig14a-full-order12-fine",
     "fig14a-full-light-order8", "fig14a-full-light-order12", "fig14a-full-light-families-order8",
     "fig14a-full-light-families-order12", "full-spectrum-fig14a",
-    *(f"fig14a-full-light-rayleigh-order{o}" for o in (8, 12, 16)), "fig14a-held-light-rayleigh-order16",
+    *(f"fig14a-full-light-rayleigh-order{o}" for o in (8, 12, 16, 20)), "fig14a-held-light-rayleigh-order16",
     "families-viscous", "families-modal", "families-rayleigh",
     "families-1pct-viscous", "families-1pct-modal", "families-1pct-rayleigh", "tongues-1pct-viscous",
     "tongues-1pct-modal", "stability-map-fig14a-radial", "families-1pct-viscous-axi", "families-1pct-modal-axi",

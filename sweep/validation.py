@@ -2599,7 +2599,8 @@ def _families_to_peak(runs) -> list[str]:
 #: The axisymmetric spectra of the Fig. 14a membrane; Fig. 14a on the full model at the paper's
 #: first-mode damping ratio in a stiffness-proportional law, by order, and with u = v = 0 held.
 SPECTRUM_RUN = "validation/full-spectrum-fig14a"
-LIGHT_RAYLEIGH_RUNS = tuple(f"validation/fig14a-full-light-rayleigh-order{o}" for o in (8, 12, 16))
+LIGHT_RAYLEIGH_ORDERS = (8, 12, 16, 20)
+LIGHT_RAYLEIGH_RUNS = tuple(f"validation/fig14a-full-light-rayleigh-order{o}" for o in LIGHT_RAYLEIGH_ORDERS)
 HELD_LIGHT_RAYLEIGH = "validation/fig14a-held-light-rayleigh-order16"
 #: The modes m of the spectrum table (every one up to 8, then every fourth).
 SPECTRUM_ROWS = (1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24)
@@ -2646,27 +2647,37 @@ def section_full_fig14a_damping(results: Path) -> list[str]:
     return out + _light_rayleigh(results, omega[-1, 0])
 
 
+def _fold_points(b) -> np.ndarray:
+    """The indices of a branch's saddle-nodes, in branch order (every one: ``fold_value``
+    holds only the first few)."""
+    return np.flatnonzero(b.point_type.values.ravel()[:int(b.n_points)] == FOLD)
+
+
 def _light_band(light, ratio, m, omega_1) -> list[str]:
-    """Where the paper-damping branches ``light`` fold against the resonances omega_m0 / m
-    (``ratio`` of the modes ``m``), and the viscous law's damping ratios."""
-    folds = [_grid_point(ds) for ds in light]
-    values = np.concatenate([b.fold_value.values.ravel()[:int(b.n_folds)] for b in folds])
-    lo, hi = values.min(), values.max()
-    inside = m[(ratio >= lo) & (ratio <= hi)]
+    """Where the paper-damping branches ``light`` fold (all but their last saddle-node, the jump
+    down to the small responses) against the near-harmonic spectrum (``ratio`` = omega_m0 / m of
+    the modes ``m``, ``omega_1`` = omega_10), and the viscous law's damping ratios."""
+    branches = [_grid_point(ds) for ds in light]
+    loops = [_fold_points(b)[:-1] for b in branches]
+    omega = np.concatenate([b.Omega.values.ravel()[i] for b, i in zip(branches, loops)])
+    amplitude = np.concatenate([b.amplitude.values.ravel()[i] for b, i in zip(branches, loops)])
+    spread = float(np.abs(ratio / omega_1 - 1).max())
     ds = light[0]
     c = float(np.ravel(ds.c.values)[0])
     zeta_1 = c / (2 * float(ds.attrs["membrane_Gamma"]) * float(ds.attrs["membrane_h"]) * omega_1)
-    counts = ", ".join(f"{int(b.n_folds)} at {int(ds.attrs['model_order'])}" for b, ds in zip(folds, light))
-    listed = (f"m = {inside.min()}..{inside.max()}" + (" (every one)" if inside.size == inside.max() - inside.min() + 1
-                                                       else f" ({inside.size} of them)")) if inside.size else "no m"
+    counts = ", ".join(f"{i.size + 1} at {int(ds.attrs['model_order'])}" for i, ds in zip(loops, light))
     return [f"At the paper's damping (`validation/fig14a-full-light-order<N>`, \"Fig. 14a on the full model at the "
-            f"paper's damping\") the branches fold at {lo:.3f}-{hi:.3f} rad/s. That band holds omega_m0 / m for "
-            f"{listed} of the table's m = 1..{m.max()}: a response there drives every one of these modes near "
-            "resonance with a harmonic of its own, a 1:m internal resonance (the in-plane motion, driven at the "
-            "even harmonics by w^2, carries them to the transverse modes). The viscous law damps mode m at the "
-            f"ratio zeta_m = c / (2 Gamma h omega_m0) = {zeta_1:.2e} omega_10 / omega_m0, falling as 1 / m, so the "
-            "higher a mode the sharper its resonance, and every radial function added resolves more of them: "
-            f"saddle-nodes {counts} functions. No resolution converges this band under that law.", ""]
+            f"paper's damping\") the branches have saddle-nodes {counts} functions; all but the last (the jump down "
+            f"to the small responses) lie at {omega.min():.3f}-{omega.max():.3f} rad/s, "
+            f"{100 * (omega.min() / omega_1 - 1):.1f}-{100 * (omega.max() / omega_1 - 1):.1f} % above omega_10, with "
+            f"{amplitude.min():.3f}-{amplitude.max():.3f} m. On a spectrum this near harmonic (omega_m0 / m within "
+            f"{100 * spread:.1f} % of omega_10 for every m of the table) the m-th harmonic of a response lies within a "
+            "few per cent of mode m for every m at once, as close as the response's own amplitude shifts the "
+            "frequencies: near such amplitudes 1:m internal resonances with the higher modes are met, one for every "
+            "harmonic the response carries (the odd ones while it keeps its half-period symmetry). The viscous law "
+            f"damps mode m at the ratio zeta_m = c / (2 Gamma h omega_m0) = {zeta_1:.2e} omega_10 / omega_m0, falling "
+            "as 1 / m: the higher the mode, the sharper its resonance, and every radial function added resolves more "
+            "modes. The count of saddle-nodes grows with the resolution, with no sign of converging.", ""]
 
 
 def _light_rayleigh(results: Path, omega_1: float) -> list[str]:
@@ -2676,7 +2687,8 @@ def _light_rayleigh(results: Path, omega_1: float) -> list[str]:
            "The same load (P0 = 1 Pa) with the paper's damping ratio of the first mode put in a stiffness-",
            "proportional Rayleigh law, C = beta K0, so that the ratio grows with the frequency, zeta = beta omega / 2",
            "(a viscoelastic membrane's kind of damping), instead of falling as under the viscous law;",
-           "`validation/fig14a-full-light-rayleigh-order<N>`, N = 8, 12, 16 functions per field. The branch:", ""]
+           "`validation/fig14a-full-light-rayleigh-order<N>`, N = "
+           + ", ".join(str(o) for o in LIGHT_RAYLEIGH_ORDERS) + " functions per field. The branch:", ""]
     runs = [_open(results, n) for n in LIGHT_RAYLEIGH_RUNS]
     held = _open(results, HELD_LIGHT_RAYLEIGH)
     if any(ds is None for ds in (*runs, held)):
@@ -2698,9 +2710,9 @@ def _light_rayleigh(results: Path, omega_1: float) -> list[str]:
     for a, b in zip(branches, branches[1:]):
         fa, fb = (x.fold_value.values.ravel()[:int(x.n_folds)] for x in (a, b))
         moves.append(float(np.abs(fa - fb).max()) if fa.size == fb.size else np.inf)
-    out += ["", "The saddle-nodes move by at most " + " and ".join(
-        "(a different count)" if not np.isfinite(v) else f"{v:.4f} rad/s" for v in moves)
-        + " from 8 to 12 and from 12 to 16 functions.", "",
+    out += ["", "The largest move of a saddle-node: " + ", ".join(
+        f"{a} -> {b} functions " + ("(a different count)" if not np.isfinite(v) else f"{v:.4f} rad/s")
+        for a, b, v in zip(LIGHT_RAYLEIGH_ORDERS, LIGHT_RAYLEIGH_ORDERS[1:], moves)) + ".", "",
         "The families n = 1..6 in (U, V, W) on all functions of each order, and with u = v = 0 held on 16 functions",
         f"(`{HELD_LIGHT_RAYLEIGH}`, the families of W on all 16), up to the saddle-node of largest amplitude:",
         "where the orbit itself and each family are unstable, Omega intervals (rad/s), the largest multiplier",
@@ -2709,7 +2721,8 @@ def _light_rayleigh(results: Path, omega_1: float) -> list[str]:
     coarse, fine = (_stretch_families(b, to_peak=True)[2] for b in branches[-2:])
     moved = [(int(f), _largest_move(coarse[0, j], fine[0, j])) for j, f in enumerate(runs[0].family.values)]
     settled = all(v < SETTLED for _, v in moved)
-    return out + ["From 12 to 16 functions the ends of the families' intervals move by at most "
+    return out + [f"From {LIGHT_RAYLEIGH_ORDERS[-2]} to {LIGHT_RAYLEIGH_ORDERS[-1]} functions the ends of the "
+                  "families' intervals (up to the largest amplitude) move by at most "
                   + ", ".join(f"{v:.3f} rad/s (n = {f})" if np.isfinite(v) else f"a different count (n = {f})"
                               for f, v in moved)
                   + (f": converged to the criterion of the ROM's tables ({SETTLED} rad/s)." if settled else

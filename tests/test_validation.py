@@ -362,3 +362,28 @@ def test_the_asymmetric_finite_element_check():
     assert ("at most 2.0e-02 of the finest mesh's deviations of w and odd part (the deviations are the mesh's); "
             "2.0e-01 of the finest mesh's deviations of u and v (not negligible against them: the measured orders "
             "of these fields are partly the harmonics' own error).") in text
+
+
+def test_the_paper_damping_band_reads_every_saddle_node_but_the_last():
+    import xarray as xr
+
+    from model.continuation import FOLD
+
+    def branch(order, omega, amplitude, folds):
+        kind = np.zeros(len(omega) + 1, np.int8)
+        kind[folds] = FOLD
+        pad = [np.nan]
+        return xr.Dataset({"Omega": (("c", "point"), [omega + pad]), "amplitude": (("c", "point"), [amplitude + pad]),
+                           "point_type": (("c", "point"), [kind]), "n_points": (("c",), [len(omega)])},
+                          coords={"c": [0.05]}, attrs={"model_order": order, "membrane_Gamma": 2200.0,
+                                                       "membrane_h": 1e-3})
+
+    m = np.arange(1, 4)
+    ratio = np.array([32.5, 33.0, 33.3])
+    text = " ".join(validation._light_band([
+        branch(8, [30.0, 34.3, 34.2, 34.35, 33.0], [0.01, 0.14, 0.13, 0.145, 0.03], [1, 3, 4]),
+        branch(12, [30.0, 34.4, 34.3, 33.0], [0.01, 0.12, 0.13, 0.03], [1, 3])], ratio, m, 32.5))
+    assert "saddle-nodes 3 at 8, 2 at 12 functions" in text
+    assert "lie at 34.300-34.400 rad/s" in text and "with 0.120-0.145 m" in text  # not the jumps down at 33.0
+    assert "within 2.5 % of omega_10" in text  # 33.3 / 32.5 - 1
+    assert f"{0.05 / (2 * 2.2 * 32.5):.2e} omega_10 / omega_m0" in text
