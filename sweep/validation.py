@@ -1186,8 +1186,7 @@ def _grid_point(ds, mode_set: int | None = None):
 
 def _first_folds(b, count: int = 4) -> str:
     """The Omega (rad/s) of the first ``count`` saddle-nodes of a branch, in branch order."""
-    n = int(b.n_points)
-    folds = b.Omega.values.ravel()[:n][b.point_type.values.ravel()[:n] == FOLD]
+    folds = b.Omega.values.ravel()[_fold_points(b)]
     return ", ".join(f"{v:.2f}" for v in folds[:count]) + (", ..." if folds.size > count else "")
 
 
@@ -1688,10 +1687,16 @@ def _axisymmetric_cell(b, end: int) -> str:
     """Where the axisymmetric response itself is unstable on the first ``end`` points of the
     branch ``b`` (its largest multiplier in its own coordinates, ``multiplier_modulus``): the
     Omega intervals (rad/s) and, in brackets, the largest modulus there; ``stable`` if nowhere."""
-    value = b.Omega.values.ravel()[:end]
-    modulus = b.multiplier_modulus.values.ravel()[:end]
-    intervals = unstable_intervals(value, modulus, _own_points(b.point_type, _point_family(b), end))
-    return f"{_fmt_intervals(intervals)} ({np.nanmax(modulus):.3f})" if intervals else "stable"
+    intervals = _own_intervals(b, end)
+    return f"{_fmt_intervals(intervals)} ({np.nanmax(b.multiplier_modulus.values.ravel()[:end]):.3f})" \
+        if intervals else "stable"
+
+
+def _own_intervals(b, end: int) -> list[tuple[float, float]]:
+    """The Omega intervals (rad/s) of the first ``end`` points of the branch ``b`` where the
+    axisymmetric response itself is unstable (its own multipliers)."""
+    return unstable_intervals(b.Omega.values.ravel()[:end], b.multiplier_modulus.values.ravel()[:end],
+                              _own_points(b.point_type, _point_family(b), end))
 
 
 def _own_points(kind, family, end: int) -> np.ndarray:
@@ -2604,8 +2609,9 @@ LIGHT_RAYLEIGH_RUNS = tuple(f"validation/fig14a-full-light-rayleigh-order{o}" fo
 HELD_LIGHT_RAYLEIGH = "validation/fig14a-held-light-rayleigh-order16"
 #: The modes m of the spectrum table (every one up to 8, then every fourth).
 SPECTRUM_ROWS = (1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24)
-#: A frequency counts as resolved when it agrees with the largest basis's to this fraction.
-RESOLVED = 1e-6
+#: A frequency of the spectrum counts as resolved by a basis when it agrees with the largest
+#: basis's to this fraction.
+SPECTRUM_RESOLVED = 1e-6
 
 
 def section_full_fig14a_damping(results: Path) -> list[str]:
@@ -2619,8 +2625,8 @@ def section_full_fig14a_damping(results: Path) -> list[str]:
            f"(`{SPECTRUM_RUN}`); omega_m0 / m is the Omega at which the m-th harmonic of a response is in",
            "resonance with the mode.", ""]
     spectrum = _open(results, SPECTRUM_RUN)
-    if spectrum is None:  # the rest reads its first frequency
-        return out + _missing(SPECTRUM_RUN, *LIGHT_RAYLEIGH_RUNS, HELD_LIGHT_RAYLEIGH)
+    if spectrum is None:
+        return out + _missing(SPECTRUM_RUN) + _light_rayleigh(results, None)
     sp = _grid_point(spectrum)
     m = sp.m.values
     omega = sp.omega.transpose("basis", "mode").values
@@ -2629,21 +2635,26 @@ def section_full_fig14a_damping(results: Path) -> list[str]:
     out += ["| m | omega_m0 (rad/s) | omega_m0 / m (rad/s) | radial in-plane omega_m (rad/s) |", "|---|---|---|---|"]
     out += [f"| {k} | {omega[-1, k - 1]:.3f} | {ratio[k - 1]:.4f} | {inplane[-1, k - 1]:.2f} |" for k in SPECTRUM_ROWS
             if k <= m.size]
-    agree = np.abs(omega[:-1] / omega[-1] - 1) < RESOLVED
+    agree = np.abs(omega[:-1] / omega[-1] - 1) < SPECTRUM_RESOLVED
     resolved = ", ".join(f"m <= {int(np.argmin(a)) if not a.all() else m.size} with {int(size)}"
                          for a, size in zip(agree, sp.basis.values[:-1]))
+    rising = "grows with m" if np.all(np.diff(ratio) > 0) else "does not grow steadily with m"
+    spacing = np.diff(inplane[-1])
     out += ["", f"The transverse frequencies that agree with the {int(sp.basis.values[-1])}-function ones to "
-            f"{RESOLVED:.0e}: {resolved} functions (a basis resolves a number of modes that grows with its size). "
-            f"omega_m0 / m grows with m, from {ratio[0]:.3f} to {ratio[-1]:.4f} rad/s at m = {m[-1]}, "
+            f"{SPECTRUM_RESOLVED:.0e}: {resolved} functions (a basis resolves a number of modes that grows with its "
+            f"size). omega_m0 / m {rising}, from {ratio[0]:.3f} to {ratio[-1]:.4f} rad/s at m = {m[-1]}, within "
+            f"{100 * float(np.abs(ratio / ratio[0] - 1).max()):.1f} % of omega_10 for every m = 1..{m[-1]}, "
             "towards the limit of radial waves of speed sqrt(sigma_1 / Gamma) between two fixed edges, pi over the "
             "travel time int dr / c across the membrane, approached as 1 / m^2 "
             "(`tests/test_full_model.py::test_axisymmetric_transverse_frequencies_tend_to_a_harmonic_series`): "
-            "the membrane's axisymmetric transverse spectrum is nearly harmonic, as a string's is.", ""]
+            "the membrane's axisymmetric transverse spectrum is nearly harmonic, as a string's is. So is the radial "
+            f"in-plane one, with spacings of {spacing.min():.2f}-{spacing.max():.2f} rad/s "
+            f"({spacing.min() / omega[-1, 0]:.2f}-{spacing.max() / omega[-1, 0]:.2f} omega_10).", ""]
     light = [_open(results, n) for n in LIGHT_RUNS]
     if any(ds is None for ds in light):
-        out += _missing(*LIGHT_RUNS)
+        out += _missing(*(n for n, ds in zip(LIGHT_RUNS, light) if ds is None))
     else:
-        out += _light_band(light, ratio, m, omega[-1, 0])
+        out += _paper_damping_band(light, ratio, omega[-1, 0])
     return out + _light_rayleigh(results, omega[-1, 0])
 
 
@@ -2653,63 +2664,78 @@ def _fold_points(b) -> np.ndarray:
     return np.flatnonzero(b.point_type.values.ravel()[:int(b.n_points)] == FOLD)
 
 
-def _light_band(light, ratio, m, omega_1) -> list[str]:
-    """Where the paper-damping branches ``light`` fold (all but their last saddle-node, the jump
-    down to the small responses) against the near-harmonic spectrum (``ratio`` = omega_m0 / m of
-    the modes ``m``, ``omega_1`` = omega_10), and the viscous law's damping ratios."""
-    branches = [_grid_point(ds) for ds in light]
-    loops = [_fold_points(b)[:-1] for b in branches]
-    omega = np.concatenate([b.Omega.values.ravel()[i] for b, i in zip(branches, loops)])
-    amplitude = np.concatenate([b.amplitude.values.ravel()[i] for b, i in zip(branches, loops)])
-    spread = float(np.abs(ratio / omega_1 - 1).max())
-    ds = light[0]
-    c = float(np.ravel(ds.c.values)[0])
-    zeta_1 = c / (2 * float(ds.attrs["membrane_Gamma"]) * float(ds.attrs["membrane_h"]) * omega_1)
-    counts = ", ".join(f"{i.size + 1} at {int(ds.attrs['model_order'])}" for i, ds in zip(loops, light))
-    return [f"At the paper's damping (`validation/fig14a-full-light-order<N>`, \"Fig. 14a on the full model at the "
-            f"paper's damping\") the branches have saddle-nodes {counts} functions; all but the last (the jump down "
-            f"to the small responses) lie at {omega.min():.3f}-{omega.max():.3f} rad/s, "
-            f"{100 * (omega.min() / omega_1 - 1):.1f}-{100 * (omega.max() / omega_1 - 1):.1f} % above omega_10, with "
-            f"{amplitude.min():.3f}-{amplitude.max():.3f} m. On a spectrum this near harmonic (omega_m0 / m within "
-            f"{100 * spread:.1f} % of omega_10 for every m of the table) the m-th harmonic of a response lies within a "
-            "few per cent of mode m for every m at once, as close as the response's own amplitude shifts the "
-            "frequencies: near such amplitudes 1:m internal resonances with the higher modes are met, one for every "
-            "harmonic the response carries (the odd ones while it keeps its half-period symmetry). The viscous law "
-            f"damps mode m at the ratio zeta_m = c / (2 Gamma h omega_m0) = {zeta_1:.2e} omega_10 / omega_m0, falling "
-            "as 1 / m: the higher the mode, the sharper its resonance, and every radial function added resolves more "
-            "modes. The count of saddle-nodes grows with the resolution, with no sign of converging.", ""]
+def _paper_damping_band(light, ratio, omega_1) -> list[str]:
+    """Where the saddle-nodes of the paper-damping branches ``light`` lie (but the one of least
+    amplitude, where the middle branch meets the small responses) against the near-harmonic
+    spectrum (``ratio``: omega_m0 / m; ``omega_1``: omega_10), and the viscous law's ratios."""
+    branches = [_grid_point(run) for run in light]
+    folds = [_fold_points(b) for b in branches]
+    omega, amplitude, lowest = [], [], []
+    for b, i in zip(branches, folds):
+        a = b.amplitude.values.ravel()[i]
+        if i.size:
+            low = int(np.nanargmin(a))
+            lowest.append(f"{b.Omega.values.ravel()[i[low]]:.3f} rad/s, {a[low]:.3f} m")
+            keep = np.arange(i.size) != low
+            omega.append(b.Omega.values.ravel()[i[keep]])
+            amplitude.append(a[keep])
+    counts = [i.size for i in folds]
+    named = ", ".join(f"{c} at {int(run.attrs['model_order'])}" for c, run in zip(counts, light))
+    run = light[0]
+    zeta_1 = float(np.ravel(run.c.values)[0]) / (2 * float(run.attrs["membrane_Gamma"])
+                                                  * float(run.attrs["membrane_h"]) * omega_1)
+    out = [f"At the paper's damping (`validation/fig14a-full-light-order<N>`, \"Fig. 14a on the full model at the "
+           f"paper's damping\") the branches have saddle-nodes {named} functions."]
+    omega, amplitude = np.concatenate(omega or [[]]), np.concatenate(amplitude or [[]])
+    if omega.size:
+        out.append(f"But for the one of least amplitude ({'; '.join(dict.fromkeys(lowest))}), where the middle branch meets the "
+                   f"small responses, they lie at {omega.min():.3f}-{omega.max():.3f} rad/s, "
+                   f"{100 * (omega.min() / omega_1 - 1):.1f}-{100 * (omega.max() / omega_1 - 1):.1f} % above omega_10, "
+                   f"with {np.nanmin(amplitude):.3f}-{np.nanmax(amplitude):.3f} m.")
+    out.append("On a spectrum this near harmonic the m-th harmonic of a response lies within a few per cent of mode "
+               "m for every m at once, as near as the response's own amplitude shifts the frequencies: the loops "
+               "are consistent with 1:m internal resonances with higher modes, one for every harmonic the response "
+               "carries (the odd ones while it keeps its half-period symmetry). The viscous law damps mode m at "
+               f"the ratio zeta_m = c / (2 Gamma h omega_m0) = {zeta_1:.2e} omega_10 / omega_m0, falling as 1 / m: "
+               "the higher the mode, the sharper its resonance, and every radial function added resolves more "
+               "modes.")
+    if all(a < b for a, b in zip(counts, counts[1:])):
+        out.append(f"The count of saddle-nodes grows with the resolution ({' -> '.join(map(str, counts))}).")
+    return [" ".join(out), ""]
 
 
-def _light_rayleigh(results: Path, omega_1: float) -> list[str]:
+def _light_rayleigh(results: Path, omega_1: float | None) -> list[str]:
     """Fig. 14a on the full model under the paper's first-mode ratio in a stiffness-proportional
-    law: the branch by order, and the families against u = v = 0 held."""
+    law: the branch by order, and the families against u = v = 0 held (``omega_1``: omega_10
+    of the spectrum, None without it)."""
+    orders = ", ".join(str(o) for o in LIGHT_RAYLEIGH_ORDERS)
     out = ["### The paper's first-mode damping growing with frequency", "",
            "The same load (P0 = 1 Pa) with the paper's damping ratio of the first mode put in a stiffness-",
-           "proportional Rayleigh law, C = beta K0, so that the ratio grows with the frequency, zeta = beta omega / 2",
-           "(a viscoelastic membrane's kind of damping), instead of falling as under the viscous law;",
-           "`validation/fig14a-full-light-rayleigh-order<N>`, N = "
-           + ", ".join(str(o) for o in LIGHT_RAYLEIGH_ORDERS) + " functions per field. The branch:", ""]
-    runs = [_open(results, n) for n in LIGHT_RAYLEIGH_RUNS]
-    held = _open(results, HELD_LIGHT_RAYLEIGH)
-    if any(ds is None for ds in (*runs, held)):
-        return out + _missing(*LIGHT_RAYLEIGH_RUNS, HELD_LIGHT_RAYLEIGH)
+           "proportional Rayleigh law, C = beta K0, so that the ratio grows with the frequency, zeta = beta omega / 2,",
+           "instead of falling as under the viscous law (a modelling choice: about the planar state the transverse",
+           "block of K0 is the pre-stress's alone); `validation/fig14a-full-light-rayleigh-order<N>`,",
+           f"N = {orders} functions per field. The branch:", ""]
+    names = (*LIGHT_RAYLEIGH_RUNS, HELD_LIGHT_RAYLEIGH)
+    opened = [_open(results, n) for n in names]
+    if any(ds is None for ds in opened):
+        return out + _missing(*(n for n, ds in zip(names, opened) if ds is None))
+    *runs, held = opened
     beta = float(runs[0].attrs["damping_beta"])
-    out += [f"(beta = {beta:.4g} s: zeta_1 = {beta * omega_1 / 2:.2e}, zeta = {beta * omega_1:.1e} at 2 omega_10 and "
-            f"{beta * 10 * omega_1 / 2:.1e} at 10 omega_10.)", "",
-            "| model | points | saddle-nodes | their Omega (rad/s), in branch order | largest amplitude (m) at Omega "
+    if omega_1 is not None:
+        out += [f"(beta = {beta:.4g} s: zeta_1 = {beta * omega_1 / 2:.2e}, zeta = {beta * omega_1:.1e} at 2 omega_10 "
+                f"and {beta * 10 * omega_1 / 2:.1e} at 10 omega_10.)", ""]
+    out += ["| model | points | saddle-nodes | their Omega (rad/s), in branch order | largest amplitude (m) at Omega "
             "(rad/s) |", "|---|---|---|---|---|"]
     branches = [_grid_point(ds) for ds in runs]
+    folds = []
     for ds, b in zip(runs, branches):
-        n, k = int(b.n_points), int(b.n_folds)
+        n = int(b.n_points)
         amp, value = b.amplitude.values.ravel()[:n], b.Omega.values.ravel()[:n]
+        folds.append(value[_fold_points(b)])
         top = int(np.nanargmax(amp))
-        out.append(f"| full, order {int(ds.attrs['model_order'])} | {n} | {k} | "
-                   + ", ".join(f"{v:.3f}" for v in b.fold_value.values.ravel()[:k])
-                   + f" | {amp[top]:.4f} at {value[top]:.3f} |")
-    moves = []
-    for a, b in zip(branches, branches[1:]):
-        fa, fb = (x.fold_value.values.ravel()[:int(x.n_folds)] for x in (a, b))
-        moves.append(float(np.abs(fa - fb).max()) if fa.size == fb.size else np.inf)
+        out.append(f"| full, order {int(ds.attrs['model_order'])} | {n} | {folds[-1].size} | "
+                   + (", ".join(f"{v:.3f}" for v in folds[-1]) or "none") + f" | {amp[top]:.4f} at {value[top]:.3f} |")
+    moves = _fold_moves(folds)
     out += ["", "The largest move of a saddle-node: " + ", ".join(
         f"{a} -> {b} functions " + ("(a different count)" if not np.isfinite(v) else f"{v:.4f} rad/s")
         for a, b, v in zip(LIGHT_RAYLEIGH_ORDERS, LIGHT_RAYLEIGH_ORDERS[1:], moves)) + ".", "",
@@ -2718,15 +2744,35 @@ def _light_rayleigh(results: Path, omega_1: float) -> list[str]:
         "where the orbit itself and each family are unstable, Omega intervals (rad/s), the largest multiplier",
         "modulus in brackets; then the responses stable in their own coordinates but unstable to a family.", ""]
     out += _families_to_peak([*runs, held])
-    coarse, fine = (_stretch_families(b, to_peak=True)[2] for b in branches[-2:])
-    moved = [(int(f), _largest_move(coarse[0, j], fine[0, j])) for j, f in enumerate(runs[0].family.values)]
+    return out + _rayleigh_verdict(branches, [int(f) for f in runs[0].family.values], _grid_point(held))
+
+
+def _fold_moves(folds) -> list[float]:
+    """The largest move (rad/s) of a saddle-node between successive branches (``folds``: the
+    Omega of each branch's saddle-nodes in branch order); infinite where the counts differ."""
+    return [float(np.abs(a - b).max(initial=0.0)) if a.size == b.size else np.inf for a, b in zip(folds, folds[1:])]
+
+
+def _rayleigh_verdict(branches, families, held) -> list[str]:
+    """How far the orbit's own and the families' unstable intervals (to the largest amplitude)
+    move between the two finest ``branches``, and the full model's peak against ``held``'s."""
+    (coarse_value, _, coarse), (fine_value, _, fine) = (_stretch_families(b, to_peak=True) for b in branches[-2:])
+    own = [_own_intervals(b, v.size) for v, b in zip((coarse_value, fine_value), branches[-2:])]
+    moved = [("the orbit itself", _largest_move(*own))]
+    r_coarse, r_fine = (max(r for r, _ in iv) for iv in (coarse, fine))  # all functions
+    moved += [(f"n = {f}", _largest_move(coarse[r_coarse, j], fine[r_fine, j])) for j, f in enumerate(families)]
     settled = all(v < SETTLED for _, v in moved)
-    return out + [f"From {LIGHT_RAYLEIGH_ORDERS[-2]} to {LIGHT_RAYLEIGH_ORDERS[-1]} functions the ends of the "
-                  "families' intervals (up to the largest amplitude) move by at most "
-                  + ", ".join(f"{v:.3f} rad/s (n = {f})" if np.isfinite(v) else f"a different count (n = {f})"
-                              for f, v in moved)
-                  + (f": converged to the criterion of the ROM's tables ({SETTLED} rad/s)." if settled else
-                     f": not converged to the criterion of the ROM's tables ({SETTLED} rad/s)."), ""]
+    fine_end = float(branches[-1].amplitude.values.ravel()[fine_value.size - 1])
+    held_value, _, _ = _stretch_families(held, to_peak=True)
+    held_end = float(held.amplitude.values.ravel()[held_value.size - 1])
+    return [f"From {LIGHT_RAYLEIGH_ORDERS[-2]} to {LIGHT_RAYLEIGH_ORDERS[-1]} functions the ends of the unstable "
+            "intervals (up to the largest amplitude) move by at most "
+            + ", ".join(f"{v:.3f} rad/s ({what})" if np.isfinite(v) else f"a different count ({what})"
+                        for what, v in moved)
+            + (f": converged to the criterion of the ROM's tables ({SETTLED} rad/s)." if settled else
+               f": not all converged to the criterion of the ROM's tables ({SETTLED} rad/s)."),
+            f"The full model's resonance turns back at {fine_value[-1]:.2f} rad/s with {fine_end:.3f} m; with u = v = 0 "
+            f"held at {held_value[-1]:.2f} rad/s with {held_end:.3f} m.", ""]
 
 
 def section_full_model(results: Path) -> list[str]:

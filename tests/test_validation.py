@@ -364,7 +364,7 @@ def test_the_asymmetric_finite_element_check():
             "of these fields are partly the harmonics' own error).") in text
 
 
-def test_the_paper_damping_band_reads_every_saddle_node_but_the_last():
+def test_the_paper_damping_band_reads_every_saddle_node_but_the_lowest():
     import xarray as xr
 
     from model.continuation import FOLD
@@ -378,12 +378,25 @@ def test_the_paper_damping_band_reads_every_saddle_node_but_the_last():
                           coords={"c": [0.05]}, attrs={"model_order": order, "membrane_Gamma": 2200.0,
                                                        "membrane_h": 1e-3})
 
-    m = np.arange(1, 4)
     ratio = np.array([32.5, 33.0, 33.3])
-    text = " ".join(validation._light_band([
+    text = " ".join(validation._paper_damping_band([
         branch(8, [30.0, 34.3, 34.2, 34.35, 33.0], [0.01, 0.14, 0.13, 0.145, 0.03], [1, 3, 4]),
-        branch(12, [30.0, 34.4, 34.3, 33.0], [0.01, 0.12, 0.13, 0.03], [1, 3])], ratio, m, 32.5))
+        branch(12, [30.0, 34.4, 34.3, 33.0], [0.01, 0.12, 0.13, 0.03], [1, 3])], ratio, 32.5))
     assert "saddle-nodes 3 at 8, 2 at 12 functions" in text
-    assert "lie at 34.300-34.400 rad/s" in text and "with 0.120-0.145 m" in text  # not the jumps down at 33.0
-    assert "within 2.5 % of omega_10" in text  # 33.3 / 32.5 - 1
+    assert "(33.000 rad/s, 0.030 m)" in text  # once for both
+    assert "lie at 34.300-34.400 rad/s" in text and "with 0.120-0.145 m" in text
     assert f"{0.05 / (2 * 2.2 * 32.5):.2e} omega_10 / omega_m0" in text
+    assert "grows with the resolution" not in text  # 3 -> 2
+    # a branch without saddle-nodes is counted, and nothing else is claimed of it
+    text = " ".join(validation._paper_damping_band([branch(8, [30.0, 31.0], [0.01, 0.02], []),
+                                                    branch(12, [30.0, 34.4, 33.0], [0.01, 0.12, 0.03], [1, 2])],
+                                                   ratio, 32.5))
+    assert "saddle-nodes 0 at 8, 2 at 12 functions" in text and "lie at 34.400-34.400 rad/s" in text
+    assert "grows with the resolution (0 -> 2)" in text
+
+
+def test_saddle_node_moves_between_branches():
+    moves = validation._fold_moves([np.array([34.0, 33.0]), np.array([34.1, 32.95]), np.array([34.1]),
+                                    np.array([]), np.array([])])
+    np.testing.assert_allclose(moves[:1], [0.1])
+    assert moves[1:3] == [np.inf, np.inf] and moves[3] == 0.0
