@@ -2762,6 +2762,12 @@ def _rayleigh_verdict(branches, families, held) -> list[str]:
     r_coarse, r_fine = (max(r for r, _ in iv) for iv in (coarse, fine))  # all functions
     moved += [(f"n = {f}", _largest_move(coarse[r_coarse, j], fine[r_fine, j])) for j, f in enumerate(families)]
     settled = all(v < SETTLED for _, v in moved)
+    last = branches[-1]
+    located = last.Omega.values.ravel()[:int(last.n_points)][last.point_type.values.ravel()[:int(last.n_points)] > 0]
+    loose = {what: [f"{a:.2f}-{b:.2f}" for a, b in intervals if not (np.isin(a, located) and np.isin(b, located))]
+             for what, intervals in [("the orbit itself", own[1])]
+             + [(f"n = {f}", fine[r_fine, j]) for j, f in enumerate(families)]}
+    loose = [f"{what} {', '.join(ends)}" for what, ends in loose.items() if ends]
     fine_end = float(branches[-1].amplitude.values.ravel()[fine_value.size - 1])
     held_value, _, _ = _stretch_families(held, to_peak=True)
     held_end = float(held.amplitude.values.ravel()[held_value.size - 1])
@@ -2771,6 +2777,9 @@ def _rayleigh_verdict(branches, families, held) -> list[str]:
                         for what, v in moved)
             + (f": converged to the criterion of the ROM's tables ({SETTLED} rad/s)." if settled else
                f": not all converged to the criterion of the ROM's tables ({SETTLED} rad/s)."),
+            (f"Intervals at {LIGHT_RAYLEIGH_ORDERS[-1]} functions with an end that is not a located bifurcation "
+             "point but a point of the branch next to the unstable ones (known to the branch's spacing there): "
+             + "; ".join(loose) + "." if loose else "Every interval ends at a located bifurcation point."),
             f"The full model's resonance turns back at {fine_value[-1]:.2f} rad/s with {fine_end:.3f} m; with u = v = 0 "
             f"held at {held_value[-1]:.2f} rad/s with {held_end:.3f} m.", ""]
 
