@@ -333,11 +333,17 @@ def asymmetric_start(harmonic, q, size: float) -> np.ndarray:
     (:class:`model.full.harmonic.HarmonicFull`) of the axisymmetric state ``q`` (``(U, W)``,
     over ``Re``: a free orbit's of :class:`model.full.free.FreeFull`) plus ``size`` (m) of the
     lowest transverse mode of its wave number ``n`` (:func:`wave_number`) about the pre-stretch
-    (its largest ``|w|``; :func:`model.full.linear.transverse_mode`) on the harmonic ``n``."""
+    (its largest ``|w|``; :func:`model.full.linear.transverse_mode`) on the harmonic ``n``.
+    ``q`` may hold fewer radial functions per field than ``harmonic``: the Legendre-Galerkin
+    functions do not depend on the order (:mod:`model.full.radial`), so the same fields take
+    zeros on the functions added."""
     n = wave_number(harmonic)
     model = harmonic.model
     out = np.zeros(harmonic.dof)
-    out[harmonic.block(0, "U")], out[harmonic.block(0, "W")] = np.split(np.asarray(q, float), 2)
+    U, W = np.split(np.asarray(q, float), 2)
+    if U.size > model.order:
+        raise ValueError(f"q holds {U.size} radial functions per field: more than the model's {model.order}")
+    out[harmonic.block(0, "U")][:U.size], out[harmonic.block(0, "W")][:W.size] = U, W
     out[harmonic.block(n, "W")] = size / model.membrane.Re * transverse_mode(model.state, n)[1]
     return out
 

@@ -22,7 +22,7 @@ import numpy as np
 
 from model.continuation import (BRANCH_POINT, FOLD, KIND_LABELS, NEIMARK_SACKER, resonant_end,
                                 stable_amplitudes_at, unstable_intervals, unstable_points)
-from sweep.analyses.backbone import FE_AROUND, FE_HARMONICS, FE_MORE_HARMONICS, FE_PERIODS, FE_SAMPLES
+from sweep.analyses.backbone import FE_AROUND, FE_HARMONICS, FE_MORE_HARMONICS, FE_MORE_RADIAL, FE_PERIODS, FE_SAMPLES
 from sweep.analyses.branch_features import CHECK_MAX_PERIOD, CHECK_SIGMAS, CURVE_DS_MAX, GROWTH_LIMIT
 from sweep.analyses.mode_sets import select
 from sweep.errors import RunError
@@ -3260,7 +3260,8 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
            "period", "(`model.fe_motion.check_harmonic_motion`): the largest deviation of w over its largest value, the "
            f"same", f"for w(rho, theta) - w(rho, theta + {half}), twice {odd_part} (the n = {n} motion and what it "
            "drives", "there), and for u and v. \"Reference\": how far the harmonics' own motion moves with the",
-           f"harmonics {', '.join(str(k * n) for k in FE_MORE_HARMONICS)} added and half its step "
+           f"harmonics {', '.join(str(k * n) for k in FE_MORE_HARMONICS)} and {FE_MORE_RADIAL} radial functions per "
+           "field added and half its step "
            f"({' / '.join(measured)}, on a polar grid; `model.fe_motion.reference_error`).", "",
            f"| delta | amplitude (m) | w deviation, {meshes} | odd part | u | v | reference |", "|---|---|---|---|---|---|---|"]
     orders = {k: [] for k in names}

@@ -39,8 +39,9 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   (:func:`model.fe_motion.check_harmonic_motion`); and ``fe_harmonic_reference_w_error``,
   ``fe_harmonic_reference_odd_error``, ``fe_harmonic_reference_u_error``,
   ``fe_harmonic_reference_v_error`` (``point``): how far the harmonics' motion moves with
-  the harmonics :data:`FE_MORE_HARMONICS` times ``n`` added and half its step
-  (:func:`model.fe_motion.reference_error`), to be read against the finest mesh's deviations;
+  the harmonics :data:`FE_MORE_HARMONICS` times ``n`` added, :data:`FE_MORE_RADIAL` radial
+  functions per field added and half its step (:func:`model.fe_motion.reference_error`), to
+  be read against the finest mesh's deviations;
 * ``turn_amplitude``, ``turn_omega`` -- where the pseudo-arclength branch of free orbits
   (:func:`model.backbone.backbone_branch`) first turns back in amplitude (an internal
   resonance), NaN when it reaches the largest target without turning; targets beyond it
@@ -81,10 +82,11 @@ FE_AROUND, FE_PERIODS = 4, 2
 FE_SAMPLES = 64
 #: The circumferential harmonics of ``fe_check.asymmetric``'s model, in multiples of the wave
 #: number n of its start: n and what its square and cube drive; the check refines them with
-#: :data:`FE_MORE_HARMONICS` (times n) and half the step to measure what the truncation and the
-#: step contribute.
+#: :data:`FE_MORE_HARMONICS` (times n), :data:`FE_MORE_RADIAL` radial functions per field and
+#: half the step to measure what the truncations and the step contribute.
 FE_HARMONICS = (0, 1, 2, 3)
 FE_MORE_HARMONICS = (4, 5)
+FE_MORE_RADIAL = 8
 
 
 def fe_harmonics(n: int, multiples=FE_HARMONICS) -> tuple[int, ...]:
@@ -336,8 +338,9 @@ def _fe_variables(options) -> list[Variable]:
                  "displacement v"),
         Variable("fe_harmonic_reference_w_error", ("point",), shape[:1], "f8", "1", "largest change of w over "
                  f"the instants and a polar grid, over the largest |w|, when the harmonics "
-                 f"{', '.join(map(str, fe_harmonics(n, FE_MORE_HARMONICS)))} are "
-                 "added and the step halved: the full model's own error in the fe_harmonic_* comparisons"),
+                 f"{', '.join(map(str, fe_harmonics(n, FE_MORE_HARMONICS)))} and {FE_MORE_RADIAL} radial "
+                 "functions per field are added and the step halved: the full model's own error in the "
+                 "fe_harmonic_* comparisons"),
         Variable("fe_harmonic_reference_odd_error", ("point",), shape[:1], "f8", "1", "the same for "
                  f"w(rho, theta) - w(rho, theta + {half_wave})"),
         Variable("fe_harmonic_reference_u_error", ("point",), shape[:1], "f8", "1", "the same for u"),
@@ -365,6 +368,7 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric, n) -> di
                                  check_harmonic_motion, harmonic_reference, reference_error)
     from model.full.harmonic import HarmonicFull
     from sweep.models.fe2d import fe_motion_for
+    from sweep.models.full import axisymmetric_for
 
     names = ("fe_omega", "fe_omega_spread", "fe_w_deviation", "fe_u_deviation")
     harmonic_names = ("fe_harmonic_w_deviation", "fe_harmonic_odd_deviation", "fe_harmonic_u_deviation",
@@ -379,7 +383,8 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric, n) -> di
         errors = tuple(f"fe_harmonic_reference_{field}_error" for field in ReferenceChange._fields)
         out.update({k: np.full(orbits.omega.size, np.nan) for k in errors})
         harmonic = HarmonicFull(free.model, fe_harmonics(n))
-        finer = HarmonicFull(free.model, fe_harmonics(n, FE_HARMONICS + FE_MORE_HARMONICS))
+        finer = HarmonicFull(axisymmetric_for(m, free.model.order + FE_MORE_RADIAL, free.model.inplane),
+                             fe_harmonics(n, FE_HARMONICS + FE_MORE_HARMONICS))
         for j in converged:
             period = 2.0 * np.pi / orbits.omega[j]
             references[j] = harmonic_reference(harmonic, asymmetric_start(harmonic, orbits.modal[j], asymmetric),
