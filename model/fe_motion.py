@@ -335,8 +335,8 @@ def asymmetric_start(harmonic, q, size: float) -> np.ndarray:
     lowest transverse mode of its wave number ``n`` (:func:`wave_number`) about the pre-stretch
     (its largest ``|w|``; :func:`model.full.linear.transverse_mode`) on the harmonic ``n``.
     ``q`` may hold fewer radial functions per field than ``harmonic``: the Legendre-Galerkin
-    functions do not depend on the order (:mod:`model.full.radial`), so the same fields take
-    zeros on the functions added."""
+    functions do not depend on the order (:mod:`model.full.radial`), so the same displacement
+    fields (from each order's own pre-stretch) take zeros on the functions added."""
     n = wave_number(harmonic)
     model = harmonic.model
     out = np.zeros(harmonic.dof)
@@ -492,8 +492,9 @@ def reference_error(reference: HarmonicReference, finer: HarmonicReference) -> R
     ``|w - w_finer|`` over the instants and a polar grid (:data:`REFERENCE_GRID`, angles
     ``2 pi j / 64``) over the largest ``|w_finer|``, and the same for ``w(rho, theta) - w(rho,
     theta + pi / n)`` (``n`` the reference's :func:`wave_number`), ``u`` and ``v`` -- the
-    measures of :class:`FeHarmonicCheck` -- against ``finer``, the same start on more harmonics
-    or with a smaller step (:func:`harmonic_reference`), sampled at the same instants."""
+    measures of :class:`FeHarmonicCheck` -- against ``finer``, the same start on more harmonics,
+    more radial functions or with a smaller step (:func:`harmonic_reference`), sampled at the
+    same instants."""
     m = reference.harmonic.model.membrane
     radii, angles = REFERENCE_GRID
     rho, theta = np.meshgrid(np.linspace(m.Ro / m.Re, 1.0, radii), 2.0 * np.pi * np.arange(angles) / angles,

@@ -164,7 +164,11 @@ def test_the_mesh_follows_the_harmonics_asymmetric_motion_converging_at_the_elem
     falls (order > 1, a regression bound).  Neither time step is a source: halving both moves
     every deviation of the coarse mesh by less than 1 % of itself.  Nor are the harmonics:
     with the harmonics 4 and 5 the odd part moves by less than a hundredth of the finer mesh's
-    deviation of it (the job measures both against the finest mesh: reference_error)."""
+    deviation of it (the job measures both against the finest mesh: reference_error).  The
+    harmonics' radial functions are part of it: their u and v converge only algebraically in
+    them (on one 2 cm orbit at delta 1.5, u moved by 4.1e-3, 1.7e-3 and 7.6e-4 of its largest
+    value from 16 to 24, 24 to 32 and 32 to 48 functions; w by 5e-6 at most), so the job's
+    reference error includes 8 more radial functions."""
     free, q, period = orbit
     harmonic = HarmonicFull(free.model, FE_HARMONICS)
     reference = harmonic_reference(harmonic, asymmetric_start(harmonic, q, 0.01), period, 2)
@@ -253,12 +257,12 @@ def test_the_asymmetric_start_takes_a_lower_orders_state_on_more_radial_function
     q = np.linspace(0.01, 0.02, 2 * coarse.order)
     rho = np.linspace(membrane.Ro, membrane.Re, 401) / membrane.Re
     harmonics = [HarmonicFull(model, (0, 1, 2)) for model in (coarse, fine)]
-    # the displacements from each order's own pre-stretch (u includes it)
-    fields = [np.subtract(h.fields(asymmetric_start(h, q, 0.0), rho, 0.0 * rho),
-                          h.fields(np.zeros(h.dof), rho, 0.0 * rho)) for h in harmonics]
+    fields = [h.fields(asymmetric_start(h, q, 0.0), rho, 0.0 * rho) for h in harmonics]
     np.testing.assert_allclose(fields[1], fields[0], rtol=0, atol=1e-14)
-    mode = harmonics[1].fields(asymmetric_start(harmonics[1], 0.0 * q, 0.03), rho, 0.0 * rho)[2]
-    assert membrane.Re * np.abs(mode).max() == pytest.approx(0.03, rel=2e-5)
+    # the mode, computed on each order, is the same field to the order-8 truncation (between 16
+    # and 24 functions it agrees to 1.2e-7 of its peak)
+    modes = [h.fields(asymmetric_start(h, 0.0 * q, 0.03), rho, 0.0 * rho)[2] for h in harmonics]
+    assert np.abs(modes[1] - modes[0]).max() < 1e-4 * np.abs(modes[1]).max()
     with pytest.raises(ValueError, match="more than the model's 8"):
         asymmetric_start(HarmonicFull(coarse, (0, 1, 2)), np.zeros(2 * fine.order), 0.03)
 
@@ -281,11 +285,11 @@ def test_the_backbone_fe_check_option_writes_the_mesh_study(tmp_path, job, harmo
     for name in ("fe_w_deviation", "fe_u_deviation", "fe_harmonic_w_deviation", "fe_harmonic_odd_deviation",
                  "fe_harmonic_u_deviation", "fe_harmonic_v_deviation"):
         assert (ds[name].isel(fe_radial=1) < ds[name].isel(fe_radial=0)).all()
-    # the harmonics' own error (more harmonics, 8 more radial functions, half the step) is
-    # below the finer mesh's deviations: the reference is the better of the two (at 12
-    # functions the radial truncation's error in u and v is about a tenth of them)
-    for field in ("w", "odd", "u", "v"):
-        assert (ds[f"fe_harmonic_reference_{field}_error"] < ds[f"fe_harmonic_{field}_deviation"].isel(
+    # the harmonics' own error (more harmonics, 8 more radial functions, half the step) against
+    # the finer mesh's deviations; regression bounds over the measured ratios (w, odd part up
+    # to 1.8e-3; u 0.052, v 0.114: at 12 functions u and v converge only algebraically in them)
+    for field, bound in (("w", 0.01), ("odd", 0.01), ("u", 0.3), ("v", 0.3)):
+        assert (ds[f"fe_harmonic_reference_{field}_error"] < bound * ds[f"fe_harmonic_{field}_deviation"].isel(
             fe_radial=1)).all()
     assert np.isfinite(ds.fe_omega_spread).all()
 

@@ -344,7 +344,7 @@ def test_the_asymmetric_finite_element_check():
     text = "\n".join(validation._fe_asymmetric(ds, [4, 8], 2, 0.01, 2, "validation/fe-free-vibration-n2", "### n2"))
     assert text.startswith("### n2") and "the lowest n = 2 transverse mode" in text
     assert "harmonics 0, 2, 4, 6 (" in text and "w(rho, theta + pi / 2), twice its part on the odd multiples of 2" in text
-    assert "harmonics 8, 10 and 8 radial functions per field added" in text and "integrate the n = 2 transverse motion" in text
+    assert "harmonics 8, 10 added, 8 more radial functions per field" in text and "integrate the n = 2 transverse motion" in text
     # an order of 2.5 or less between the finest meshes is said so, and a large own error
     slow = ds.assign(fe_harmonic_odd_deviation=(fr, 2 * np.sqrt(w)),
                      fe_harmonic_reference_odd_error=(pt, [[[4e-6, 2e-2]]]))

@@ -86,6 +86,9 @@ FE_SAMPLES = 64
 #: half the step to measure what the truncations and the step contribute.
 FE_HARMONICS = (0, 1, 2, 3)
 FE_MORE_HARMONICS = (4, 5)
+#: Radial functions per field the check's refined reference adds: an estimate of the radial
+#: truncation's error, low where ``u`` and ``v`` converge only algebraically in them (at delta
+#: 1.5, 0.1 m, 24 functions: by a factor up to 1.7 against 48).
 FE_MORE_RADIAL = 8
 
 
