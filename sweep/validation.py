@@ -2654,7 +2654,7 @@ def section_full_fig14a_damping(results: Path) -> list[str]:
     if any(ds is None for ds in light):
         out += _missing(*(n for n, ds in zip(LIGHT_RUNS, light) if ds is None))
     else:
-        out += _paper_damping_band(light, ratio, omega[-1, 0])
+        out += _paper_damping_band(light, omega[-1, 0])
     return out + _light_rayleigh(results, omega[-1, 0])
 
 
@@ -2664,10 +2664,10 @@ def _fold_points(b) -> np.ndarray:
     return np.flatnonzero(b.point_type.values.ravel()[:int(b.n_points)] == FOLD)
 
 
-def _paper_damping_band(light, ratio, omega_1) -> list[str]:
+def _paper_damping_band(light, omega_1) -> list[str]:
     """Where the saddle-nodes of the paper-damping branches ``light`` lie (but the one of least
-    amplitude, where the middle branch meets the small responses) against the near-harmonic
-    spectrum (``ratio``: omega_m0 / m; ``omega_1``: omega_10), and the viscous law's ratios."""
+    amplitude, where the middle branch meets the small responses) against ``omega_1``
+    (omega_10), and the viscous law's damping ratios."""
     branches = [_grid_point(run) for run in light]
     folds = [_fold_points(b) for b in branches]
     omega, amplitude, lowest = [], [], []
@@ -2688,8 +2688,8 @@ def _paper_damping_band(light, ratio, omega_1) -> list[str]:
            f"paper's damping\") the branches have saddle-nodes {named} functions."]
     omega, amplitude = np.concatenate(omega or [[]]), np.concatenate(amplitude or [[]])
     if omega.size:
-        out.append(f"But for the one of least amplitude ({'; '.join(dict.fromkeys(lowest))}), where the middle branch meets the "
-                   f"small responses, they lie at {omega.min():.3f}-{omega.max():.3f} rad/s, "
+        out.append(f"But for the one of least amplitude ({'; '.join(dict.fromkeys(lowest))}), where the middle "
+                   f"branch meets the small responses, they lie at {omega.min():.3f}-{omega.max():.3f} rad/s, "
                    f"{100 * (omega.min() / omega_1 - 1):.1f}-{100 * (omega.max() / omega_1 - 1):.1f} % above omega_10, "
                    f"with {np.nanmin(amplitude):.3f}-{np.nanmax(amplitude):.3f} m.")
     out.append("On a spectrum this near harmonic the m-th harmonic of a response lies within a few per cent of mode "

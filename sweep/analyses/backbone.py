@@ -341,8 +341,8 @@ def _fe_variables(options) -> list[Variable]:
                  "displacement v"),
         Variable("fe_harmonic_reference_w_error", ("point",), shape[:1], "f8", "1", "largest change of w over "
                  f"the instants and a polar grid, over the largest |w|, when the harmonics "
-                 f"{', '.join(map(str, fe_harmonics(n, FE_MORE_HARMONICS)))} and {FE_MORE_RADIAL} radial "
-                 "functions per field are added and the step halved: the full model's own error in the "
+                 f"{', '.join(map(str, fe_harmonics(n, FE_MORE_HARMONICS)))} are added, {FE_MORE_RADIAL} more "
+                 "radial functions per field taken and the step halved: the full model's own error in the "
                  "fe_harmonic_* comparisons"),
         Variable("fe_harmonic_reference_odd_error", ("point",), shape[:1], "f8", "1", "the same for "
                  f"w(rho, theta) - w(rho, theta + {half_wave})"),
