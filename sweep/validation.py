@@ -2529,12 +2529,12 @@ def section_full_fig14a_light(results: Path) -> list[str]:
         p = p.isel({d: 0 for d in ("delta", "delta_o", "P0", "c") if d in p.dims})
         n = int(p.n_points)
         value, amp, stable = p.Omega.values[:n], p.amplitude.values[:n], p.stable.values[:n] == 1
-        kind = p.point_type.values[:n]
-        folds = value[kind == FOLD]
+        fold_points = _fold_points(p)
+        folds = value[fold_points]
         top, top_stable = int(np.nanargmax(amp)), int(np.nanargmax(np.where(stable, amp, -np.inf)))
         out.append(f"| {label} | {n} | {int(p.n_folds)} | {folds.min():.4f}-{folds.max():.4f} | "
                    f"{amp[top]:.4f} at {value[top]:.3f} | {amp[top_stable]:.4f} at {value[top_stable]:.3f} |")
-        last = int(np.flatnonzero(kind == FOLD)[-1])
+        last = int(fold_points[-1])
         ends.append(f"{label}: {value[last]:.3f} rad/s ({amp[last]:.4f} m), {amp[n - 1]:.1e} m at {value[n - 1]:g} rad/s")
     return out + ["", "The last saddle-node of each branch, where it comes down to the small non-resonant responses, and",
                   "the response at the end of the range: " + "; ".join(ends) + ".", ""] + _light_families(results)
@@ -2768,7 +2768,7 @@ def _rayleigh_verdict(branches, families, held) -> list[str]:
              for what, intervals in [("the orbit itself", own[1])]
              + [(f"n = {f}", fine[r_fine, j]) for j, f in enumerate(families)]}
     loose = [f"{what} {', '.join(ends)}" for what, ends in loose.items() if ends]
-    fine_end = float(branches[-1].amplitude.values.ravel()[fine_value.size - 1])
+    fine_end = float(last.amplitude.values.ravel()[fine_value.size - 1])
     held_value, _, _ = _stretch_families(held, to_peak=True)
     held_end = float(held.amplitude.values.ravel()[held_value.size - 1])
     return [f"From {LIGHT_RAYLEIGH_ORDERS[-2]} to {LIGHT_RAYLEIGH_ORDERS[-1]} functions the ends of the unstable "
@@ -3308,6 +3308,11 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
     largest = {k: float(np.nanmax(v)) for k, v in finest.items()}
     groups = [g for g in (("w", "odd part"), ("u", "v")) if all(k in measured for k in g)]
     bounds = [float(np.nanmax([own[k] for k in g])) for g in groups]
+    v_slower = last["v"].size and last["w"].size and last["v"].max() < last["w"].min()
+    why_v = ("in part through the harmonics' own error (the reference column: their u and v converge only "
+             "algebraically in the radial functions), not through the time steps."
+             if dict(zip(groups, bounds)).get(("u", "v"), 0.0) >= 0.1 else
+             "for a reason these runs do not establish (not the time steps).")
     out += ["", "The harmonics' own error is at most " + "; ".join(
         f"{b:.1e} of the finest mesh's deviations of {' and '.join(g)} ("
         + ("the deviations are the mesh's)" if b < 0.1 else "not negligible against them: the measured orders of "
@@ -3321,12 +3326,7 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
             f"u deviates by at most {largest['u']:.1e} (orders {span('u', pairs - 1)} between the two finest meshes) "
             f"and v, the n = {n} part's circumferential displacement, by {largest['v']:.1e} (orders "
             f"{span('v', pairs - 1)})"
-            + ((": v converges more slowly than w at every orbit, in part through the harmonics' own error (the "
-                "reference column: their u and v converge only algebraically in the radial functions), not through "
-                "the time steps." if dict(zip(groups, bounds)).get(("u", "v"), 0.0) >= 0.1 else
-                ": v converges more slowly than w at every orbit, for a reason these runs do not establish (not the "
-                "time steps).") if last["v"].size and last["w"].size and last["v"].max() < last["w"].min() else "."),
-            ""]
+            + (f": v converges more slowly than w at every orbit, {why_v}" if v_slower else "."), ""]
     return out
 
 
