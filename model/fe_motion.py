@@ -45,13 +45,13 @@ from model.full.linear import transverse_mode
 #: mesh's fastest modes, excited by the lifted start, by about 5 % per step there).
 STABILITY_FRACTION = 0.5
 #: ``omega_max dt`` of the harmonics' reference motion (:func:`harmonic_reference`), the
-#: product of its RK4 step with the harmonics' highest frequency.  The start from rest excites
-#: the fast in-plane modes, which carry much of ``u`` and ``v``, and RK4's phase error on them
-#: falls as ``(omega dt)^4``.  From rest at a 5 cm orbit (delta = 1.5, order 16, harmonics
-#: 0..3) plus 1 cm of n = 1, halving the step moves u and v by 2.4e-4 and 1.0e-3 of their
-#: largest values from 2.0 (near RK4's limit of 2.8), by 1.1e-6 and 3.4e-6 from 0.25, the
-#: value here (order 3.6 from 0.5; ``tests/test_fe_motion.py``); w and its odd part move by
-#: 5e-9 and 3e-8.
+#: product of its RK4 step with the harmonics' highest frequency.  RK4's phase error on the
+#: fast in-plane modes falls as ``(omega dt)^4``.  From rest at a 5 cm orbit's deflection
+#: (delta = 1.5, order 16, harmonics 0..3) plus 1 cm of n = 1, the in-plane fields relaxed
+#: to it (:meth:`model.full.harmonic.HarmonicFull.relaxed`), halving the step moves u and v
+#: by 1.2e-5 and 6.0e-6 of their largest values from 2.0 (near RK4's limit of 2.8), by
+#: 6.6e-8 and 1.2e-8 from 0.25, the value here (order 3.6 from 0.5;
+#: ``tests/test_fe_motion.py``); w and its odd part move by 9e-10 and 4e-9.
 REFERENCE_STEP = 0.25
 
 

@@ -74,6 +74,26 @@ def test_harmonic_zero_is_the_axisymmetric_model(model):
     assert h.energy(y[:h.dof]) == pytest.approx(model.energy(q), rel=1e-14)
 
 
+def test_relaxed_state_keeps_the_deflection_and_bears_no_inplane_force(model):
+    # HarmonicFull.relaxed: on the harmonics 0, 1, 2 the deflection's blocks stay as given and
+    # the in-plane force vanishes to rounding (1e-12 of the deflection's); on the harmonic 0
+    # alone it is the axisymmetric model's own relaxation (an independent kernel) to 1e-12
+    h = HarmonicFull(model, (0, 1, 2))
+    start = np.concatenate([(0.04 if f == "W" else 0.0) * 0.4 ** np.arange(ORDER) * (1.0 - 0.3 * k)
+                            for k, f, _ in h.blocks])
+    relaxed = h.relaxed(start)
+    deflection = np.concatenate([np.arange(h.dof)[h.block(k, "W")] for k in h.harmonics])
+    inplane = np.setdiff1d(np.arange(h.dof), deflection)
+    np.testing.assert_array_equal(relaxed[deflection], start[deflection])
+    g = h.compiled_gradient(relaxed)
+    assert np.abs(g[inplane]).max() <= 1e-12 * np.abs(g[deflection]).max()
+    assert np.abs(relaxed[h.block(2, "V")]).max() > 1e-3 * np.abs(relaxed[h.block(0, "U")]).max()
+    axisymmetric = HarmonicFull(model, (0,))
+    W = start[h.block(0, "W")]
+    np.testing.assert_allclose(axisymmetric.relaxed(np.concatenate([np.zeros(ORDER), W])), model.relaxed(W),
+                               rtol=0, atol=1e-12 * np.abs(model.relaxed(W)).max())
+
+
 @pytest.mark.parametrize("n", [1, 3])
 def test_block_of_a_harmonic_is_half_the_family_stiffness(model, n):
     # (1/2 pi) int cos^2 = 1/2: about an axisymmetric state the harmonic's block of the Hessian

@@ -228,6 +228,29 @@ class HarmonicFull:
         harmonic_hessian(*self._tables(), self._var_index, self._var_value, np.ascontiguousarray(q, dtype=float), out)
         return out
 
+    def relaxed(self, q) -> np.ndarray:
+        """``q`` (``(dof,)``, over ``Re``) with its ``U`` and ``V`` blocks replaced by those that
+        make the energy stationary at its ``W`` blocks: the in-plane displacement that a
+        quasi-static transverse deflection carries (Newton on :meth:`compiled_gradient` and
+        :meth:`compiled_hessian` from the given in-plane blocks; the harmonics' form of
+        :meth:`model.full.axisymmetric.AxisymmetricFull.relaxed`).
+
+        Raises
+        ------
+        ArithmeticError
+            When Newton's steps do not fall below ``1e-14`` of the largest coordinate in 50.
+        """
+        inplane = np.concatenate([np.arange(self.dof)[self.block(k, f, parity)]
+                                  for k, f, parity in self.blocks if f != "W"])
+        q = np.array(q, float)
+        for _ in range(50):
+            step = -np.linalg.solve(self.compiled_hessian(q)[np.ix_(inplane, inplane)],
+                                    self.compiled_gradient(q)[inplane])
+            q[inplane] += step
+            if np.abs(step).max() < 1e-14 * (1.0 + np.abs(q).max()):
+                return q
+        raise ArithmeticError("the in-plane displacement at the given deflection did not converge")
+
     def _fields_on_grid(self, q):
         # u, u_s, u_theta, v, v_s, v_theta, w_s, w_theta at (theta, s): (T, points) each; a block's
         # field is e (U, W) or o (V), e' = -k o and o' = k e

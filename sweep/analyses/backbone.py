@@ -30,9 +30,10 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   (:func:`model.fe_motion.check_free_orbit`);
 * ``fe_harmonic_w_deviation``, ``fe_harmonic_odd_deviation``, ``fe_harmonic_u_deviation``,
   ``fe_harmonic_v_deviation`` (``point``, ``fe_radial``) -- with ``fe_check.asymmetric = A``
-  (m): the same meshes from rest at each orbit's state plus ``A`` times the lowest
+  (m): the same meshes from rest at each orbit's deflection plus ``A`` times the lowest
   transverse mode of wave number ``n = fe_check.wave_number`` (default 1; largest ``|w|`` of
-  ``A``) against the full model on the circumferential harmonics :data:`FE_HARMONICS` times
+  ``A``), the in-plane fields relaxed to it
+  (:meth:`model.full.harmonic.HarmonicFull.relaxed`), against the full model on the circumferential harmonics :data:`FE_HARMONICS` times
   ``n`` (:mod:`model.full.harmonic`): the largest deviations of ``w``, of ``w(rho, theta) -
   w(rho, theta + pi / n)`` (twice its part on the odd multiples of ``n``: the asymmetric
   motion), of ``u`` and of ``v`` at the mesh's nodes over the instants
@@ -151,8 +152,9 @@ class BackboneAnalysis(Analysis):
                     "two-dimensional finite-element meshes of radial P2 elements across and around x radial around, "
                     "integrated for periods periods from rest at the orbit's state; fe_omega, fe_omega_spread, "
                     "fe_w_deviation, fe_u_deviation (the full model with u free; docs/validation.md, \"The "
-                    "finite-element free vibration\"); with asymmetric = A (m), the same from the orbit's state plus "
-                    "A times the lowest transverse mode of wave number n = wave_number against the full model on "
+                    "finite-element free vibration\"); with asymmetric = A (m), the same from the orbit's deflection "
+                    "plus A times the lowest transverse mode of wave number n = wave_number, the in-plane fields "
+                    "relaxed to it, against the full model on "
                     f"the harmonics {', '.join(map(str, FE_HARMONICS))} times n: fe_harmonic_w_deviation, "
                     "fe_harmonic_odd_deviation, fe_harmonic_u_deviation, fe_harmonic_v_deviation, and the harmonics' "
                     "own error, fe_harmonic_reference_<w, odd, u, v>_error (A in m; 0: no asymmetric check; "
@@ -330,8 +332,9 @@ def _fe_variables(options) -> list[Variable]:
     harmonics = ", ".join(map(str, fe_harmonics(n)))
     half_wave = half_turn(n)
     asymmetric = [
-        Variable("fe_harmonic_w_deviation", dims, shape, "f8", "1", "from rest at the orbit's state plus "
-                 f"fe_check.asymmetric times the lowest n = {n} transverse mode: largest |w_fe - w| over the "
+        Variable("fe_harmonic_w_deviation", dims, shape, "f8", "1", "from rest at the orbit's deflection plus "
+                 f"fe_check.asymmetric times the lowest n = {n} transverse mode, the in-plane fields relaxed to "
+                 "it: largest |w_fe - w| over the "
                  f"instants and the mesh's nodes, over the largest |w|, w of the full model on the harmonics "
                  f"{harmonics}"),
         Variable("fe_harmonic_odd_deviation", dims, shape, "f8", "1", "the same for the part on the odd "
@@ -365,8 +368,9 @@ def _fe_variables(options) -> list[Variable]:
 def _fe_check(point, free, orbits, radial, around, periods, asymmetric, n) -> dict[str, np.ndarray]:
     """The outputs of ``fe_check`` (:func:`model.fe_motion.check_free_orbit`, and with
     ``asymmetric`` :func:`model.fe_motion.check_harmonic_motion` against the harmonics' motion
-    from each orbit's state plus ``asymmetric`` (m) of the lowest mode of wave number ``n``,
-    computed once per orbit) for the converged orbits (NaN elsewhere)."""
+    from each orbit's deflection plus ``asymmetric`` (m) of the lowest mode of wave number ``n``,
+    the in-plane fields relaxed to it on each discretisation of the harmonics, computed once
+    per orbit) for the converged orbits (NaN elsewhere)."""
     from model.fe_motion import (REFERENCE_STEP, ReferenceChange, asymmetric_start, check_free_orbit,
                                  check_harmonic_motion, harmonic_reference, reference_error)
     from model.full.harmonic import HarmonicFull
@@ -390,10 +394,11 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric, n) -> di
                              fe_harmonics(n, FE_HARMONICS + FE_MORE_HARMONICS))
         for j in converged:
             period = 2.0 * np.pi / orbits.omega[j]
-            references[j] = harmonic_reference(harmonic, asymmetric_start(harmonic, orbits.modal[j], asymmetric),
+            references[j] = harmonic_reference(harmonic, harmonic.relaxed(asymmetric_start(harmonic, orbits.modal[j],
+                                                                                            asymmetric)),
                                                period, periods, FE_SAMPLES)
-            refined = harmonic_reference(finer, asymmetric_start(finer, orbits.modal[j], asymmetric), period,
-                                         periods, FE_SAMPLES, step=REFERENCE_STEP / 2)
+            refined = harmonic_reference(finer, finer.relaxed(asymmetric_start(finer, orbits.modal[j], asymmetric)),
+                                         period, periods, FE_SAMPLES, step=REFERENCE_STEP / 2)
             for name, value in zip(errors, reference_error(references[j], refined)):
                 out[name][j] = value
     for k, r in enumerate(radial if converged.size else ()):
