@@ -3253,7 +3253,8 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
     # (u and v: runs from before their own error was measured have none)
     measured = [k for k, f in fields.items() if f"fe_harmonic_reference_{f}_error" in ds]
     out = [title, "",
-           f"From rest at each orbit's state plus {size:g} m of the lowest n = {n} transverse mode (its largest |w|), "
+           f"From rest at each orbit's deflection plus {size:g} m of the lowest n = {n} transverse mode (its largest "
+           "|w|),", "the in-plane fields relaxed to it (`HarmonicFull.relaxed`), "
            f"the meshes of `{name}`", "against the full model on the circumferential harmonics "
            f"{', '.join(str(k * n) for k in FE_HARMONICS)} (`model/full/harmonic.py`), {periods} periods,",
            f"compared at the mesh's nodes, where a P2 field's values are its coefficients, {FE_SAMPLES} instants per "
@@ -3307,16 +3308,22 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
             short.append(f"delta {d:g}, {a:.2f} m ({', '.join(slow)})")
     largest = {k: float(np.nanmax(v)) for k, v in finest.items()}
     groups = [g for g in (("w", "odd part"), ("u", "v")) if all(k in measured for k in g)]
-    bounds = [float(np.nanmax([own[k] for k in g])) for g in groups]
+    per_orbit = [np.nanmax([own[k] for k in g], axis=0) for g in groups]  # (orbits,) per group
+    bounds = [float(np.nanmax(r)) for r in per_orbit]
+
+    def own_error(g, b, ratios):
+        where = "; ".join(f"delta {d:g}, {a:.2f} m" for (d, a), r in zip(orbits, ratios) if r >= 0.1)
+        return (f"{b:.1e} of the finest mesh's deviations of {' and '.join(g)} ("
+                + ("the deviations are the mesh's)" if b < 0.1 else
+                   f"not negligible against them at {where}, where the measured orders of these fields are partly "
+                   "the harmonics' own error; below 0.1 of them elsewhere)"))
     v_slower = last["v"].size and last["w"].size and last["v"].max() < last["w"].min()
-    why_v = ("in part through the harmonics' own error (the reference column: their u and v converge only "
-             "algebraically in the radial functions), not through the time steps."
+    inplane_at_order = all(last[k].size and last[k].min() > 2.5 for k in ("u", "v"))
+    why_v = ("in part through the harmonics' own error (the reference column), not through the time steps."
              if dict(zip(groups, bounds)).get(("u", "v"), 0.0) >= 0.1 else
              "for a reason these runs do not establish (not the time steps).")
-    out += ["", "The harmonics' own error is at most " + "; ".join(
-        f"{b:.1e} of the finest mesh's deviations of {' and '.join(g)} ("
-        + ("the deviations are the mesh's)" if b < 0.1 else "not negligible against them: the measured orders of "
-           "these fields are partly the harmonics' own error)") for g, b in zip(groups, bounds)) + ".",
+    out += ["", "The harmonics' own error is at most "
+            + "; ".join(own_error(g, b, r) for g, b, r in zip(groups, bounds, per_orbit)) + ".",
             f"On {radial[-1]} elements across w deviates by at most {largest['w']:.1e} of its largest value and its "
             f"odd part by {largest['odd part']:.1e}"
             + (f": the full model's circumferential harmonics integrate the n = {n} transverse motion as a mesh with no "
@@ -3326,7 +3333,8 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
             f"u deviates by at most {largest['u']:.1e} (orders {span('u', pairs - 1)} between the two finest meshes) "
             f"and v, the n = {n} part's circumferential displacement, by {largest['v']:.1e} (orders "
             f"{span('v', pairs - 1)})"
-            + (f": v converges more slowly than w at every orbit, {why_v}" if v_slower else "."), ""]
+            + (": both at the element's order too." if inplane_at_order else
+               f": v converges more slowly than w at every orbit, {why_v}" if v_slower else "."), ""]
     return out
 
 

@@ -353,6 +353,10 @@ def test_the_asymmetric_finite_element_check():
     assert "2.5 or less at delta 1.1, 0.02 m (odd part 1.5); delta 1.1, 0.06 m (odd part 1.5)" in text
     missing = ds.assign(omega_nl=(pt, [[[30.0, np.nan]]]))
     assert "| 0.060 |" not in "\n".join(validation._fe_asymmetric(missing, [4, 8], 2, 0.01))
+    # u and v at the element's order too (3 and 2.6 at both orbits)
+    fast = ds.assign(fe_harmonic_u_deviation=(fr, w), fe_harmonic_v_deviation=(fr, w ** 0.86))
+    text = "\n".join(validation._fe_asymmetric(fast, [4, 8], 2, 0.01))
+    assert "(orders 2.6 to 2.6): both at the element's order too." in text and "more slowly" not in text
     # with u's and v's own errors: 9e-3 of the second orbit's v, sqrt(2e-3) = 4.47e-2, is 0.20 of it
     uv = ds.assign(fe_harmonic_reference_u_error=(pt, [[[1e-5, 1e-3]]]),
                    fe_harmonic_reference_v_error=(pt, [[[1e-5, 9e-3]]]))
@@ -360,8 +364,9 @@ def test_the_asymmetric_finite_element_check():
     assert "| 1.0e-06 / 4.0e-06 / 1.0e-05 / 1.0e-05 |" in text and "w / odd part / u / v, on a polar grid" in text
     # u: 1e-3 of (2e-3)^(2/3) = 1.59e-2 is 6.3e-2 of it
     assert ("at most 2.0e-02 of the finest mesh's deviations of w and odd part (the deviations are the mesh's); "
-            "2.0e-01 of the finest mesh's deviations of u and v (not negligible against them: the measured orders "
-            "of these fields are partly the harmonics' own error).") in text
+            "2.0e-01 of the finest mesh's deviations of u and v (not negligible against them at delta 1.1, 0.06 m, "
+            "where the measured orders of these fields are partly the harmonics' own error; below 0.1 of them "
+            "elsewhere).") in text
 
 
 def test_the_paper_damping_band_reads_every_saddle_node_but_the_lowest():
