@@ -106,6 +106,11 @@ class Branch:
         The branch reached the end of the parameter range.
     message : str
         Why the continuation stopped.
+    unlocated : tuple of (int, int, float, float)
+        The test functions whose sign changed between two neighbouring points but whose zero
+        could not be located (a corrector failed): ``(kind, n, value_a, value_b)``, the kind,
+        the wave number of its block (0: axisymmetric) and the parameter at the two points.
+        The bifurcation lies between them; intervals bounded by it are known to that spacing.
     """
 
     parameter: str
@@ -119,6 +124,7 @@ class Branch:
     family_multipliers: np.ndarray
     complete: bool
     message: str
+    unlocated: tuple = ()
 
     def special(self, kind: int) -> np.ndarray:
         """Indices of the points of type ``kind`` (e.g. :data:`FOLD`)."""
@@ -302,6 +308,7 @@ def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: f
     prob = _Problem(fmap, parameter, float(start), float(stop), families)
     width = max((f.size for f in prob.families), default=0)
     pts: list[tuple] = []
+    unlocated: list[tuple[int, int, float, float]] = []
 
     def record(x, phi, kind, family=0, blocks=None):
         y, lam = prob.unpack(x)
@@ -318,7 +325,8 @@ def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: f
         lam, y, amp, mu, st, kind, fam, fam_mu = (list(v) for v in zip(*pts))
         return Branch(parameter, np.array(lam), np.array(y), np.array(amp), np.array(mu),
                       np.array(st, dtype=bool), np.array(kind, dtype=np.int8), np.array(fam, dtype=np.int16),
-                      np.array(fam_mu).reshape(len(pts), len(prob.families), width), complete, message)
+                      np.array(fam_mu).reshape(len(pts), len(prob.families), width), complete, message,
+                      tuple(unlocated))
 
     def tests(t, phi, blocks):
         # (kind, n, block index (None: axisymmetric), value, outside): fold, symmetry-breaking
@@ -391,7 +399,9 @@ def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: f
             if a * b < 0 and len(pts) + len(found) < max_points - 1 and not (kind == BRANCH_POINT and n == 0
                                                                              and fold_here):
                 loc = _locate(prob, kind, block, x, t, ds, a, b, tol, x_new)
-                if loc is not None:
+                if loc is None:
+                    unlocated.append((kind, n, prob.lam(x), lam_new))
+                elif kind != NEIMARK_SACKER or _complex_pair_on_circle(prob, block, *loc[1:3]):
                     found.append(loc + (n,))
         for sigma, xs, phis, kind, n in sorted(found, key=lambda f: f[0]):
             record(xs, phis, kind, n)
@@ -576,20 +586,24 @@ def locate(correct, test, x, t, ds, fa, fb, tol, x_end=None, singular=False):
 
 def _locate(prob, kind, block, x, t, ds, fa, fb, tol, x_end=None):
     """The zero of the test function of ``kind`` on ``block`` (see :func:`_test_value`)
-    between ``x`` and the next point ``x_end``; ``(sigma, x', phi, kind)`` or None.  Complex-pair
-    crossings of an NS test that turn out to be real (neutral saddles) are discarded."""
+    between ``x`` and the next point ``x_end``: ``(sigma, x', phi, kind)``, or None when a
+    corrector failed."""
     found = locate(prob.correct, lambda res: _test_value(prob, kind, block, res[1], res[2], res[0], t),
                    x, t, ds, fa, fb, tol, x_end, singular=kind == BRANCH_POINT and block is None)
     if found is None:
         return None
     sigma, (xs, _, phi, _) = found
-    if kind == NEIMARK_SACKER:
-        b = phi if block is None else prob.family_blocks(xs, block)[0]
-        mu = sorted_multipliers(b)
-        on_circle = np.abs(np.abs(mu) - 1.0) < 1e-6
-        if not np.any(np.abs(mu[on_circle].imag) > 1e-8):
-            return None
     return sigma, xs, phi, kind
+
+
+def _complex_pair_on_circle(prob, block, xs, phi) -> bool:
+    """Whether the located zero of an NS test on ``block`` at ``xs`` has a complex pair on the
+    unit circle: a Neimark-Sacker point, not a neutral saddle (a real pair of product 1,
+    where the test also vanishes), which is discarded."""
+    b = phi if block is None else prob.family_blocks(xs, block)[0]
+    mu = sorted_multipliers(b)
+    on_circle = np.abs(np.abs(mu) - 1.0) < 1e-6
+    return bool(np.any(np.abs(mu[on_circle].imag) > 1e-8))
 
 
 def cusp_from_folds(c, fold_value, fold_amplitude) -> tuple[float, float]:

@@ -219,6 +219,31 @@ def test_compute_pads_outputs_to_max_points():
     assert set(np.unique(out["point_type"][:n])) == {0, 1}
 
 
+def test_a_bifurcation_that_cannot_be_located_is_reported_between_its_neighbours(monkeypatch, p0_branch):
+    # With every corrector of the locator failing (model.continuation.locate returns None, as it
+    # does when a corrector fails), the two folds of the P0 branch are not inserted but named
+    # in Branch.unlocated, each with the parameter at the two points where the fold test changed
+    # sign: the regular points on either side of the fold the working locator inserts (the
+    # locator does not alter the steps, so the regular points are the same); the analysis says
+    # so in the task's message and keeps the status (every point's stability stands)
+    import model.continuation as continuation
+
+    monkeypatch.setattr(continuation, "locate", lambda *args, **kwargs: None)
+    rom = build_rom(solve_prestretch(Membrane(delta=1.1, delta_o=0.2), "numeric"), [(1, 0)])
+    br = continue_orbits(ForcedMap.from_loading(rom, PAPER), "P0", 0.0, 3.0, ds_max=0.3)
+    assert br.complete and not br.special(FOLD).size and len(br.unlocated) == 2
+    np.testing.assert_array_equal(br.value, p0_branch.value[p0_branch.kind == REGULAR])
+    for (kind, n, a, b), fold in zip(br.unlocated, p0_branch.special(FOLD)):
+        assert kind == FOLD and n == 0 and (a, b) == (p0_branch.value[fold - 1], p0_branch.value[fold + 1])
+    options = CONTINUATION.parse_options({"parameter": "P0", "start": 0.0, "stop": 3.0, "ds_max": 0.3}, GRID,
+                                         MEMBRANE)
+    out = CONTINUATION.compute(grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "Omega": 33.5, "c": 0.05}),
+                               options, 0)
+    a, b = br.unlocated[0][2:]
+    assert out["status"] == 0 and out["n_folds"] == 0
+    assert f"saddle-node between P0 = {a:.6g} and {b:.6g}" in out["message"]
+
+
 def test_compute_with_families_reports_each_family():
     # Fig. 14a resonance in Omega with the n = 1 and n = 2 families: n = 1 has branch points
     # on the resonant stretch (tests/test_families.py checks them independently), n = 2 none.

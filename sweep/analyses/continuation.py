@@ -137,7 +137,10 @@ Fold loci versus damping by extrapolation (without ``fold_curve``): put ``c`` in
 per combination of the other grid keys, the cusp where the two folds merge
 (:func:`model.continuation.cusp_from_folds`): ``cusp_c`` (N s/m^3) and ``cusp_value``
 (Pa).  The status is ``ok`` when the branch reached ``stop``, ``not_converged`` otherwise
-(``message`` says why), ``failed`` when a state on the branch is not finite.
+(``message`` says why), ``failed`` when a state on the branch is not finite.  A bifurcation
+whose test function changed sign between two points but could not be located (a corrector
+failed: :attr:`model.continuation.Branch.unlocated`) is not inserted; ``message`` names it
+and the two values of the parameter between which it lies, whatever the status.
 """
 
 from __future__ import annotations
@@ -148,7 +151,7 @@ from functools import partial
 
 import numpy as np
 
-from model.continuation import FOLD, KIND_NAMES, continue_orbits, cusp_from_folds
+from model.continuation import FOLD, KIND_LABELS, KIND_NAMES, continue_orbits, cusp_from_folds
 from model.families import symmetry_blocks
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
@@ -446,6 +449,8 @@ class ContinuationAnalysis(Analysis):
         problem = "; ".join(p for p in problems if p)
         if problem and out["status"] == STATUS_OK:
             out["status"], out["message"] = STATUS_NOT_CONVERGED, problem
+        if br.unlocated:
+            out["message"] = "; ".join(m for m in (out.get("message", ""), _unlocated_message(br)) if m)
         return out
 
     def warmups(self, options):
@@ -476,6 +481,15 @@ def _cusp(ds):
     return xr.apply_ufunc(
         lambda v, a: cusp_from_folds(sub.c.values, v, a), sub.fold_value, sub.fold_amplitude,
         input_core_dims=[["c", "fold"], ["c", "fold"]], output_core_dims=[[], []], vectorize=True)
+
+
+def _unlocated_message(br) -> str:
+    """The sign changes of ``br`` (a :class:`model.continuation.Branch`) whose bifurcation was
+    not located, for the task's message: the points' stability stands, an interval bounded
+    there is known to the branch's spacing."""
+    where = [f"{KIND_LABELS[kind]}{f' of n = {n}' if n else ''} between {br.parameter} = {a:.6g} and {b:.6g}"
+             for kind, n, a, b in br.unlocated]
+    return ("not located (a corrector failed; bounded by the neighbouring points): " + ", ".join(where))
 
 
 def _full_layout(br, K, axisymmetric, blocks):
