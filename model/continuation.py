@@ -111,6 +111,8 @@ class Branch:
         could not be located (a corrector failed): ``(kind, n, value_a, value_b)``, the kind,
         the wave number of its block (0: axisymmetric) and the parameter at the two points.
         The bifurcation lies between them; intervals bounded by it are known to that spacing.
+        A Neimark-Sacker test's change may also be a neutral saddle (a real pair of product 1),
+        which only a located point tells apart.
     """
 
     parameter: str

@@ -2078,12 +2078,22 @@ def section_full_switching(results: Path) -> list[str]:
     return out + [""]
 
 
+def _why_none(b, default: str) -> str:
+    """Why the run ``b`` (one task) has none of what was asked: its message when its status is
+    not ok; else ``default``, followed by the message if there is one (an ok run's message
+    names the bifurcations it could not locate)."""
+    message = str(b.message.values)
+    if int(b.status) != 0:
+        return message or default
+    return default + (f"; the run notes: {message}" if message else "")
+
+
 def _switching_summary(b) -> str:
     """Where the standing waves of one run start, where they go and where they are stable."""
     omega = b.switched_Omega.values.ravel()
     m = int(np.isfinite(omega).sum())
     if m == 0:
-        return f"no standing waves ({str(b.message.values) or 'no branch point of n = 1'})."
+        return f"no standing waves ({_why_none(b, 'no branch point of n = 1')})."
     omega = omega[:m]
     amp, asym = b.switched_amplitude.values.ravel()[:m], b.switched_asymmetric_amplitude.values.ravel()[:m]
     stable, mod = b.switched_stable.values.ravel()[:m], b.switched_multiplier_modulus.values.ravel()[:m]
@@ -2122,7 +2132,7 @@ def _o2_summary(b, omega, m) -> str:
     neutral = b.switched_neutral_multiplier.values.ravel()[1:m]
     o2 = b.switched_stable_o2.values.ravel()[1:m]
     if not np.isfinite(odd).any():
-        return f" With the sine companions: not computed ({str(b.message.values) or 'no standing wave past the point'})."
+        return f" With the sine companions: not computed ({_why_none(b, 'no standing wave past the point')})."
     runs = _runs(np.flatnonzero(o2 == 1) + 1)
     where = ("at none of its points" if not runs else
              ", ".join(f"{omega[i]:.4f}-{omega[j]:.4f} rad/s" for i, j in runs))
@@ -2155,7 +2165,7 @@ def section_full_rotating(results: Path) -> list[str]:
         return out + _missing(FULL_ROTATING)
     b = _point(ds, delta=1.1, delta_o=0.2, P0=1.0, c=0.05)
     if not np.isfinite(b.rotating_Omega.values).any():
-        return out + [f"*No rotating waves: {str(b.message.values) or 'no Neimark-Sacker point of n = 2'}.*", ""]
+        return out + [f"*No rotating waves: {_why_none(b, 'no Neimark-Sacker point of n = 2')}.*", ""]
     return out + _rotating_waves(b, ds, results, FULL_ROTATING, 2, "the harmonics 0, 2, 4") + _inherited(ds, b, 2)
 
 
@@ -3308,11 +3318,18 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
             short.append(f"delta {d:g}, {a:.2f} m ({', '.join(slow)})")
     largest = {k: float(np.nanmax(v)) for k, v in finest.items()}
     groups = [g for g in (("w", "odd part"), ("u", "v")) if all(k in measured for k in g)]
-    per_orbit = [np.nanmax([own[k] for k in g], axis=0) for g in groups]  # (orbits,) per group
-    bounds = [float(np.nanmax(r)) for r in per_orbit]
+    # (orbits,) per group; fmax: NaN (a zero deviation) only where both are, and no warning
+    per_orbit = [np.fmax.reduce([np.asarray(own[k]) for k in g]) for g in groups]
+    bounds = [float(np.fmax.reduce(r)) for r in per_orbit]
 
     def own_error(g, b, ratios):
-        where = "; ".join(f"delta {d:g}, {a:.2f} m" for (d, a), r in zip(orbits, ratios) if r >= 0.1)
+        large = {}  # delta -> the amplitudes where the own error is 0.1 of the deviations or more
+        for (d, a), r in zip(orbits, ratios):
+            if r >= 0.1:
+                large.setdefault(d, []).append(f"{a:.2f}")
+        where = ", ".join(f"delta {d:g} ({' and '.join(a)} m)" for d, a in large.items())
+        if not np.isfinite(b):
+            return f"not comparable with the finest mesh's deviations of {' and '.join(g)} (zero at every orbit)"
         return (f"{b:.1e} of the finest mesh's deviations of {' and '.join(g)} ("
                 + ("the deviations are the mesh's)" if b < 0.1 else
                    f"not negligible against them at {where}, where the measured orders of these fields are partly "
@@ -3333,7 +3350,8 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
             f"u deviates by at most {largest['u']:.1e} (orders {span('u', pairs - 1)} between the two finest meshes) "
             f"and v, the n = {n} part's circumferential displacement, by {largest['v']:.1e} (orders "
             f"{span('v', pairs - 1)})"
-            + (": both at the element's order too." if inplane_at_order else
+            + ((": both at the element's order too." if at_order else ": both at the element's order at every orbit.")
+               if inplane_at_order else
                f": v converges more slowly than w at every orbit, {why_v}" if v_slower else "."), ""]
     return out
 

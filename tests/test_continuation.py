@@ -240,8 +240,20 @@ def test_a_bifurcation_that_cannot_be_located_is_reported_between_its_neighbours
     out = CONTINUATION.compute(grid_point(MEMBRANE, {"delta": 1.1, "delta_o": 0.2, "Omega": 33.5, "c": 0.05}),
                                options, 0)
     a, b = br.unlocated[0][2:]
-    assert out["status"] == 0 and out["n_folds"] == 0
+    assert out["status"] == 0 and out["n_folds"] == 0 and out["n_unlocated"] == 2
     assert f"saddle-node between P0 = {a:.6g} and {b:.6g}" in out["message"]
+
+
+@pytest.mark.parametrize("pair, crossing", [((1.2, 1 / 1.2), False), ((np.exp(0.7j), np.exp(-0.7j)), True)],
+                         ids=["neutral saddle", "complex pair"])
+def test_only_a_complex_pair_on_the_circle_makes_a_neimark_sacker_point(pair, crossing):
+    # The NS test changes sign also where a complex pair meets on the real axis and drops out
+    # of its product: a located zero is kept only with a complex pair on the unit circle, not
+    # with a real pair mu, 1/mu there (a neutral saddle)
+    from model.continuation import _complex_pair_on_circle
+
+    phi = np.diag(np.array([*pair, 0.3], dtype=complex))
+    assert _complex_pair_on_circle(None, None, None, phi) is crossing
 
 
 def test_compute_with_families_reports_each_family():

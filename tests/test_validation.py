@@ -152,15 +152,21 @@ def test_the_o2_summary_of_standing_waves():
     nan = np.nan
     ds = xr.Dataset({"switched_odd_multiplier_modulus": ("switched_point", [nan, 0.99, 1.02, 0.98]),
                      "switched_neutral_multiplier": ("switched_point", [nan, 1 + 1e-9, 1 - 3e-9, 1.0]),
-                     "switched_stable_o2": ("switched_point", [0, 1, 0, 1]), "message": ((), "")})
+                     "switched_stable_o2": ("switched_point", [0, 1, 0, 1]), "message": ((), ""),
+                     "status": ((), 0)})
     omega = np.array([33.0, 33.1, 33.2, 33.3])
     text = validation._o2_summary(ds, omega, 4)
     assert "0.98000-1.02000, above 1 at 1 of the 3 points" in text and "1 within 3.0e-09" in text
     assert "stable in O(2) 33.1000-33.1000 rad/s, 33.3000-33.3000 rad/s" in text
     blank = ds.assign(switched_odd_multiplier_modulus=("switched_point", [nan] * 4),
-                      message=((), "standing waves in O(2): ValueError: steps"))
+                      message=((), "standing waves in O(2): ValueError: steps"), status=((), 1))
     assert validation._o2_summary(blank, omega, 4) == (" With the sine companions: not computed (standing waves "
                                                         "in O(2): ValueError: steps).")
+    # an ok run's message (bifurcations it could not locate) is a note beside the default reason
+    noted = blank.assign(message=((), "not located (...): saddle-node between Omega = 34 and 34.1"), status=((), 0))
+    assert validation._o2_summary(noted, omega, 4) == (" With the sine companions: not computed (no standing wave "
+                                                        "past the point; the run notes: not located (...): "
+                                                        "saddle-node between Omega = 34 and 34.1).")
 
 
 def test_what_the_rotating_waves_inherit():
@@ -353,10 +359,15 @@ def test_the_asymmetric_finite_element_check():
     assert "2.5 or less at delta 1.1, 0.02 m (odd part 1.5); delta 1.1, 0.06 m (odd part 1.5)" in text
     missing = ds.assign(omega_nl=(pt, [[[30.0, np.nan]]]))
     assert "| 0.060 |" not in "\n".join(validation._fe_asymmetric(missing, [4, 8], 2, 0.01))
-    # u and v at the element's order too (3 and 2.6 at both orbits)
+    # u and v at the element's order too (3 and 2.6 at both orbits), and at every orbit while w's
+    # odd part is not
     fast = ds.assign(fe_harmonic_u_deviation=(fr, w), fe_harmonic_v_deviation=(fr, w ** 0.86))
     text = "\n".join(validation._fe_asymmetric(fast, [4, 8], 2, 0.01))
     assert "(orders 2.6 to 2.6): both at the element's order too." in text and "more slowly" not in text
+    text = "\n".join(validation._fe_asymmetric(fast.assign(fe_harmonic_odd_deviation=(fr, 2 * np.sqrt(w))),
+                                                [4, 8], 2, 0.01))
+    assert "not yet at the element's order there" in text
+    assert "(orders 2.6 to 2.6): both at the element's order at every orbit." in text and " too." not in text
     # with u's and v's own errors: 9e-3 of the second orbit's v, sqrt(2e-3) = 4.47e-2, is 0.20 of it
     uv = ds.assign(fe_harmonic_reference_u_error=(pt, [[[1e-5, 1e-3]]]),
                    fe_harmonic_reference_v_error=(pt, [[[1e-5, 9e-3]]]))
@@ -364,9 +375,13 @@ def test_the_asymmetric_finite_element_check():
     assert "| 1.0e-06 / 4.0e-06 / 1.0e-05 / 1.0e-05 |" in text and "w / odd part / u / v, on a polar grid" in text
     # u: 1e-3 of (2e-3)^(2/3) = 1.59e-2 is 6.3e-2 of it
     assert ("at most 2.0e-02 of the finest mesh's deviations of w and odd part (the deviations are the mesh's); "
-            "2.0e-01 of the finest mesh's deviations of u and v (not negligible against them at delta 1.1, 0.06 m, "
+            "2.0e-01 of the finest mesh's deviations of u and v (not negligible against them at delta 1.1 (0.06 m), "
             "where the measured orders of these fields are partly the harmonics' own error; below 0.1 of them "
             "elsewhere).") in text
+    # both orbits' own errors large: one clause per delta
+    both = uv.assign(fe_harmonic_reference_v_error=(pt, [[[1e-2, 9e-3]]]))
+    assert "against them at delta 1.1 (0.02 and 0.06 m), where" in "\n".join(validation._fe_asymmetric(both, [4, 8], 2,
+                                                                                                       0.01))
 
 
 def test_the_paper_damping_band_reads_every_saddle_node_but_the_lowest():

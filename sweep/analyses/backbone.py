@@ -278,7 +278,11 @@ class BackboneAnalysis(Analysis):
                 out["orbit_u"][j], out["orbit_w"][j] = free.snapshots(orbits.modal[j], 2.0 * np.pi / orbits.omega[j],
                                                                       options.orbit_samples, rho)
         if options.fe_check[0]:
-            out.update(_fe_check(point, free, orbits, *options.fe_check))
+            fe, problem = _fe_check(point, free, orbits, *options.fe_check)
+            out.update(fe)
+            if problem:
+                out["status"] = STATUS_NOT_CONVERGED
+                out["message"] = "; ".join(m for m in (out.get("message", ""), problem) if m)
         return out
 
 
@@ -366,12 +370,13 @@ def _fe_variables(options) -> list[Variable]:
     ]
 
 
-def _fe_check(point, free, orbits, radial, around, periods, asymmetric, n) -> dict[str, np.ndarray]:
+def _fe_check(point, free, orbits, radial, around, periods, asymmetric, n) -> tuple[dict[str, np.ndarray], str]:
     """The outputs of ``fe_check`` (:func:`model.fe_motion.check_free_orbit`, and with
     ``asymmetric`` :func:`model.fe_motion.check_harmonic_motion` against the harmonics' motion
     from each orbit's deflection plus ``asymmetric`` (m) of the lowest mode of wave number ``n``,
     the in-plane fields relaxed to it on each discretisation of the harmonics, computed once
-    per orbit) for the converged orbits (NaN elsewhere)."""
+    per orbit) for the converged orbits (NaN elsewhere), and what went wrong ("" if nothing):
+    the orbits whose relaxation did not converge keep NaN in the ``fe_harmonic_*`` outputs."""
     from model.fe_motion import (REFERENCE_STEP, ReferenceChange, asymmetric_start, check_free_orbit,
                                  check_harmonic_motion, harmonic_reference, reference_error)
     from model.full.harmonic import HarmonicFull
@@ -387,6 +392,7 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric, n) -> di
     rho = np.linspace(m.Ro, m.Re, ORBIT_RADII)
     converged = np.flatnonzero(orbits.converged)
     references = {}
+    unrelaxed = []  # amplitudes (m) of the orbits whose asymmetric start did not relax
     if asymmetric:
         errors = tuple(f"fe_harmonic_reference_{field}_error" for field in ReferenceChange._fields)
         out.update({k: np.full(orbits.omega.size, np.nan) for k in errors})
@@ -395,11 +401,14 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric, n) -> di
                              fe_harmonics(n, FE_HARMONICS + FE_MORE_HARMONICS))
         for j in converged:
             period = 2.0 * np.pi / orbits.omega[j]
-            references[j] = harmonic_reference(harmonic, harmonic.relaxed(asymmetric_start(harmonic, orbits.modal[j],
-                                                                                            asymmetric)),
-                                               period, periods, FE_SAMPLES)
-            refined = harmonic_reference(finer, finer.relaxed(asymmetric_start(finer, orbits.modal[j], asymmetric)),
-                                         period, periods, FE_SAMPLES, step=REFERENCE_STEP / 2)
+            try:
+                start, finer_start = (h.relaxed(asymmetric_start(h, orbits.modal[j], asymmetric))
+                                      for h in (harmonic, finer))
+            except ArithmeticError:
+                unrelaxed.append(float(orbits.amplitude[j]))
+                continue
+            references[j] = harmonic_reference(harmonic, start, period, periods, FE_SAMPLES)
+            refined = harmonic_reference(finer, finer_start, period, periods, FE_SAMPLES, step=REFERENCE_STEP / 2)
             for name, value in zip(errors, reference_error(references[j], refined)):
                 out[name][j] = value
     for k, r in enumerate(radial if converged.size else ()):
@@ -412,7 +421,9 @@ def _fe_check(point, free, orbits, radial, around, periods, asymmetric, n) -> di
             if j in references:
                 for name, value in zip(harmonic_names, check_harmonic_motion(motion, references[j])):
                     out[name][j, k] = value
-    return out
+    problem = (f"fe_check.asymmetric: the in-plane fields did not relax to the start's deflection at "
+               f"{', '.join(f'{a:.6g}' for a in unrelaxed)} m (fe_harmonic_* NaN there)" if unrelaxed else "")
+    return out, problem
 
 
 def _compile_backbone(material: str) -> None:

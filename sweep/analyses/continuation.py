@@ -31,7 +31,10 @@ Outputs (a task's branches differ in length: every ``point`` array is padded wit
   multipliers by decreasing modulus (the ``2K`` of largest modulus of a model with more
   coordinates than modes: the full model), and ``multiplier_modulus`` (``point``) the largest;
 * ``fold_value``, ``fold_amplitude`` (``fold``, :data:`MAX_FOLDS` = 16 long, NaN padded):
-  the first saddle-node points in branch order, and ``n_points``, ``n_folds`` (all of them).
+  the first saddle-node points in branch order, and ``n_points``, ``n_folds`` (all of them);
+* ``n_unlocated``: the sign changes of a test function between two points whose zero could
+  not be located (a corrector failed), not inserted and so not counted in ``point_type``,
+  ``n_folds`` or ``fold_value``; ``message`` names each, with the parameter at its two points.
 
 Mixed mode sets (``modes`` with ``n != 0`` and at least one ``n = 0`` mode, no ``families``):
 the branch starts from rest, which the uniform pressure keeps axisymmetric, so it is continued
@@ -139,8 +142,9 @@ per combination of the other grid keys, the cusp where the two folds merge
 (Pa).  The status is ``ok`` when the branch reached ``stop``, ``not_converged`` otherwise
 (``message`` says why), ``failed`` when a state on the branch is not finite.  A bifurcation
 whose test function changed sign between two points but could not be located (a corrector
-failed: :attr:`model.continuation.Branch.unlocated`) is not inserted; ``message`` names it
-and the two values of the parameter between which it lies, whatever the status.
+failed: :attr:`model.continuation.Branch.unlocated`) is not inserted: ``n_unlocated`` counts
+them and ``message`` names each, with the two values of the parameter between which it lies,
+whatever the status.
 """
 
 from __future__ import annotations
@@ -151,7 +155,7 @@ from functools import partial
 
 import numpy as np
 
-from model.continuation import FOLD, KIND_LABELS, KIND_NAMES, continue_orbits, cusp_from_folds
+from model.continuation import FOLD, KIND_LABELS, KIND_NAMES, NEIMARK_SACKER, continue_orbits, cusp_from_folds
 from model.families import symmetry_blocks
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.params import Loading, Membrane
@@ -372,7 +376,10 @@ class ContinuationAnalysis(Analysis):
             Variable("fold_value", ("fold",), (MAX_FOLDS,), "f8", units, f"{p} at the saddle-node points"),
             Variable("fold_amplitude", ("fold",), (MAX_FOLDS,), "f8", "m", "amplitude at the saddle-node points"),
             Variable("n_points", (), (), "i4", "1", "points on the branch", -1),
-            Variable("n_folds", (), (), "i4", "1", "saddle-node points on the branch", -1),
+            Variable("n_folds", (), (), "i4", "1", "saddle-node points on the branch (located ones)", -1),
+            Variable("n_unlocated", (), (), "i4", "1", "test-function sign changes between two points whose "
+                     "bifurcation could not be located (not in point_type, n_folds, fold_value; the message names "
+                     "them)", -1),
             Variable("rk4_steps", (), (), "i4", "1", "RK4 steps per forcing period", 0),
         ]
 
@@ -433,6 +440,7 @@ class ContinuationAnalysis(Analysis):
         out["fold_amplitude"][:folds.size] = br.amplitude[folds]
         out["n_points"] = np.int32(m)
         out["n_folds"] = np.int32(br.special(FOLD).size)
+        out["n_unlocated"] = np.int32(len(br.unlocated))
         out["status"] = STATUS_OK if br.complete else STATUS_NOT_CONVERGED
         if not br.complete:
             out["message"] = (f"reached max_points = {options.max_points} (raise max_points)"
@@ -487,8 +495,8 @@ def _unlocated_message(br) -> str:
     """The sign changes of ``br`` (a :class:`model.continuation.Branch`) whose bifurcation was
     not located, for the task's message: the points' stability stands, an interval bounded
     there is known to the branch's spacing."""
-    where = [f"{KIND_LABELS[kind]}{f' of n = {n}' if n else ''} between {br.parameter} = {a:.6g} and {b:.6g}"
-             for kind, n, a, b in br.unlocated]
+    where = [f"{KIND_LABELS[kind]}{' test' if kind == NEIMARK_SACKER else ''}{f' of n = {n}' if n else ''} "
+             f"between {br.parameter} = {a:.6g} and {b:.6g}" for kind, n, a, b in br.unlocated]
     return ("not located (a corrector failed; bounded by the neighbouring points): " + ", ".join(where))
 
 
