@@ -248,11 +248,28 @@ def _ns_test(mu):
     return float(out.real)
 
 
-def _complex_outside(mu) -> int:
+def _sign_change(kind: int, a: float, b: float, outside_a, outside_b) -> str | None:
+    """What the continuation does with the test function of ``kind`` between two points
+    (values ``a``, ``b``; ``outside_*`` from :func:`_outside` for an NS test): ``"locate"`` its
+    zero, ``"missed"`` when a complex pair crossed the unit circle but the NS test kept its
+    sign (another pair met on the real axis between the points, or left it: its factor
+    ``|mu|^2 - 1 < 0`` flipped the sign back), which leaves no bracket to locate in, or None.
+    The NS test also changes sign where a complex pair meets on the real axis (it drops out of
+    the product): only a change in the complex multipliers outside the circle makes it an NS
+    point."""
+    if kind == NEIMARK_SACKER and outside_a[0] == outside_b[0]:
+        return None
+    if a * b < 0:
+        return "locate"
+    return "missed" if kind == NEIMARK_SACKER and outside_a[1] != outside_b[1] else None
+
+
+def _outside(mu) -> tuple[int, int]:
     """How many complex multipliers (those :func:`_ns_test` takes) lie outside the unit
-    circle: a Neimark-Sacker point changes it by two."""
+    circle, and how many multipliers in all: a Neimark-Sacker point changes both by two, a
+    complex pair meeting on the real axis outside the circle only the first."""
     c = mu[np.abs(mu.imag) > 1e-12 * np.maximum(1.0, np.abs(mu))]
-    return int(np.count_nonzero(np.abs(c) > 1.0))
+    return int(np.count_nonzero(np.abs(c) > 1.0)), int(np.count_nonzero(np.abs(mu) > 1.0))
 
 
 def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: float, guess=None,
@@ -333,15 +350,17 @@ def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: f
     def tests(t, phi, blocks):
         # (kind, n, block index (None: axisymmetric), value, outside): fold, symmetry-breaking
         # branch point, PD, NS of the axisymmetric block, then BP, PD, NS of each family;
-        # `outside` (NS only, 0 otherwise): the complex multipliers outside the unit circle
+        # `outside` (NS only, (0, 0) otherwise): the complex multipliers and all multipliers
+        # outside the unit circle (_outside)
         def ns(block_phi):
             mu = sorted_multipliers(block_phi)
-            return _ns_test(mu), _complex_outside(mu)
-        out = [(FOLD, 0, None, t[-1], 0), (BRANCH_POINT, 0, None, _bp_test(phi), 0),
-               (PERIOD_DOUBLING, 0, None, _pd_test(phi), 0), (NEIMARK_SACKER, 0, None, *ns(phi))]
+            return _ns_test(mu), _outside(mu)
+        none = (0, 0)
+        out = [(FOLD, 0, None, t[-1], none), (BRANCH_POINT, 0, None, _bp_test(phi), none),
+               (PERIOD_DOUBLING, 0, None, _pd_test(phi), none), (NEIMARK_SACKER, 0, None, *ns(phi))]
         for i, (fam, block) in enumerate(zip(prob.families, blocks)):
-            out += [(BRANCH_POINT, fam.n, i, _bp_test(block), 0), (PERIOD_DOUBLING, fam.n, i, _pd_test(block), 0),
-                    (NEIMARK_SACKER, fam.n, i, *ns(block))]
+            out += [(BRANCH_POINT, fam.n, i, _bp_test(block), none),
+                    (PERIOD_DOUBLING, fam.n, i, _pd_test(block), none), (NEIMARK_SACKER, fam.n, i, *ns(block))]
         return out
 
     e = np.zeros(prob.n + 1)
@@ -393,13 +412,13 @@ def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: f
         found = []
         fold_here = values[0][3] * new_values[0][3] < 0
         for (kind, n, block, a, outside_a), (*_, b, outside_b) in zip(values, new_values):
-            # det(Phi - I) changes sign at a fold too: only without one is it a branch point;
-            # the NS test also changes sign where a complex pair meets on the real axis (it
-            # drops out of the product): only a pair that crosses the circle is an NS point
-            if kind == NEIMARK_SACKER and outside_a == outside_b:
+            # det(Phi - I) changes sign at a fold too: only without one is it a branch point
+            if len(pts) + len(found) >= max_points - 1 or (kind == BRANCH_POINT and n == 0 and fold_here):
                 continue
-            if a * b < 0 and len(pts) + len(found) < max_points - 1 and not (kind == BRANCH_POINT and n == 0
-                                                                             and fold_here):
+            change = _sign_change(kind, a, b, outside_a, outside_b)
+            if change == "missed":
+                unlocated.append((kind, n, prob.lam(x), lam_new))
+            elif change == "locate":
                 loc = _locate(prob, kind, block, x, t, ds, a, b, tol, x_new)
                 if loc is None:
                     unlocated.append((kind, n, prob.lam(x), lam_new))

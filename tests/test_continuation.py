@@ -464,14 +464,28 @@ def test_the_ns_test_changes_sign_where_a_pair_meets_on_the_real_axis_but_no_pai
     # a complex pair inside the circle that becomes two real multipliers drops out of the
     # product of the NS test, whose sign flips; the count of complex multipliers outside the
     # circle does not change, so the continuation locates nothing there.  A pair crossing the
-    # circle changes the count by two.
-    from model.continuation import _complex_outside, _ns_test
+    # circle changes the count by two, and is located.  A pair crossing while another meets on
+    # the real axis inside leaves the test's sign as it was: no bracket, recorded as missed
+    # (Branch.unlocated); a pair meeting on the real axis outside the circle is not a crossing.
+    from model.continuation import BRANCH_POINT, NEIMARK_SACKER, _ns_test, _outside, _sign_change
+
+    def change(before, after):
+        return _sign_change(NEIMARK_SACKER, _ns_test(before), _ns_test(after), _outside(before), _outside(after))
 
     before = np.array([0.5 + 0.1j, 0.5 - 0.1j, 0.9])
     after = np.array([0.55, 0.45, 0.9])
     assert _ns_test(before) * _ns_test(after) < 0
-    assert _complex_outside(before) == _complex_outside(after) == 0
+    assert _outside(before) == _outside(after) == (0, 0) and change(before, after) is None
     crossed = np.array([1.01 * np.exp(0.3j), 1.01 * np.exp(-0.3j), 0.9])
     inside = np.array([0.99 * np.exp(0.3j), 0.99 * np.exp(-0.3j), 0.9])
     assert _ns_test(crossed) * _ns_test(inside) < 0
-    assert _complex_outside(crossed) - _complex_outside(inside) == 2
+    assert _outside(crossed)[0] - _outside(inside)[0] == 2 and change(inside, crossed) == "locate"
+    merging = np.concatenate([inside, before[:2]])
+    crossed_and_merged = np.concatenate([crossed, after[:2]])
+    assert _ns_test(merging) * _ns_test(crossed_and_merged) > 0
+    assert change(merging, crossed_and_merged) == "missed"
+    outside_pair, outside_reals = np.array([1.2 + 0.1j, 1.2 - 0.1j, 0.9]), np.array([1.25, 1.15, 0.9])
+    assert change(outside_pair, outside_reals) is None
+    # the other tests: a sign change is located, none is nothing
+    assert _sign_change(BRANCH_POINT, 1.0, -1.0, (0, 0), (0, 0)) == "locate"
+    assert _sign_change(BRANCH_POINT, 1.0, 2.0, (0, 0), (0, 0)) is None
