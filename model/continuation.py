@@ -107,12 +107,13 @@ class Branch:
     message : str
         Why the continuation stopped.
     unlocated : tuple of (int, int, float, float)
-        The test functions whose sign changed between two neighbouring points but whose zero
-        could not be located (a corrector failed): ``(kind, n, value_a, value_b)``, the kind,
-        the wave number of its block (0: axisymmetric) and the parameter at the two points.
-        The bifurcation lies between them; intervals bounded by it are known to that spacing.
-        A Neimark-Sacker test's change may also be a neutral saddle (a real pair of product 1),
-        which only a located point tells apart.
+        The bifurcations detected between two neighbouring points but not located -- a test
+        function changed sign and a corrector failed, or a complex pair crossed the unit circle
+        while the NS test kept its sign (:func:`_sign_change`): ``(kind, n, value_a,
+        value_b)``, the kind, the wave number of its block (0: axisymmetric) and the parameter
+        at the two points.  The bifurcation lies between them; intervals bounded by it are known
+        to that spacing.  A Neimark-Sacker test's change may also be a neutral saddle (a real
+        pair of product 1), which only a located point tells apart.
     """
 
     parameter: str

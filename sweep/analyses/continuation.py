@@ -32,9 +32,10 @@ Outputs (a task's branches differ in length: every ``point`` array is padded wit
   coordinates than modes: the full model), and ``multiplier_modulus`` (``point``) the largest;
 * ``fold_value``, ``fold_amplitude`` (``fold``, :data:`MAX_FOLDS` = 16 long, NaN padded):
   the first saddle-node points in branch order, and ``n_points``, ``n_folds`` (all of them);
-* ``n_unlocated``: the sign changes of a test function between two points whose zero could
-  not be located (a corrector failed), not inserted and so not counted in ``point_type``,
-  ``n_folds`` or ``fold_value``; ``message`` names each, with the parameter at its two points.
+* ``n_unlocated``: the bifurcations detected between two points but not located (a corrector
+  failed, or a complex pair crossed the unit circle while the NS test kept its sign), not
+  inserted and so not counted in ``point_type``, ``n_folds`` or ``fold_value``; ``message``
+  names each, with the parameter at its two points.
 
 Mixed mode sets (``modes`` with ``n != 0`` and at least one ``n = 0`` mode, no ``families``):
 the branch starts from rest, which the uniform pressure keeps axisymmetric, so it is continued
@@ -141,10 +142,9 @@ per combination of the other grid keys, the cusp where the two folds merge
 (:func:`model.continuation.cusp_from_folds`): ``cusp_c`` (N s/m^3) and ``cusp_value``
 (Pa).  The status is ``ok`` when the branch reached ``stop``, ``not_converged`` otherwise
 (``message`` says why), ``failed`` when a state on the branch is not finite.  A bifurcation
-whose test function changed sign between two points but could not be located (a corrector
-failed: :attr:`model.continuation.Branch.unlocated`) is not inserted: ``n_unlocated`` counts
-them and ``message`` names each, with the two values of the parameter between which it lies,
-whatever the status.
+detected between two points but not located (:attr:`model.continuation.Branch.unlocated`) is
+not inserted: ``n_unlocated`` counts them and ``message`` names each, with the two values of
+the parameter between which it lies, whatever the status.
 """
 
 from __future__ import annotations
@@ -377,9 +377,8 @@ class ContinuationAnalysis(Analysis):
             Variable("fold_amplitude", ("fold",), (MAX_FOLDS,), "f8", "m", "amplitude at the saddle-node points"),
             Variable("n_points", (), (), "i4", "1", "points on the branch", -1),
             Variable("n_folds", (), (), "i4", "1", "saddle-node points on the branch (located ones)", -1),
-            Variable("n_unlocated", (), (), "i4", "1", "test-function sign changes between two points whose "
-                     "bifurcation could not be located (not in point_type, n_folds, fold_value; the message names "
-                     "them)", -1),
+            Variable("n_unlocated", (), (), "i4", "1", "bifurcations detected between two points but not "
+                     "located (not in point_type, n_folds, fold_value; the message names them)", -1),
             Variable("rk4_steps", (), (), "i4", "1", "RK4 steps per forcing period", 0),
         ]
 
@@ -492,12 +491,12 @@ def _cusp(ds):
 
 
 def _unlocated_message(br) -> str:
-    """The sign changes of ``br`` (a :class:`model.continuation.Branch`) whose bifurcation was
-    not located, for the task's message: the points' stability stands, an interval bounded
-    there is known to the branch's spacing."""
+    """The bifurcations of ``br`` (a :class:`model.continuation.Branch`) detected but not
+    located, for the task's message: the points' stability stands, an interval bounded there
+    is known to the branch's spacing."""
     where = [f"{KIND_LABELS[kind]}{' test' if kind == NEIMARK_SACKER else ''}{f' of n = {n}' if n else ''} "
              f"between {br.parameter} = {a:.6g} and {b:.6g}" for kind, n, a, b in br.unlocated]
-    return ("not located (a corrector failed; bounded by the neighbouring points): " + ", ".join(where))
+    return "not located (bounded by the neighbouring points): " + ", ".join(where)
 
 
 def _full_layout(br, K, axisymmetric, blocks):
