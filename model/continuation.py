@@ -252,9 +252,10 @@ def _ns_test(mu):
 def _sign_change(kind: int, a: float, b: float, outside_a, outside_b) -> str | None:
     """What the continuation does with the test function of ``kind`` between two points
     (values ``a``, ``b``; ``outside_*`` from :func:`_outside` for an NS test): ``"locate"`` its
-    zero, ``"missed"`` when a complex pair crossed the unit circle but the NS test kept its
-    sign (another pair met on the real axis between the points, or left it: its factor
-    ``|mu|^2 - 1 < 0`` flipped the sign back), which leaves no bracket to locate in, or None.
+    zero, ``"missed"`` when a complex pair crossed the unit circle (:func:`_pair_crossed`) but
+    the NS test kept its sign (another pair met on the real axis between the points, or left
+    it: its factor ``|mu|^2 - 1 < 0`` flipped the sign back), which leaves no bracket to locate
+    in, or None.
     The NS test also changes sign where a complex pair meets on the real axis (it drops out of
     the product): only a change in the complex multipliers outside the circle makes it an NS
     point."""
@@ -262,7 +263,16 @@ def _sign_change(kind: int, a: float, b: float, outside_a, outside_b) -> str | N
         return None
     if a * b < 0:
         return "locate"
-    return "missed" if kind == NEIMARK_SACKER and outside_a[1] != outside_b[1] else None
+    return "missed" if kind == NEIMARK_SACKER and _pair_crossed(outside_a, outside_b) else None
+
+
+def _pair_crossed(outside_a, outside_b) -> bool:
+    """Whether a complex pair crossed the unit circle between two points, from their
+    :func:`_outside` counts: the complex multipliers outside changed and all those outside
+    changed by a nonzero even number (a real multiplier crossing changes that by one, a pair
+    meeting on the real axis not at all; a crossing together with a real one is not told)."""
+    change = outside_b[1] - outside_a[1]
+    return outside_a[0] != outside_b[0] and change != 0 and change % 2 == 0
 
 
 def _outside(mu) -> tuple[int, int]:
@@ -425,6 +435,9 @@ def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: f
                     unlocated.append((kind, n, prob.lam(x), lam_new))
                 elif kind != NEIMARK_SACKER or _complex_pair_on_circle(prob, block, *loc[1:3]):
                     found.append(loc + (n,))
+                elif _pair_crossed(outside_a, outside_b):
+                    # the zero located is a pair meeting on the real axis, but a pair crossed too
+                    unlocated.append((kind, n, prob.lam(x), lam_new))
         for sigma, xs, phis, kind, n in sorted(found, key=lambda f: f[0]):
             record(xs, phis, kind, n)
         record(x_new, phi, REGULAR, blocks=blocks)

@@ -486,6 +486,8 @@ def test_the_ns_test_changes_sign_where_a_pair_meets_on_the_real_axis_but_no_pai
     assert change(merging, crossed_and_merged) == "missed"
     outside_pair, outside_reals = np.array([1.2 + 0.1j, 1.2 - 0.1j, 0.9]), np.array([1.25, 1.15, 0.9])
     assert change(outside_pair, outside_reals) is None
+    # nor with a real multiplier crossing +1 in the same step (that is a branch point's test)
+    assert change(outside_pair, np.array([1.25, 1.15, 1.01])) is None
     # the other tests: a sign change is located, none is nothing
     assert _sign_change(BRANCH_POINT, 1.0, -1.0, (0, 0), (0, 0)) == "locate"
     assert _sign_change(BRANCH_POINT, 1.0, 2.0, (0, 0), (0, 0)) is None
