@@ -36,6 +36,12 @@ symmetry-breaking branch point, the pitchfork of the O(2)-symmetric membrane),
 ``det(Phi_n + I)`` (period doubling) and the Neimark-Sacker test of the block.  They are
 located like the others; the point records the family's wave number ``n``.
 
+A bifurcation detected but not located is recorded in :attr:`Branch.unlocated`: where a
+corrector of the locator fails, and where a complex pair crosses the unit circle without a
+sign change of the NS test to locate -- its sign is the parity of the complex pairs outside the
+circle, which a pair meeting on the real axis in the same step flips back -- told from the
+number of multipliers outside the circle (:func:`_unbracketed_crossings`).
+
 The branch ends when the parameter leaves ``[min(start, stop), max(start, stop)]`` (the last
 point is placed exactly on the bound), after ``max_points`` points, or when ``ds`` falls
 below ``ds_min``.
@@ -109,11 +115,10 @@ class Branch:
     unlocated : tuple of (int, int, float, float)
         The bifurcations detected between two neighbouring points but not located -- a test
         function changed sign and a corrector failed, or a complex pair crossed the unit circle
-        while the NS test kept its sign (:func:`_sign_change`): ``(kind, n, value_a,
-        value_b)``, the kind, the wave number of its block (0: axisymmetric) and the parameter
-        at the two points.  The bifurcation lies between them; intervals bounded by it are known
-        to that spacing.  A Neimark-Sacker test's change may also be a neutral saddle (a real
-        pair of product 1), which only a located point tells apart.
+        with no NS point located in the step (:func:`_unbracketed_crossings`): ``(kind, n,
+        value_a, value_b)``, the kind, the wave number of its block (0: axisymmetric) and the
+        parameter at the two points.  The bifurcation lies between them; intervals bounded by
+        it are known to that spacing.
     """
 
     parameter: str
@@ -249,36 +254,35 @@ def _ns_test(mu):
     return float(out.real)
 
 
-def _sign_change(kind: int, a: float, b: float, outside_a, outside_b) -> str | None:
-    """What the continuation does with the test function of ``kind`` between two points
-    (values ``a``, ``b``; ``outside_*`` from :func:`_outside` for an NS test): ``"locate"`` its
-    zero, ``"missed"`` when a complex pair crossed the unit circle (:func:`_pair_crossed`) but
-    the NS test kept its sign (another pair met on the real axis between the points, or left
-    it: its factor ``|mu|^2 - 1 < 0`` flipped the sign back), which leaves no bracket to locate
-    in, or None.
-    The NS test also changes sign where a complex pair meets on the real axis (it drops out of
-    the product): only a change in the complex multipliers outside the circle makes it an NS
-    point."""
-    if kind == NEIMARK_SACKER and outside_a[0] == outside_b[0]:
-        return None
-    if a * b < 0:
-        return "locate"
-    return "missed" if kind == NEIMARK_SACKER and _pair_crossed(outside_a, outside_b) else None
+def _unbracketed_crossings(values, new_values, handled) -> list[tuple[int, object]]:
+    """``(n, block)`` of the blocks where a complex pair crossed the unit circle between two
+    points without an NS point located there, from the test tuples of the two points
+    (``(kind, n, block, value, outside)``, :func:`_outside` for the NS tests) and the set
+    ``handled`` of the blocks whose NS test the step located, or tried to.
 
-
-def _pair_crossed(outside_a, outside_b) -> bool:
-    """Whether a complex pair crossed the unit circle between two points, from their
-    :func:`_outside` counts: the complex multipliers outside changed and all those outside
-    changed by a nonzero even number (a real multiplier crossing changes that by one, a pair
-    meeting on the real axis not at all; a crossing together with a real one is not told)."""
-    change = outside_b[1] - outside_a[1]
-    return outside_a[0] != outside_b[0] and change != 0 and change % 2 == 0
+    The multipliers outside the circle change in number by one per real crossing, which the
+    block's branch-point and period-doubling tests show by a sign change each (a fold's
+    crossing at +1 by the branch-point test), and by two per pair crossing: a change larger
+    than the real crossings is a pair that crossed.  The NS test alone can miss it -- its sign
+    is the parity of the complex pairs outside, which a pair meeting on the real axis inside
+    the circle, or leaving it, flips back in the same step.  Counts cannot tell every case: two
+    pairs crossing opposite ways, or a pair crossing out while a real multiplier crosses in,
+    leave the number as it was."""
+    real: dict[object, int] = {}
+    change: dict[object, tuple[int, int]] = {}
+    for (kind, n, block, a, outside_a), (*_, b, outside_b) in zip(values, new_values):
+        if kind in (BRANCH_POINT, PERIOD_DOUBLING) and a * b < 0:
+            real[block] = real.get(block, 0) + 1
+        elif kind == NEIMARK_SACKER:
+            change[block] = (n, outside_b[1] - outside_a[1])
+    return [(n, block) for block, (n, d) in change.items() if block not in handled and abs(d) > real.get(block, 0)]
 
 
 def _outside(mu) -> tuple[int, int]:
     """How many complex multipliers (those :func:`_ns_test` takes) lie outside the unit
     circle, and how many multipliers in all: a Neimark-Sacker point changes both by two, a
-    complex pair meeting on the real axis outside the circle only the first."""
+    complex pair meeting on the real axis outside the circle only the first, a real
+    multiplier crossing the circle only the second, by one."""
     c = mu[np.abs(mu.imag) > 1e-12 * np.maximum(1.0, np.abs(mu))]
     return int(np.count_nonzero(np.abs(c) > 1.0)), int(np.count_nonzero(np.abs(mu) > 1.0))
 
@@ -421,23 +425,28 @@ def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: f
         blocks = prob.family_blocks(x_new)
         new_values = tests(t_new, phi, blocks)
         found = []
+        handled = set()  # the blocks whose NS test this step located, or tried to
         fold_here = values[0][3] * new_values[0][3] < 0
         for (kind, n, block, a, outside_a), (*_, b, outside_b) in zip(values, new_values):
-            # det(Phi - I) changes sign at a fold too: only without one is it a branch point
-            if len(pts) + len(found) >= max_points - 1 or (kind == BRANCH_POINT and n == 0 and fold_here):
+            # det(Phi - I) changes sign at a fold too: only without one is it a branch point;
+            # the NS test also changes sign where a complex pair meets on the real axis (it
+            # drops out of the product): only with a change in the complex multipliers outside
+            # the circle is it tried, and only a zero with a pair on the circle is kept
+            if kind == NEIMARK_SACKER and outside_a[0] == outside_b[0]:
                 continue
-            change = _sign_change(kind, a, b, outside_a, outside_b)
-            if change == "missed":
-                unlocated.append((kind, n, prob.lam(x), lam_new))
-            elif change == "locate":
+            if a * b < 0 and len(pts) + len(found) < max_points - 1 and not (kind == BRANCH_POINT and n == 0
+                                                                             and fold_here):
                 loc = _locate(prob, kind, block, x, t, ds, a, b, tol, x_new)
                 if loc is None:
                     unlocated.append((kind, n, prob.lam(x), lam_new))
                 elif kind != NEIMARK_SACKER or _complex_pair_on_circle(prob, block, *loc[1:3]):
                     found.append(loc + (n,))
-                elif _pair_crossed(outside_a, outside_b):
-                    # the zero located is a pair meeting on the real axis, but a pair crossed too
-                    unlocated.append((kind, n, prob.lam(x), lam_new))
+                else:
+                    continue  # a pair meeting on the real axis: no NS point
+                if kind == NEIMARK_SACKER:
+                    handled.add(block)
+        for n, _ in _unbracketed_crossings(values, new_values, handled):
+            unlocated.append((NEIMARK_SACKER, n, prob.lam(x), lam_new))
         for sigma, xs, phis, kind, n in sorted(found, key=lambda f: f[0]):
             record(xs, phis, kind, n)
         record(x_new, phi, REGULAR, blocks=blocks)
@@ -633,8 +642,8 @@ def _locate(prob, kind, block, x, t, ds, fa, fb, tol, x_end=None):
 
 def _complex_pair_on_circle(prob, block, xs, phi) -> bool:
     """Whether the located zero of an NS test on ``block`` at ``xs`` has a complex pair on the
-    unit circle: a Neimark-Sacker point, not a neutral saddle (a real pair of product 1,
-    where the test also vanishes), which is discarded."""
+    unit circle: a Neimark-Sacker point, and not where a complex pair meets on the real axis
+    (the test's sign jumps there as the pair drops out of its product), which is discarded."""
     b = phi if block is None else prob.family_blocks(xs, block)[0]
     mu = sorted_multipliers(b)
     on_circle = np.abs(np.abs(mu) - 1.0) < 1e-6

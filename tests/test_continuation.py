@@ -6,8 +6,8 @@ import pytest
 
 from model.backbone import linear_mode
 from model.free import FreeRom
-from model.continuation import (FOLD, REGULAR, continue_orbits, cusp_from_folds, resonant_end, stable_amplitudes_at,
-                                unstable_intervals)
+from model.continuation import (BRANCH_POINT, FOLD, NEIMARK_SACKER, PERIOD_DOUBLING, REGULAR, continue_orbits,
+                                cusp_from_folds, resonant_end, stable_amplitudes_at, unstable_intervals)
 from model.forced import DEFAULT_STEPS, ForcedMap
 from model.families import GROWTH_LIMIT
 from model.lyapunov import PERIODIC, UNSETTLED
@@ -464,30 +464,57 @@ def test_the_ns_test_changes_sign_where_a_pair_meets_on_the_real_axis_but_no_pai
     # a complex pair inside the circle that becomes two real multipliers drops out of the
     # product of the NS test, whose sign flips; the count of complex multipliers outside the
     # circle does not change, so the continuation locates nothing there.  A pair crossing the
-    # circle changes the count by two, and is located.  A pair crossing while another meets on
-    # the real axis inside leaves the test's sign as it was: no bracket, recorded as missed
-    # (Branch.unlocated); a pair meeting on the real axis outside the circle is not a crossing.
-    from model.continuation import BRANCH_POINT, NEIMARK_SACKER, _ns_test, _outside, _sign_change
-
-    def change(before, after):
-        return _sign_change(NEIMARK_SACKER, _ns_test(before), _ns_test(after), _outside(before), _outside(after))
+    # circle changes the count by two.
+    from model.continuation import _ns_test, _outside
 
     before = np.array([0.5 + 0.1j, 0.5 - 0.1j, 0.9])
     after = np.array([0.55, 0.45, 0.9])
     assert _ns_test(before) * _ns_test(after) < 0
-    assert _outside(before) == _outside(after) == (0, 0) and change(before, after) is None
+    assert _outside(before) == _outside(after) == (0, 0)
     crossed = np.array([1.01 * np.exp(0.3j), 1.01 * np.exp(-0.3j), 0.9])
     inside = np.array([0.99 * np.exp(0.3j), 0.99 * np.exp(-0.3j), 0.9])
     assert _ns_test(crossed) * _ns_test(inside) < 0
-    assert _outside(crossed)[0] - _outside(inside)[0] == 2 and change(inside, crossed) == "locate"
-    merging = np.concatenate([inside, before[:2]])
-    crossed_and_merged = np.concatenate([crossed, after[:2]])
-    assert _ns_test(merging) * _ns_test(crossed_and_merged) > 0
-    assert change(merging, crossed_and_merged) == "missed"
-    outside_pair, outside_reals = np.array([1.2 + 0.1j, 1.2 - 0.1j, 0.9]), np.array([1.25, 1.15, 0.9])
-    assert change(outside_pair, outside_reals) is None
-    # nor with a real multiplier crossing +1 in the same step (that is a branch point's test)
-    assert change(outside_pair, np.array([1.25, 1.15, 1.01])) is None
-    # the other tests: a sign change is located, none is nothing
-    assert _sign_change(BRANCH_POINT, 1.0, -1.0, (0, 0), (0, 0)) == "locate"
-    assert _sign_change(BRANCH_POINT, 1.0, 2.0, (0, 0), (0, 0)) is None
+    assert _outside(crossed)[0] - _outside(inside)[0] == 2
+    # both in one step: the test keeps its sign, no bracket (the continuation tells the
+    # crossing from the count of multipliers outside: the next test)
+    assert _ns_test(np.concatenate([inside, before[:2]])) * _ns_test(np.concatenate([crossed, after[:2]])) > 0
+
+
+def _block_tests(multipliers, n=0, block=None):
+    """The continuation's BP, PD and NS test tuples of a block with these multipliers (a real
+    matrix: a rotation-scaling block per complex pair, given by its upper member)."""
+    from model.continuation import _bp_test, _ns_test, _outside, _pd_test
+    from model.protocol import sorted_multipliers
+    from scipy.linalg import block_diag
+
+    parts = [np.array([[m.real, -m.imag], [m.imag, m.real]]) if m.imag > 0 else np.array([[m.real]])
+             for m in np.asarray(multipliers, complex)]
+    phi = block_diag(*parts)
+    mu = sorted_multipliers(phi)
+    return [(BRANCH_POINT, n, block, _bp_test(phi), (0, 0)), (PERIOD_DOUBLING, n, block, _pd_test(phi), (0, 0)),
+            (NEIMARK_SACKER, n, block, _ns_test(mu), _outside(mu))]
+
+
+@pytest.mark.parametrize("before, after, crossed", [
+    ([0.99 * np.exp(0.3j), 0.9], [1.01 * np.exp(0.3j), 0.9], True),  # a pair crosses out
+    ([1.01 * np.exp(0.3j), 0.9], [0.99 * np.exp(0.3j), 0.9], True),  # ... and in
+    ([0.99 * np.exp(0.05j)], [1.03, 1.01], True),  # crosses out, meets on the real axis outside
+    ([0.99 * np.exp(0.3j), 0.5 + 0.1j], [1.01 * np.exp(0.3j), 0.55, 0.45], True),  # while another meets inside
+    ([1.01 * np.exp(0.3j), 0.55, 0.45], [0.99 * np.exp(0.3j), 0.5 + 0.1j], True),  # ... the mirror
+    ([0.99 * np.exp(0.3j), 0.98 * np.exp(1.0j)], [1.01 * np.exp(0.3j), 1.02 * np.exp(1.0j)], True),  # two pairs
+    ([0.5 + 0.1j, 0.9], [0.55, 0.45, 0.9], False),  # a pair meets on the real axis inside
+    ([1.2 + 0.1j, 0.99], [1.25, 1.15, 1.01], False),  # ... outside, while a real one crosses +1
+    ([1.2 + 0.1j, 0.99, -0.99], [1.25, 1.15, 1.01, -1.01], False),  # ... while one crosses +1, one -1
+    ([0.99 * np.exp(0.3j), 0.9], [0.995 * np.exp(0.31j), 0.9], False),  # nothing crosses
+], ids=["out", "in", "out-then-real", "out-and-merge", "in-and-split", "two-pairs", "merge-inside",
+        "merge-outside-and-bp", "merge-outside-bp-pd", "none"])
+def test_a_pair_crossing_the_circle_is_told_by_the_count_outside_the_real_crossings_leave(before, after, crossed):
+    # _unbracketed_crossings: the multipliers outside the circle change by one per real
+    # crossing (which the branch-point and period-doubling tests show) and by two per pair; a
+    # change beyond the real crossings, in a block whose NS test the step did not locate, is a
+    # pair crossing recorded in Branch.unlocated -- where the NS test itself may keep its sign
+    from model.continuation import _unbracketed_crossings
+
+    a, b = _block_tests(before, 3, 0), _block_tests(after, 3, 0)
+    assert _unbracketed_crossings(a, b, set()) == ([(3, 0)] if crossed else [])
+    assert _unbracketed_crossings(a, b, {0}) == []  # the step located (or tried) its NS point

@@ -160,6 +160,27 @@ def test_branch_points_and_neimark_sacker_points_are_located(prestretch, one_mod
     assert not br.stable[between].any()
 
 
+def test_a_pair_crossing_without_a_located_point_is_recorded_between_its_neighbours(monkeypatch, one_mode,
+                                                                                    fig14a_branch):
+    # With every located NS zero discarded (as where the zero found is a pair meeting on the
+    # real axis), the n = 3 Neimark-Sacker points of the branch are not inserted but recorded
+    # in Branch.unlocated from the count of multipliers outside the circle, each between the
+    # regular points around the located one; every other point is as before
+    import model.continuation as continuation
+
+    br, fams = fig14a_branch
+    monkeypatch.setattr(continuation, "_complex_pair_on_circle", lambda *args: False)
+    fmap = ForcedMap.from_loading(one_mode, Loading(Omega=25.0, P0=1.0, c=0.05))
+    again = continue_orbits(fmap, "Omega", 25.0, 55.0, ds_max=0.3, max_points=1000, families=fams)
+    kept = br.kind != NEIMARK_SACKER
+    np.testing.assert_array_equal(again.value, br.value[kept])
+    np.testing.assert_array_equal(again.kind, br.kind[kept])
+    regular = np.flatnonzero(br.kind == 0)
+    expected = [(NEIMARK_SACKER, 3, br.value[regular[regular < i].max()], br.value[regular[regular > i].min()])
+                for i in br.special(NEIMARK_SACKER)]
+    assert [u for u in again.unlocated] == expected
+
+
 def test_families_need_an_axisymmetric_rom_and_n_at_least_one(prestretch, one_mode):
     with pytest.raises(ValueError, match="axisymmetric ROM"):
         build_family(prestretch, build_rom(prestretch, [(1, 0), (1, 1)]), 1, 2)

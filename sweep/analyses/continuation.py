@@ -33,7 +33,7 @@ Outputs (a task's branches differ in length: every ``point`` array is padded wit
 * ``fold_value``, ``fold_amplitude`` (``fold``, :data:`MAX_FOLDS` = 16 long, NaN padded):
   the first saddle-node points in branch order, and ``n_points``, ``n_folds`` (all of them);
 * ``n_unlocated``: the bifurcations detected between two points but not located (a corrector
-  failed, or a complex pair crossed the unit circle while the NS test kept its sign), not
+  failed, or a complex pair crossed the unit circle with no NS point located), not
   inserted and so not counted in ``point_type``, ``n_folds`` or ``fold_value``; ``message``
   names each, with the parameter at its two points.
 
@@ -494,7 +494,7 @@ def _unlocated_message(br) -> str:
     """The bifurcations of ``br`` (a :class:`model.continuation.Branch`) detected but not
     located, for the task's message: the points' stability stands, an interval bounded there
     is known to the branch's spacing."""
-    where = [f"{KIND_LABELS[kind]}{' test' if kind == NEIMARK_SACKER else ''}{f' of n = {n}' if n else ''} "
+    where = [f"{'complex pair crossing' if kind == NEIMARK_SACKER else KIND_LABELS[kind]}{f' of n = {n}' if n else ''} "
              f"between {br.parameter} = {a:.6g} and {b:.6g}" for kind, n, a, b in br.unlocated]
     return "not located (bounded by the neighbouring points): " + ", ".join(where)
 
