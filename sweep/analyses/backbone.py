@@ -32,9 +32,9 @@ Per grid point (``delta``, ``delta_o``) and per target amplitude along ``point``
   ``fe_harmonic_v_deviation`` (``point``, ``fe_radial``) -- with ``fe_check.asymmetric = A``
   (m): the same meshes from rest at each orbit's deflection plus ``A`` times the lowest
   transverse mode of wave number ``n = fe_check.wave_number`` (default 1; largest ``|w|`` of
-  ``A``), the in-plane fields relaxed to it
-  (:meth:`model.full.harmonic.HarmonicFull.relaxed`), against the full model on the circumferential harmonics :data:`FE_HARMONICS` times
-  ``n`` (:mod:`model.full.harmonic`): the largest deviations of ``w``, of ``w(rho, theta) -
+  ``A``), the in-plane fields relaxed to it (:meth:`model.full.harmonic.HarmonicFull.relaxed`),
+  against the full model on the circumferential harmonics :data:`FE_HARMONICS` times ``n``
+  (:mod:`model.full.harmonic`): the largest deviations of ``w``, of ``w(rho, theta) -
   w(rho, theta + pi / n)`` (twice its part on the odd multiples of ``n``: the asymmetric
   motion), of ``u`` and of ``v`` at the mesh's nodes over the instants
   (:func:`model.fe_motion.check_harmonic_motion`); and ``fe_harmonic_reference_w_error``,
@@ -339,9 +339,8 @@ def _fe_variables(options) -> list[Variable]:
     asymmetric = [
         Variable("fe_harmonic_w_deviation", dims, shape, "f8", "1", "from rest at the orbit's deflection plus "
                  f"fe_check.asymmetric times the lowest n = {n} transverse mode, the in-plane fields relaxed to "
-                 "it: largest |w_fe - w| over the "
-                 f"instants and the mesh's nodes, over the largest |w|, w of the full model on the harmonics "
-                 f"{harmonics}"),
+                 "it: largest |w_fe - w| over the instants and the mesh's nodes, over the largest |w|, w of the "
+                 f"full model on the harmonics {harmonics}"),
         Variable("fe_harmonic_odd_deviation", dims, shape, "f8", "1", "the same for the part on the odd "
                  f"multiples of {n}, w(rho, theta) - w(rho, theta + {half_wave}): the asymmetric motion alone"),
         Variable("fe_harmonic_u_deviation", dims, shape, "f8", "1", "the same for the radial displacement u"),
