@@ -114,7 +114,8 @@ class Branch:
         Why the continuation stopped.
     unlocated : tuple of (int, int, float, float)
         The bifurcations detected between two neighbouring points but not located -- a test
-        function changed sign and a corrector failed, or a complex pair crossed the unit circle
+        function changed sign and a corrector failed (or the step was the last one
+        ``max_points`` leaves room for), or a complex pair crossed the unit circle
         with no NS point located in the step (:func:`_unbracketed_crossings`): ``(kind, n,
         value_a, value_b)``, the kind, the wave number of its block (0: axisymmetric) and the
         parameter at the two points.  The bifurcation lies between them; intervals bounded by
@@ -434,9 +435,10 @@ def continue_orbits(fmap: StroboscopicMap, parameter: str, start: float, stop: f
             # the circle is it tried, and only a zero with a pair on the circle is kept
             if kind == NEIMARK_SACKER and outside_a[0] == outside_b[0]:
                 continue
-            if a * b < 0 and len(pts) + len(found) < max_points - 1 and not (kind == BRANCH_POINT and n == 0
-                                                                             and fold_here):
-                loc = _locate(prob, kind, block, x, t, ds, a, b, tol, x_new)
+            if a * b < 0 and not (kind == BRANCH_POINT and n == 0 and fold_here):
+                # the last step before max_points has no room for a located point
+                loc = (_locate(prob, kind, block, x, t, ds, a, b, tol, x_new)
+                       if len(pts) + len(found) < max_points - 1 else None)
                 if loc is None:
                     unlocated.append((kind, n, prob.lam(x), lam_new))
                 elif kind != NEIMARK_SACKER or _complex_pair_on_circle(prob, block, *loc[1:3]):

@@ -97,6 +97,15 @@ def test_bad_arguments_are_rejected(rom):
         continue_orbits(ForcedMap.from_loading(rom, PAPER), "P0", 0.0, 1.0, max_points=1)
 
 
+def test_a_bifurcation_in_the_last_step_max_points_allows_is_recorded_unlocated(rom, p0_branch):
+    # max_points ending the branch at the regular point just past the first fold: that step
+    # has no room for the located fold, which is recorded between its two points instead
+    fold = p0_branch.special(FOLD)[0]
+    br = continue_orbits(ForcedMap.from_loading(rom, PAPER), "P0", 0.0, 3.0, ds_max=0.3, max_points=int(fold) + 1)
+    assert not br.complete and br.value.size == fold + 1 and not br.special(FOLD).size
+    assert br.unlocated == ((FOLD, 0, p0_branch.value[fold - 1], p0_branch.value[fold + 1]),)
+
+
 def test_max_points_stops_and_says_so(rom):
     br = continue_orbits(ForcedMap.from_loading(rom, PAPER), "P0", 0.0, 3.0, max_points=5)
     assert br.value.size == 5 and not br.complete and "max_points = 5 reached" in br.message
