@@ -3323,17 +3323,18 @@ def _fe_asymmetric(ds, radial: list[int], periods: int, size: float, n: int = 1,
     bounds = [float(np.fmax.reduce(r)) for r in per_orbit]
 
     def own_error(g, b, ratios):
+        if not np.isfinite(b):
+            return f"not comparable with the finest mesh's deviations of {' and '.join(g)} (zero at every orbit)"
+        if b < 0.1:
+            return f"{b:.1e} of the finest mesh's deviations of {' and '.join(g)} (the deviations are the mesh's)"
         large = {}  # delta -> the amplitudes where the own error is 0.1 of the deviations or more
         for (d, a), r in zip(orbits, ratios):
             if r >= 0.1:
                 large.setdefault(d, []).append(f"{a:.2f}")
         where = ", ".join(f"delta {d:g} ({' and '.join(a)} m)" for d, a in large.items())
-        if not np.isfinite(b):
-            return f"not comparable with the finest mesh's deviations of {' and '.join(g)} (zero at every orbit)"
-        return (f"{b:.1e} of the finest mesh's deviations of {' and '.join(g)} ("
-                + ("the deviations are the mesh's)" if b < 0.1 else
-                   f"not negligible against them at {where}, where the measured orders of these fields are partly "
-                   "the harmonics' own error; below 0.1 of them elsewhere)"))
+        return (f"{b:.1e} of the finest mesh's deviations of {' and '.join(g)} (not negligible against them at "
+                f"{where}, where the measured orders of these fields are partly the harmonics' own error; below 0.1 "
+                "of them elsewhere)")
     v_slower = last["v"].size and last["w"].size and last["v"].max() < last["w"].min()
     inplane_at_order = all(last[k].size and last[k].min() > 2.5 for k in ("u", "v"))
     why_v = ("in part through the harmonics' own error (the reference column), not through the time steps."

@@ -73,7 +73,8 @@ from model.params import Membrane
 from sweep.models.rom import rom_for
 
 from . import options as opt
-from .base import DEFAULT_CONTEXT, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable, check_keys
+from .base import (DEFAULT_CONTEXT, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable, add_message,
+                   check_keys)
 
 #: Default amplitude targets: 1 mm to 0.4 m.
 DEFAULT_AMPLITUDE = {"start": 1e-3, "stop": 0.4, "num": 40}
@@ -282,7 +283,7 @@ class BackboneAnalysis(Analysis):
             out.update(fe)
             if problem:
                 out["status"] = STATUS_NOT_CONVERGED
-                out["message"] = "; ".join(m for m in (out.get("message", ""), problem) if m)
+                add_message(out, problem)
         return out
 
 

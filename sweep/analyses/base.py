@@ -265,6 +265,12 @@ def blank_outputs(variables) -> dict[str, np.ndarray]:
     return {v.name: v.blank() for v in variables}
 
 
+def add_message(out: dict, text: str) -> None:
+    """Append ``text`` to the task's ``message`` in ``out`` (``"; "`` between parts; nothing
+    for an empty ``text``)."""
+    out["message"] = "; ".join(m for m in (out.get("message", ""), text) if m)
+
+
 class TaskError(Exception):
     """A task returned something else than its analysis declares (a bug of the analysis)."""
 

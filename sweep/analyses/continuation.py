@@ -166,7 +166,7 @@ from sweep.models.rom import rom_for
 
 from . import options as opt
 from .base import (DEFAULT_CONTEXT, GRID_KEYS, STATUS_FAILED, STATUS_NOT_CONVERGED, STATUS_OK, Analysis, JobError, Variable,
-                   blank_outputs, check_keys)
+                   add_message, blank_outputs, check_keys)
 from .branch_features import (BRANCH_FEATURES, BranchContext, FamilyCheckOption, by_symmetry, curves_option,
                               family_check_option, family_radials, second_parameter, tongues_option)
 from .time_symmetry import TIME_SYMMETRY_FEATURES, symmetry_breaking_option
@@ -457,7 +457,7 @@ class ContinuationAnalysis(Analysis):
         if problem and out["status"] == STATUS_OK:
             out["status"], out["message"] = STATUS_NOT_CONVERGED, problem
         if br.unlocated:
-            out["message"] = "; ".join(m for m in (out.get("message", ""), _unlocated_message(br)) if m)
+            add_message(out, _unlocated_message(br))
         return out
 
     def warmups(self, options):
